@@ -1,0 +1,142 @@
+#include "cli/commands.hpp"
+
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/io/result_json.hpp"
+#include "cluttertamp/io/scene_io.hpp"
+#include "cluttertamp/run/runner.hpp"
+
+namespace cluttertamp::cli {
+
+namespace fs = std::filesystem;
+using run::ExitCode;
+
+namespace {
+
+std::string seconds(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f s", s);
+  return text;
+}
+
+std::string object_names(const Scene& scene, const std::vector<ObjectIndex>& objects) {
+  std::string out;
+  for (ObjectIndex i : objects) out += (out.empty() ? "" : ", ") + scene.objects.at(i).id;
+  return out.empty() ? "(none)" : out;
+}
+
+std::string describe_scene(const Scene& scene) {
+  std::ostringstream out;
+  out << scene.name << ": " << scene.objects.size() << " objects (target '" << scene.objects.at(scene.target).id
+      << "'), " << scene.fixed.size() << " fixed bodies, " << scene.regions.size() << " regions";
+  return out.str();
+}
+
+void print_summary(std::ostream& out, const Problem& problem, const run::RunOutcome& outcome,
+                   const fs::path& result_file) {
+  const Result& r = outcome.result;
+  out << "problem   " << problem.name << " (" << problem.source_file.string() << ")\n"
+      << "scene     " << describe_scene(problem.scene) << "\n"
+      << "planner   " << outcome.info.planner << " (seed " << outcome.info.seed << ", time limit "
+      << outcome.info.time_limit << " s)\n";
+  if (r.solved) {
+    out << "result    SOLVED: " << r.plan.size() << " steps, " << r.moved_objects.size() << " objects moved\n";
+    for (std::size_t i = 0; i < r.plan.size(); ++i) {
+      out << "  " << std::setw(3) << i + 1 << ". " << r.plan[i].action << " "
+          << object_names(problem.scene, r.plan[i].objects) << "\n";
+    }
+    out << "moved     " << object_names(problem.scene, r.moved_objects) << "\n";
+  } else {
+    std::string reason = r.reason;
+    if (auto nl = reason.find('\n'); nl != std::string::npos) reason = reason.substr(0, nl) + " (details above)";
+    out << "result    NOT SOLVED (exit code " << outcome.info.exit_code << "): " << reason << "\n";
+  }
+  out << "time      task planning " << seconds(r.time.task_planning) << ", motion planning "
+      << seconds(r.time.motion_planning) << ", total " << seconds(r.time.total) << "\n";
+  out << "counters ";
+  for (const auto& [key, value] : r.counters) out << " " << key << "=" << value;
+  if (r.counters.empty()) out << " (none)";
+  out << "\n";
+  for (const Failure& f : r.failures) {
+    out << "failure   [" << f.stage << "] " << f.reason;
+    if (!f.blocking_objects.empty()) out << " (blocked by " << object_names(problem.scene, f.blocking_objects) << ")";
+    out << "\n";
+  }
+  out << "output    " << fs::absolute(result_file).lexically_normal().string() << "\n";
+}
+
+}  // namespace
+
+int plan(const PlanArgs& args) {
+  const Problem problem = io::load_problem(args.problem);
+  run::RunOptions options{args.seed, args.time_limit, args.plugin_paths};
+  const plugin::Registry registry(run::plugin_search_paths(problem, options));
+  if (args.verbosity == Verbosity::verbose) std::cerr << registry.describe_search();
+
+  run::RunOutcome outcome;
+  std::optional<InputError> plugin_error;
+  try {
+    outcome = run::plan(problem, registry, options);
+  } catch (const InputError& e) {
+    // A plugin the problem names is missing or rejects its parameters: bad input, but
+    // the run is still recorded so that scripts find a result.json with the reason.
+    plugin_error = e;
+    outcome.info = {problem.planner.name, options.time_limit.value_or(problem.time_limit),
+                    options.seed.value_or(problem.seed), ExitCode::bad_input};
+    outcome.result.reason = e.diagnostics().items().empty() ? e.what() : e.diagnostics().items().front().message;
+  }
+  const fs::path result_file = args.output / "result.json";
+  io::write_result_json(result_file, problem, outcome.result, outcome.info);
+  if (plugin_error) std::cerr << plugin_error->diagnostics().str();
+  if (args.verbosity != Verbosity::quiet) print_summary(std::cout, problem, outcome, result_file);
+  return outcome.info.exit_code;
+}
+
+int validate(const ValidateArgs& args) {
+  int exit_code = ExitCode::solved;
+  for (const fs::path& file : args.files) {
+    try {
+      if (io::detect_file_kind(file) == io::FileKind::problem) {
+        const Problem problem = io::load_problem(file);
+        if (args.verbosity != Verbosity::quiet) {
+          std::cout << file.string() << ": valid problem '" << problem.name << "', scene " << describe_scene(problem.scene)
+                    << "\n";
+        }
+      } else {
+        const Scene scene = io::load_scene(file);
+        if (args.verbosity != Verbosity::quiet) std::cout << file.string() << ": valid scene " << describe_scene(scene) << "\n";
+      }
+    } catch (const InputError& e) {
+      std::cerr << e.diagnostics().str();
+      if (args.verbosity != Verbosity::quiet) {
+        std::cerr << file.string() << ": " << e.diagnostics().size() << " error"
+                  << (e.diagnostics().size() == 1 ? "" : "s") << "\n";
+      }
+      exit_code = ExitCode::bad_input;
+    }
+  }
+  return exit_code;
+}
+
+int plugins(const PluginsArgs& args) {
+  const plugin::Registry registry(plugin::Registry::default_search_paths(args.plugin_paths));
+  const auto& found = registry.plugins();
+  if (args.verbosity != Verbosity::quiet) {
+    std::cout << std::left << std::setw(18) << "KIND" << std::setw(22) << "NAME" << std::setw(9) << "VERSION"
+              << std::setw(5) << "ABI" << "DESCRIPTION\n";
+    for (const plugin::PluginDescriptor& d : found) {
+      std::cout << std::setw(18) << plugin::kind_name(d.kind) << std::setw(22) << d.name << std::setw(9) << d.version
+                << std::setw(5) << d.abi_version << d.description << "\n";
+      if (args.verbosity == Verbosity::verbose) std::cout << "    " << d.library.string() << "\n";
+    }
+    if (found.empty()) std::cout << "(no plugins found)\n";
+    std::cout << "\n" << registry.describe_search();
+  }
+  return ExitCode::solved;
+}
+
+}  // namespace cluttertamp::cli

@@ -1,0 +1,78 @@
+// cluttertamp: the command-line front end. Parses arguments with CLI11 and maps every
+// outcome to the documented exit codes (README, "Exit codes").
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/version.hpp"
+
+namespace cli = cluttertamp::cli;
+using cluttertamp::run::ExitCode;
+
+namespace {
+
+void add_verbosity(CLI::App& app, cli::Verbosity& verbosity) {
+  auto* quiet = app.add_flag_callback("-q,--quiet", [&] { verbosity = cli::Verbosity::quiet; },
+                                      "Print only errors");
+  app.add_flag_callback("-v,--verbose", [&] { verbosity = cli::Verbosity::verbose; },
+                        "Print plugin search details and progress")
+      ->excludes(quiet);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"cluttertamp " + std::string(cluttertamp::version()) +
+               ": task and motion planning for retrieving objects from clutter.\n"
+               "Exit codes: 0 solved (or valid), 1 no plan within the limits, 2 bad input, 3 internal error."};
+  app.set_version_flag("--version", std::string(cluttertamp::version()));
+  app.require_subcommand(1);
+
+  cli::PlanArgs plan_args;
+  auto* plan = app.add_subcommand("plan", "Plan a problem file; write OUTPUT/result.json");
+  plan->add_option("problem", plan_args.problem, "Problem file (YAML)")->required()->check(CLI::ExistingFile);
+  plan->add_option("--seed", plan_args.seed, "Random seed (overrides the problem file's planner.seed)");
+  plan->add_option("--time-limit", plan_args.time_limit, "Wall-clock limit in seconds (overrides planner.time_limit)")
+      ->check(CLI::PositiveNumber);
+  plan->add_option("-o,--output", plan_args.output, "Directory for result.json")->capture_default_str();
+  plan->add_option("--plugin-path", plan_args.plugin_paths, "Search this plugin directory first (repeatable)");
+  add_verbosity(*plan, plan_args.verbosity);
+
+  cli::ValidateArgs validate_args;
+  auto* validate = app.add_subcommand("validate", "Check problem and scene files; print every error with its location");
+  validate->add_option("files", validate_args.files, "Problem or scene files (YAML)")->required();
+  add_verbosity(*validate, validate_args.verbosity);
+
+  cli::PluginsArgs plugins_args;
+  auto* plugins = app.add_subcommand("plugins", "List the plugins found, with kinds and versions, and any that failed to load");
+  plugins->add_option("--plugin-path", plugins_args.plugin_paths, "Search this plugin directory first (repeatable)");
+  add_verbosity(*plugins, plugins_args.verbosity);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return ExitCode::bad_input;
+  }
+
+  try {
+    if (*plan) return cli::plan(plan_args);
+    if (*validate) return cli::validate(validate_args);
+    if (*plugins) return cli::plugins(plugins_args);
+  } catch (const cluttertamp::InputError& e) {
+    std::cerr << e.diagnostics().str();
+    return ExitCode::bad_input;
+  } catch (const std::exception& e) {
+    std::cerr << "cluttertamp: internal error: " << e.what() << "\n";
+    return ExitCode::internal_error;
+  }
+  return ExitCode::internal_error;
+}

@@ -1,0 +1,41 @@
+#include "cluttertamp/core/scene.hpp"
+
+#include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/core/world_state.hpp"
+
+namespace cluttertamp {
+
+std::optional<ObjectIndex> Scene::find_object(std::string_view id) const {
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    if (objects[i].id == id) return static_cast<ObjectIndex>(i);
+  }
+  return std::nullopt;
+}
+
+const Region* Scene::find_region(std::string_view id) const {
+  for (const Region& region : regions) {
+    if (region.id == id) return &region;
+  }
+  return nullptr;
+}
+
+WorldState WorldState::initial(const Scene& scene) {
+  WorldState state;
+  state.world_T_objects.reserve(scene.objects.size());
+  for (const SceneObject& object : scene.objects) state.world_T_objects.push_back(object.world_T_object);
+  state.removed.assign(scene.objects.size(), false);
+  return state;
+}
+
+const char* role_key(SamplerRole role) {
+  switch (role) {
+    case SamplerRole::grasp: return "grasp_sampler";
+    case SamplerRole::placement: return "placement_sampler";
+    case SamplerRole::motion: return "motion_sampler";
+    case SamplerRole::push: return "push_sampler";
+    case SamplerRole::object_pruner: return "object_pruner";
+  }
+  return "unknown";
+}
+
+}  // namespace cluttertamp

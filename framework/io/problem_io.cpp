@@ -1,0 +1,225 @@
+#include "cluttertamp/io/problem_io.hpp"
+
+#include "io/readers.hpp"
+#include "io/yaml_reader.hpp"
+
+namespace cluttertamp::io {
+
+namespace {
+
+using detail::MapReader;
+using detail::YamlFile;
+namespace fs = std::filesystem;
+
+constexpr double kDefaultTimeLimit = 60.0;  // s, the limit of Tian et al.'s experiments
+
+std::optional<fs::path> existing_file(const YamlFile& file, const YAML::Node& node, const std::string& what) {
+  auto text = file.string(node, what);
+  if (!text) return std::nullopt;
+  fs::path path = file.resolve(*text);
+  if (!fs::is_regular_file(path)) {
+    file.error(node, what + " '" + *text + "' does not exist (looked for " + path.string() + ")");
+    return std::nullopt;
+  }
+  return path;
+}
+
+// `name` or `{plugin: name, parameters: {...}}`.
+std::optional<PluginChoice> read_choice(const YamlFile& file, const YAML::Node& node, const std::string& what) {
+  PluginChoice choice;
+  choice.where = file.at(node);
+  if (node.IsScalar()) {
+    auto name = file.string(node, what);
+    if (!name) return std::nullopt;
+    choice.name = *name;
+    return choice;
+  }
+  MapReader map(file, node, what, {"plugin", "parameters"});
+  if (!map.valid()) return std::nullopt;
+  const YAML::Node name = map.required("plugin");
+  if (!name.IsDefined()) return std::nullopt;
+  auto text = file.string(name, what + " plugin");
+  if (!text) return std::nullopt;
+  choice.name = *text;
+  choice.parameters = file.parameters(map.optional("parameters"), what + " parameters");
+  return choice;
+}
+
+class ProblemReader {
+ public:
+  ProblemReader(const fs::path& path, Diagnostics& diagnostics) : file_(path, diagnostics), diagnostics_(diagnostics) {}
+  Problem read();
+
+ private:
+  void read_robot(const YAML::Node& node);
+  void read_task(const YAML::Node& node);
+  void read_planner(const YAML::Node& node);
+  void read_plugins(const YAML::Node& node);
+  void check_target();
+
+  YamlFile file_;
+  Diagnostics& diagnostics_;
+  Problem problem_;
+  bool scene_ok_ = false;
+  YAML::Node retrieve_node_;
+};
+
+Problem ProblemReader::read() {
+  problem_.source_file = fs::absolute(file_.path()).lexically_normal();
+  problem_.name = file_.path().stem().string();
+  problem_.time_limit = kDefaultTimeLimit;
+  if (!file_.root().IsDefined() || file_.root().IsNull()) {
+    if (file_.root().IsNull()) file_.error(SourceLocation{file_.path().string(), 1, 1}, "the problem file is empty");
+    return problem_;
+  }
+  MapReader top(file_, file_.root(), "the problem", {"version", "name", "scene", "robot", "task", "planner", "plugins"});
+  if (!top.valid()) return problem_;
+  const YAML::Node version = top.required("version");
+  if (version.IsDefined()) {
+    auto v = file_.integer(version, "version");
+    if (v && *v != kProblemFormatVersion) {
+      file_.error(version, "unsupported problem format version " + std::to_string(*v) + " (this cluttertamp reads " +
+                               std::to_string(kProblemFormatVersion) + ")");
+    }
+  }
+  if (top.has("name")) {
+    if (auto name = file_.string(top.optional("name"), "name")) problem_.name = *name;
+  }
+  const YAML::Node scene = top.required("scene");
+  if (scene.IsDefined()) {
+    if (auto path = existing_file(file_, scene, "scene file")) {
+      problem_.scene_file = *path;
+      const std::size_t before = diagnostics_.size();
+      problem_.scene = detail::read_scene(*path, diagnostics_);
+      scene_ok_ = diagnostics_.size() == before;
+    }
+  }
+  read_robot(top.required("robot"));
+  read_task(top.required("task"));
+  read_planner(top.required("planner"));
+  if (top.has("plugins")) read_plugins(top.optional("plugins"));
+  check_target();
+  return problem_;
+}
+
+void ProblemReader::read_robot(const YAML::Node& node) {
+  if (!node.IsDefined()) return;
+  MapReader map(file_, node, "robot", {"name", "urdf"});
+  if (!map.valid()) return;
+  problem_.robot.where = file_.at(node);
+  const YAML::Node name = map.required("name");
+  if (name.IsDefined()) problem_.robot.name = file_.string(name, "robot name").value_or("");
+  const YAML::Node urdf = map.required("urdf");
+  if (urdf.IsDefined()) problem_.robot.urdf = existing_file(file_, urdf, "robot urdf").value_or(fs::path());
+}
+
+void ProblemReader::read_task(const YAML::Node& node) {
+  if (!node.IsDefined()) return;
+  MapReader map(file_, node, "task", {"retrieve", "pddl"});
+  if (!map.valid()) return;
+  if (map.has("retrieve") == map.has("pddl")) {
+    file_.error(node, map.has("pddl") ? "task has both 'retrieve' and 'pddl'; give one"
+                                      : "task needs 'retrieve: <target object>' or 'pddl: {domain, problem, streams}'");
+    return;
+  }
+  if (map.has("retrieve")) {
+    retrieve_node_ = map.optional("retrieve");
+    problem_.task = RetrievalTask{file_.string(retrieve_node_, "task retrieve").value_or("")};
+    return;
+  }
+  MapReader pddl(file_, map.optional("pddl"), "task pddl", {"domain", "problem", "streams"});
+  if (!pddl.valid()) return;
+  PddlTask task;
+  if (const YAML::Node n = pddl.required("domain"); n.IsDefined()) task.domain = existing_file(file_, n, "PDDL domain").value_or("");
+  if (const YAML::Node n = pddl.required("problem"); n.IsDefined()) task.problem = existing_file(file_, n, "PDDL problem").value_or("");
+  if (pddl.has("streams")) task.streams = existing_file(file_, pddl.optional("streams"), "stream file");
+  problem_.task = task;
+}
+
+void ProblemReader::read_planner(const YAML::Node& node) {
+  if (!node.IsDefined()) return;
+  MapReader map(file_, node, "planner", {"plugin", "time_limit", "seed", "parameters"});
+  if (!map.valid()) return;
+  problem_.planner.where = file_.at(node);
+  const YAML::Node name = map.required("plugin");
+  if (name.IsDefined()) {
+    problem_.planner.name = file_.string(name, "planner plugin").value_or("");
+    problem_.planner.where = file_.at(name);
+  }
+  if (map.has("time_limit")) problem_.time_limit = file_.positive(map.optional("time_limit"), "planner time_limit").value_or(kDefaultTimeLimit);
+  if (map.has("seed")) {
+    auto seed = file_.integer(map.optional("seed"), "planner seed");
+    if (seed && *seed < 0) file_.error(map.optional("seed"), "planner seed must not be negative");
+    problem_.seed = static_cast<std::uint64_t>(seed.value_or(0));
+  }
+  problem_.planner.parameters = file_.parameters(map.optional("parameters"), "planner parameters");
+}
+
+void ProblemReader::read_plugins(const YAML::Node& node) {
+  MapReader map(file_, node, "plugins",
+                {"paths", "grasp_sampler", "placement_sampler", "motion_sampler", "push_sampler", "object_pruner", "streams"});
+  if (!map.valid()) return;
+  if (map.has("paths")) {
+    const YAML::Node paths = map.optional("paths");
+    if (auto list = file_.strings(paths, "plugins paths")) {
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        const fs::path dir = file_.resolve((*list)[i]);
+        if (!fs::is_directory(dir)) file_.error(paths[i], "plugin path '" + (*list)[i] + "' is not a directory (" + dir.string() + ")");
+        problem_.plugin_paths.push_back(dir);
+      }
+    }
+  }
+  for (SamplerRole role : {SamplerRole::grasp, SamplerRole::placement, SamplerRole::motion, SamplerRole::push,
+                           SamplerRole::object_pruner}) {
+    const char* key = role_key(role);
+    if (!map.has(key)) continue;
+    if (auto choice = read_choice(file_, map.optional(key), std::string("plugins ") + key)) problem_.samplers[role] = *choice;
+  }
+  if (map.has("streams")) {
+    const YAML::Node streams = map.optional("streams");
+    if (!streams.IsMap()) {
+      file_.error(streams, "plugins streams must map stream names to stream_sampler plugins");
+      return;
+    }
+    for (const auto& item : streams) {
+      const std::string stream = item.first.Scalar();
+      if (auto choice = read_choice(file_, item.second, "stream '" + stream + "'")) problem_.streams[stream] = *choice;
+    }
+  }
+}
+
+void ProblemReader::check_target() {
+  const auto* task = std::get_if<RetrievalTask>(&problem_.task);
+  if (!task || task->target.empty() || !scene_ok_) return;
+  const Scene& scene = problem_.scene;
+  if (!scene.find_object(task->target)) {
+    file_.error(retrieve_node_, "retrieve names '" + task->target + "', which is not an object of scene " +
+                                    problem_.scene_file.string());
+  } else if (scene.objects[scene.target].id != task->target) {
+    file_.error(retrieve_node_, "retrieve names '" + task->target + "' but the scene's target is '" +
+                                    scene.objects[scene.target].id + "'");
+  }
+}
+
+}  // namespace
+
+Problem load_problem(const fs::path& file) {
+  Diagnostics diagnostics;
+  ProblemReader reader(file, diagnostics);
+  Problem problem = reader.read();
+  diagnostics.throw_if_any();
+  return problem;
+}
+
+FileKind detect_file_kind(const fs::path& file) {
+  Diagnostics diagnostics;
+  YamlFile yaml(file, diagnostics);
+  diagnostics.throw_if_any();
+  const YAML::Node& root = yaml.root();
+  if (root.IsMap() && (root["task"].IsDefined() || root["scene"].IsDefined() || root["planner"].IsDefined())) {
+    return FileKind::problem;
+  }
+  return FileKind::scene;
+}
+
+}  // namespace cluttertamp::io

@@ -1,0 +1,85 @@
+// Out-of-line destructors (so each interface's vtable and type information live in
+// libcluttertamp, shared by every plugin) and the small helpers of the interfaces.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/object_pruner.hpp"
+#include "cluttertamp/plugin/placement_sampler.hpp"
+#include "cluttertamp/plugin/push_sampler.hpp"
+#include "cluttertamp/plugin/stream_sampler.hpp"
+#include "cluttertamp/plugin/task_planner.hpp"
+
+namespace cluttertamp::plugin {
+
+Plugin::~Plugin() = default;
+void Plugin::configure(const Parameters&) {}
+TaskPlanner::~TaskPlanner() = default;
+ObjectPruner::~ObjectPruner() = default;
+GraspSampler::~GraspSampler() = default;
+PlacementSampler::~PlacementSampler() = default;
+MotionSampler::~MotionSampler() = default;
+PushSampler::~PushSampler() = default;
+StreamSampler::~StreamSampler() = default;
+StreamGenerator::~StreamGenerator() = default;
+
+namespace {
+constexpr std::array<std::pair<Kind, const char*>, 7> kKindNames{{
+    {Kind::task_planner, "task_planner"},
+    {Kind::object_pruner, "object_pruner"},
+    {Kind::grasp_sampler, "grasp_sampler"},
+    {Kind::placement_sampler, "placement_sampler"},
+    {Kind::motion_sampler, "motion_sampler"},
+    {Kind::push_sampler, "push_sampler"},
+    {Kind::stream_sampler, "stream_sampler"},
+}};
+}  // namespace
+
+const char* kind_name(Kind kind) {
+  for (const auto& [k, name] : kKindNames) {
+    if (k == kind) return name;
+  }
+  return "unknown";
+}
+
+std::optional<Kind> kind_from_name(std::string_view name) {
+  for (const auto& [k, n] : kKindNames) {
+    if (name == n) return k;
+  }
+  return std::nullopt;
+}
+
+Deadline Deadline::after(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0 || seconds > 1e9) return never();
+  return Deadline(Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds)));
+}
+
+Deadline Deadline::never() { return Deadline(Clock::time_point::max()); }
+
+bool Deadline::expired() const { return Clock::now() >= at_; }
+
+double Deadline::remaining() const {
+  if (at_ == Clock::time_point::max()) return std::numeric_limits<double>::max();
+  return std::max(0.0, std::chrono::duration<double>(at_ - Clock::now()).count());
+}
+
+const BlockedGrasp* GraspAnswer::least_blocked() const {
+  const BlockedGrasp* best = nullptr;
+  for (const BlockedGrasp& b : blocked) {
+    if (!best || b.blocking_objects.size() < best->blocking_objects.size()) best = &b;
+  }
+  return best;
+}
+
+std::vector<ObjectIndex> PruneAnswer::movable_objects() const {
+  std::vector<ObjectIndex> all;
+  for (const auto& sequence : removal_sequences) all.insert(all.end(), sequence.begin(), sequence.end());
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  return all;
+}
+
+}  // namespace cluttertamp::plugin

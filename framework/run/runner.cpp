@@ -1,0 +1,81 @@
+#include "cluttertamp/run/runner.hpp"
+
+#include <chrono>
+
+#include "cluttertamp/core/world_state.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/object_pruner.hpp"
+#include "cluttertamp/plugin/placement_sampler.hpp"
+#include "cluttertamp/plugin/push_sampler.hpp"
+#include "cluttertamp/plugin/stream_sampler.hpp"
+#include "cluttertamp/plugin/task_planner.hpp"
+
+namespace cluttertamp::run {
+
+namespace fs = std::filesystem;
+
+std::vector<fs::path> plugin_search_paths(const Problem& problem, const RunOptions& options) {
+  std::vector<fs::path> first = options.plugin_paths;
+  first.insert(first.end(), problem.plugin_paths.begin(), problem.plugin_paths.end());
+  return plugin::Registry::default_search_paths(first);
+}
+
+namespace {
+
+template <class Interface>
+std::shared_ptr<Interface> create_role(const plugin::Registry& registry, const Problem& problem, SamplerRole role) {
+  auto it = problem.samplers.find(role);
+  if (it == problem.samplers.end()) return nullptr;
+  return registry.create<Interface>(it->second.name, it->second.parameters, it->second.where);
+}
+
+plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem& problem) {
+  plugin::Samplers samplers;
+  samplers.grasp = create_role<plugin::GraspSampler>(registry, problem, SamplerRole::grasp);
+  samplers.placement = create_role<plugin::PlacementSampler>(registry, problem, SamplerRole::placement);
+  samplers.motion = create_role<plugin::MotionSampler>(registry, problem, SamplerRole::motion);
+  samplers.push = create_role<plugin::PushSampler>(registry, problem, SamplerRole::push);
+  samplers.object_pruner = create_role<plugin::ObjectPruner>(registry, problem, SamplerRole::object_pruner);
+  for (const auto& [stream, choice] : problem.streams) {
+    samplers.streams[stream] = registry.create<plugin::StreamSampler>(choice.name, choice.parameters, choice.where);
+  }
+  return samplers;
+}
+
+}  // namespace
+
+RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const RunOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  RunOutcome outcome;
+  outcome.info.planner = problem.planner.name;
+  outcome.info.seed = options.seed.value_or(problem.seed);
+  outcome.info.time_limit = options.time_limit.value_or(problem.time_limit);
+
+  // Bad plugins are bad input: these throw InputError before any planning starts.
+  const plugin::Samplers samplers = create_samplers(registry, problem);
+  const auto planner = registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters,
+                                                            problem.planner.where);
+
+  std::map<std::string, std::uint64_t> counters;
+  plugin::PlanningContext context{problem, plugin::Deadline::after(outcome.info.time_limit), outcome.info.seed,
+                                  counters, samplers};
+  try {
+    outcome.result = planner->solve(context, WorldState::initial(problem.scene));
+    outcome.info.exit_code = outcome.result.solved ? ExitCode::solved : ExitCode::no_plan;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    outcome.result = Result{};
+    outcome.result.reason = "internal error in task_planner '" + problem.planner.name + "': " + e.what();
+    outcome.info.exit_code = ExitCode::internal_error;
+  }
+  for (const auto& [key, value] : counters) outcome.result.counters[key] += value;
+  outcome.result.time.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!outcome.result.solved && outcome.result.reason.empty()) {
+    outcome.result.reason = "the planner returned no plan and gave no reason";
+  }
+  return outcome;
+}
+
+}  // namespace cluttertamp::run

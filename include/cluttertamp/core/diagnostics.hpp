@@ -1,0 +1,66 @@
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cluttertamp/export.hpp"
+
+namespace cluttertamp {
+
+/// A place in an input file. Lines and columns count from 1; 0 means "unknown"
+/// (for example a whole-file problem such as a missing file).
+struct SourceLocation {
+  std::string file;
+  std::size_t line = 0;
+  std::size_t column = 0;
+
+  /// "file:line:column", "file:line" or "file", as much as is known.
+  std::string str() const;
+};
+
+/// One problem found in an input, with where it is and what is wrong.
+struct Diagnostic {
+  SourceLocation location;
+  std::string message;
+
+  /// "file:line:column: error: message".
+  std::string str() const;
+};
+
+/// Collects every problem in an input so that all of them are reported at once.
+class CLUTTERTAMP_API Diagnostics {
+ public:
+  void error(SourceLocation location, std::string message);
+  void append(const Diagnostics& other);
+
+  bool empty() const { return items_.empty(); }
+  std::size_t size() const { return items_.size(); }
+  const std::vector<Diagnostic>& items() const { return items_; }
+
+  /// Items sorted by file, line and column, one per line.
+  std::string str() const;
+
+  /// Throws InputError when any problem was collected.
+  void throw_if_any() const;
+
+ private:
+  std::vector<Diagnostic> items_;
+};
+
+/// Bad input from a user: a file that does not parse, does not validate, a plugin
+/// that does not exist or does not load. The CLI maps it to exit code 2.
+class CLUTTERTAMP_API InputError : public std::runtime_error {
+ public:
+  explicit InputError(Diagnostics diagnostics);
+  InputError(SourceLocation location, const std::string& message);
+  ~InputError() override;
+
+  const Diagnostics& diagnostics() const { return diagnostics_; }
+
+ private:
+  Diagnostics diagnostics_;
+};
+
+}  // namespace cluttertamp

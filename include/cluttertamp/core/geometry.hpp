@@ -1,0 +1,31 @@
+#pragma once
+
+#include <variant>
+
+#include <Eigen/Geometry>
+
+namespace cluttertamp {
+
+/// A box centred at its frame's origin. `size` holds the full edge lengths along the
+/// frame's x, y and z axes, in metres.
+struct Box {
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+};
+
+/// A cylinder centred at its frame's origin with its axis along the frame's z axis.
+/// Radius and height in metres.
+struct Cylinder {
+  double radius = 0.0;
+  double height = 0.0;
+};
+
+/// The primitive shapes scenes are made of.
+using Shape = std::variant<Box, Cylinder>;
+
+/// The world-frame axis-aligned bounding box of `shape` placed at `world_T_shape`.
+Eigen::AlignedBox3d world_bounds(const Shape& shape, const Eigen::Isometry3d& world_T_shape);
+
+/// "box" or "cylinder".
+const char* shape_name(const Shape& shape);
+
+}  // namespace cluttertamp

@@ -1,0 +1,67 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/core/parameters.hpp"
+#include "cluttertamp/core/scene.hpp"
+
+namespace cluttertamp {
+
+/// Carry the scene's target out to its exit pose x_s, removing what is in the way.
+struct RetrievalTask {
+  std::string target;  ///< id of the scene object to retrieve
+};
+
+/// Plan in a PDDL domain whose continuous parameters come from streams.
+struct PddlTask {
+  std::filesystem::path domain;
+  std::filesystem::path problem;
+  std::optional<std::filesystem::path> streams;  ///< PDDLStream-style stream file
+};
+
+using Task = std::variant<RetrievalTask, PddlTask>;
+
+/// A plugin chosen by name in a problem file, with its parameters.
+struct PluginChoice {
+  std::string name;
+  Parameters parameters;
+  SourceLocation where;  ///< where the problem file names it
+};
+
+/// The roles a problem file can fill with sampler plugins (`plugins:` block).
+enum class SamplerRole { grasp, placement, motion, push, object_pruner };
+
+/// The YAML key of a role: "grasp_sampler", ..., "object_pruner".
+const char* role_key(SamplerRole role);
+
+struct RobotSpec {
+  std::string name;
+  std::filesystem::path urdf;  ///< absolute
+  SourceLocation where;
+};
+
+/// Everything `cluttertamp plan` needs: the scene, the robot, the task, the planner
+/// and its limits, and the plugins that answer its questions. Paths are absolute.
+struct Problem {
+  std::string name;
+  std::filesystem::path source_file;
+  std::filesystem::path scene_file;
+  Scene scene;
+  RobotSpec robot;
+  Task task;
+  PluginChoice planner;    ///< the task planner plugin
+  double time_limit = 0;   ///< seconds of wall-clock time for the whole run
+  std::uint64_t seed = 0;  ///< the root of every random choice in the run
+  std::vector<std::filesystem::path> plugin_paths;  ///< searched before the defaults
+  std::map<SamplerRole, PluginChoice> samplers;
+  std::map<std::string, PluginChoice> streams;  ///< stream name -> stream sampler plugin
+};
+
+}  // namespace cluttertamp

@@ -1,0 +1,67 @@
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cluttertamp/core/scene.hpp"
+#include "cluttertamp/export.hpp"
+
+namespace cluttertamp {
+
+/// A joint-space path with a time for each waypoint (seconds from the step's start).
+struct Trajectory {
+  std::vector<std::string> joint_names;
+  std::vector<double> times;
+  std::vector<Eigen::VectorXd> positions;  ///< one per time, in joint_names order
+};
+
+/// Why something could not be done, and which movable objects were in the way.
+/// The blocking objects are the robot-obstacle collision feedback the retrieval
+/// graph consumes (Tian et al., Section IV-D).
+struct Failure {
+  std::string stage;   ///< who failed: "grasp", "motion", "task_planner", ...
+  std::string reason;  ///< a sentence a person can act on
+  std::vector<ObjectIndex> blocking_objects;
+};
+
+/// One step of a plan: an action, the objects it involves and its continuous values
+/// (poses as [x y z qx qy qz qw], configurations, grasps).
+struct PlanStep {
+  std::string action;
+  std::vector<ObjectIndex> objects;
+  std::map<std::string, std::vector<double>> values;
+  std::optional<Trajectory> trajectory;
+};
+
+/// Wall-clock seconds spent in each part of a run.
+struct Timing {
+  double task_planning = 0.0;
+  double motion_planning = 0.0;
+  double total = 0.0;
+};
+
+/// Names of the counters every planner is expected to fill (others may be added).
+namespace counter {
+inline constexpr const char* samples = "samples";
+inline constexpr const char* collision_checks = "collision_checks";
+inline constexpr const char* motion_planning_calls = "motion_planning_calls";
+}  // namespace counter
+
+/// The outcome of a planning run. A failed run is a Result with solved = false and a
+/// reason, never an exception.
+struct Result {
+  bool solved = false;
+  std::string reason;  ///< why not solved; empty when solved
+  std::vector<PlanStep> plan;
+  std::vector<ObjectIndex> moved_objects;  ///< in the order they were moved
+  Timing time;
+  std::map<std::string, std::uint64_t> counters;
+  std::vector<Failure> failures;  ///< what went wrong along the way, solved or not
+};
+
+}  // namespace cluttertamp

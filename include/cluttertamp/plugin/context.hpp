@@ -1,0 +1,65 @@
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/core/world_state.hpp"
+#include "cluttertamp/export.hpp"
+
+namespace cluttertamp::plugin {
+
+class GraspSampler;
+class PlacementSampler;
+class MotionSampler;
+class PushSampler;
+class ObjectPruner;
+class StreamSampler;
+
+/// A point in wall-clock time after which a planner must stop and report.
+class CLUTTERTAMP_API Deadline {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  /// `seconds` from now; a non-finite or negative value means no limit.
+  static Deadline after(double seconds);
+  static Deadline never();
+
+  bool expired() const;
+  /// Seconds left (0 when expired; a very large number without a limit).
+  double remaining() const;
+
+ private:
+  explicit Deadline(Clock::time_point at) : at_(at) {}
+  Clock::time_point at_;
+};
+
+/// The sampler plugins a run was configured with; a role is null when the problem
+/// file fills none. A planner that needs an empty role fails with a reason.
+struct Samplers {
+  std::shared_ptr<GraspSampler> grasp;
+  std::shared_ptr<PlacementSampler> placement;
+  std::shared_ptr<MotionSampler> motion;
+  std::shared_ptr<PushSampler> push;
+  std::shared_ptr<ObjectPruner> object_pruner;
+  std::map<std::string, std::shared_ptr<StreamSampler>> streams;  ///< by stream name
+};
+
+/// What every plugin call sees: the problem, the time it has, the run's seed, where
+/// to count work, and the other plugins it may call. Owned by the caller; valid for
+/// the duration of the call.
+struct PlanningContext {
+  const Problem& problem;
+  Deadline deadline;
+  std::uint64_t seed;  ///< derive every random generator of the call from it
+  std::map<std::string, std::uint64_t>& counters;  ///< see cluttertamp::counter
+  const Samplers& samplers;
+
+  const Scene& scene() const { return problem.scene; }
+  void count(const std::string& name, std::uint64_t n = 1) { counters[name] += n; }
+};
+
+}  // namespace cluttertamp::plugin

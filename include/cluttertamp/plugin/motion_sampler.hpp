@@ -1,0 +1,36 @@
+#pragma once
+
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "cluttertamp/core/result.hpp"
+#include "cluttertamp/plugin/context.hpp"
+#include "cluttertamp/plugin/plugin.hpp"
+
+namespace cluttertamp::plugin {
+
+struct MotionQuery {
+  Eigen::VectorXd start;  ///< joint values, robot's joint order
+  Eigen::VectorXd goal;
+  const WorldState* state = nullptr;  ///< not null; state.held travels with the gripper
+};
+
+struct MotionAnswer {
+  std::optional<Trajectory> trajectory;  ///< collision-free, time-parameterized
+  std::optional<Failure> failure;        ///< set without a trajectory; names blockers
+};
+
+/// Plans collision-free robot motions.
+class CLUTTERTAMP_API MotionSampler : public Plugin {
+ public:
+  ~MotionSampler() override;
+  virtual MotionAnswer plan(PlanningContext& context, const MotionQuery& query) = 0;
+};
+
+template <>
+struct KindOf<MotionSampler> {
+  static constexpr Kind value = Kind::motion_sampler;
+};
+
+}  // namespace cluttertamp::plugin

@@ -1,0 +1,38 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "cluttertamp/core/result.hpp"
+#include "cluttertamp/plugin/context.hpp"
+#include "cluttertamp/plugin/plugin.hpp"
+
+namespace cluttertamp::plugin {
+
+struct PlacementQuery {
+  ObjectIndex object = 0;
+  std::string region;                 ///< a Scene::regions id
+  const WorldState* state = nullptr;  ///< not null
+  std::size_t max_placements = 1;
+};
+
+struct PlacementAnswer {
+  std::vector<Eigen::Isometry3d> world_T_object;  ///< stable, collision-free, reachable
+  std::optional<Failure> failure;                 ///< set when none was found
+};
+
+/// Finds where an object can be put down inside a region.
+class CLUTTERTAMP_API PlacementSampler : public Plugin {
+ public:
+  ~PlacementSampler() override;
+  virtual PlacementAnswer sample(PlanningContext& context, const PlacementQuery& query) = 0;
+};
+
+template <>
+struct KindOf<PlacementSampler> {
+  static constexpr Kind value = Kind::placement_sampler;
+};
+
+}  // namespace cluttertamp::plugin

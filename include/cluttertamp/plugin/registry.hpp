@@ -1,0 +1,93 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/core/parameters.hpp"
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/plugin/plugin.hpp"
+
+namespace cluttertamp::plugin {
+
+/// A plugin the registry found and can create.
+struct PluginDescriptor {
+  Kind kind;
+  std::string name;
+  std::string description;
+  std::string version;
+  std::uint32_t abi_version = 0;
+  std::filesystem::path library;
+};
+
+/// A library or entry the registry could not use, and why (not a shared library,
+/// unresolved symbols, another plugin ABI, a name already taken, ...).
+struct LoadProblem {
+  std::filesystem::path library;
+  std::string message;
+};
+
+/// A search directory and what the registry saw there.
+struct SearchedDirectory {
+  std::filesystem::path path;
+  bool exists = false;
+  std::size_t libraries = 0;  ///< shared libraries examined
+};
+
+/// Finds plugin libraries, checks their ABI version and creates plugin objects.
+///
+/// Every object the registry creates keeps its library loaded until the object is
+/// destroyed, so plugin objects may outlive the registry itself. Libraries are
+/// examined when the registry is constructed; nothing is loaded later.
+class CLUTTERTAMP_API Registry {
+ public:
+  /// Examines every `*.so` file directly in each directory, in order. When two
+  /// libraries export the same kind and name, the first one wins and the second is
+  /// reported as a LoadProblem.
+  explicit Registry(const std::vector<std::filesystem::path>& search_paths);
+  ~Registry();
+  Registry(const Registry&) = delete;
+  Registry& operator=(const Registry&) = delete;
+
+  /// The directories searched when a run names none of its own, in order:
+  /// `first` (e.g. a problem file's `plugins: paths:`), the entries of the
+  /// CLUTTERTAMP_PLUGIN_PATH environment variable (':'-separated), the plugin
+  /// directory next to libcluttertamp (build tree or relocated install:
+  /// <libdir>/cluttertamp/plugins) and the install prefix's plugin directory.
+  /// Duplicates are dropped.
+  static std::vector<std::filesystem::path> default_search_paths(
+      const std::vector<std::filesystem::path>& first = {});
+
+  const std::vector<SearchedDirectory>& searched() const;
+  const std::vector<PluginDescriptor>& plugins() const;
+  const std::vector<LoadProblem>& problems() const;
+
+  /// Null when no usable plugin of that kind and name was found.
+  const PluginDescriptor* find(Kind kind, std::string_view name) const;
+
+  /// Creates and configures a plugin. `where` is the place in a problem file that
+  /// names the plugin, used in errors. Throws InputError when the plugin does not
+  /// exist (listing what was searched, what exists and what failed to load), when
+  /// configure() rejects a parameter, or when a parameter is never read.
+  std::shared_ptr<Plugin> create(Kind kind, std::string_view name, const Parameters& parameters = {},
+                                 const SourceLocation& where = {}) const;
+
+  template <class Interface>
+  std::shared_ptr<Interface> create(std::string_view name, const Parameters& parameters = {},
+                                    const SourceLocation& where = {}) const {
+    return std::static_pointer_cast<Interface>(create(KindOf<Interface>::value, name, parameters, where));
+  }
+
+  /// A multi-line report of the search, for errors and `cluttertamp plugins`.
+  std::string describe_search() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace cluttertamp::plugin

@@ -1,0 +1,52 @@
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "cluttertamp/core/result.hpp"
+#include "cluttertamp/plugin/context.hpp"
+#include "cluttertamp/plugin/plugin.hpp"
+
+namespace cluttertamp::plugin {
+
+/// A value flowing through streams: a PDDL object name, a number, a vector (a
+/// configuration) or a pose.
+using StreamValue = std::variant<std::string, double, Eigen::VectorXd, Eigen::Isometry3d>;
+
+/// What one call of a generator produced.
+struct StreamBatch {
+  std::vector<std::vector<StreamValue>> outputs;  ///< each: one value per stream output
+  bool exhausted = false;                         ///< no further call can yield more
+  std::optional<Failure> failure;                 ///< why nothing was produced
+};
+
+/// A lazy generator for one stream instance (fixed inputs). Must not outlive the
+/// StreamSampler that created it.
+class CLUTTERTAMP_API StreamGenerator {
+ public:
+  virtual ~StreamGenerator();
+  virtual StreamBatch next(PlanningContext& context) = 0;
+};
+
+/// Binds a stream of a user's stream file to code: certifies facts by producing
+/// outputs for given inputs (PDDLStream's generators and tests).
+class CLUTTERTAMP_API StreamSampler : public Plugin {
+ public:
+  ~StreamSampler() override;
+  virtual std::unique_ptr<StreamGenerator> instantiate(PlanningContext& context,
+                                                       std::string_view stream,
+                                                       const std::vector<StreamValue>& inputs) = 0;
+};
+
+template <>
+struct KindOf<StreamSampler> {
+  static constexpr Kind value = Kind::stream_sampler;
+};
+
+}  // namespace cluttertamp::plugin

@@ -1,0 +1,43 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/core/result.hpp"
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/io/result_json.hpp"
+#include "cluttertamp/plugin/registry.hpp"
+
+namespace cluttertamp::run {
+
+/// Process exit codes of `cluttertamp` (README, "Exit codes").
+enum ExitCode : int { solved = 0, no_plan = 1, bad_input = 2, internal_error = 3 };
+
+/// Overrides of what a problem file says, e.g. from the command line.
+struct RunOptions {
+  std::optional<std::uint64_t> seed;
+  std::optional<double> time_limit;  ///< seconds
+  std::vector<std::filesystem::path> plugin_paths;  ///< searched before the problem's own
+};
+
+struct RunOutcome {
+  Result result;
+  io::RunInfo info;
+};
+
+/// The plugin directories a run of `problem` searches, in order: `options`' paths,
+/// the problem file's `plugins: paths:`, then Registry::default_search_paths().
+CLUTTERTAMP_API std::vector<std::filesystem::path> plugin_search_paths(const Problem& problem,
+                                                                       const RunOptions& options);
+
+/// Creates the problem's plugins from `registry` and runs its task planner within the
+/// time limit. Throws InputError when a plugin is missing or rejects its parameters.
+/// Planning failure is an unsolved Result with a reason (exit code 1); an exception
+/// escaping a plugin is caught and reported as an internal error (exit code 3).
+CLUTTERTAMP_API RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const RunOptions& options);
+
+}  // namespace cluttertamp::run
