@@ -68,8 +68,9 @@ Problem ProblemReader::read() {
   problem_.source_file = fs::absolute(file_.path()).lexically_normal();
   problem_.name = file_.path().stem().string();
   problem_.time_limit = kDefaultTimeLimit;
-  if (!file_.root().IsDefined() || file_.root().IsNull()) {
-    if (file_.root().IsNull()) file_.error(SourceLocation{file_.path().string(), 1, 1}, "the problem file is empty");
+  if (!file_.loaded()) return problem_;
+  if (file_.root().IsNull()) {
+    file_.error(SourceLocation{file_.path().string(), 1, 1}, "the problem file is empty");
     return problem_;
   }
   MapReader top(file_, file_.root(), "the problem", {"version", "name", "scene", "robot", "task", "planner", "plugins"});

@@ -82,8 +82,9 @@ class SceneReader {
 Scene SceneReader::read() {
   scene_.source_file = file_.path().string();
   scene_.name = file_.path().stem().string();
-  if (!file_.root().IsDefined() || file_.root().IsNull()) {
-    if (file_.root().IsNull()) file_.error(SourceLocation{file_.path().string(), 1, 1}, "the scene file is empty");
+  if (!file_.loaded()) return scene_;
+  if (file_.root().IsNull()) {
+    file_.error(SourceLocation{file_.path().string(), 1, 1}, "the scene file is empty");
     return scene_;
   }
   MapReader top(file_, file_.root(), "the scene",

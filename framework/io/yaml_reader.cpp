@@ -13,7 +13,7 @@ namespace {
 std::string describe(const YAML::Node& node) {
   switch (node.Type()) {
     case YAML::NodeType::Map: return "a mapping";
-    case YAML::NodeType::Sequence: return "a list";
+    case YAML::NodeType::Sequence: return "a list of " + std::to_string(node.size()) + " items";
     case YAML::NodeType::Null: return "empty";
     case YAML::NodeType::Scalar: return "'" + node.Scalar() + "'";
     default: return "nothing";
@@ -32,6 +32,7 @@ YamlFile::YamlFile(const fs::path& file, Diagnostics& diagnostics) : path_(file)
   text << in.rdbuf();
   try {
     root_ = YAML::Load(text.str());
+    loaded_ = true;
   } catch (const YAML::Exception& e) {
     diagnostics_.error({file.string(), static_cast<std::size_t>(e.mark.line + 1),
                         static_cast<std::size_t>(e.mark.column + 1)},

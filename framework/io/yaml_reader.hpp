@@ -24,6 +24,8 @@ class YamlFile {
   /// Parses `file`; a missing file or a syntax error is reported, and root() is null.
   YamlFile(const std::filesystem::path& file, Diagnostics& diagnostics);
 
+  /// False when the file could not be read or parsed (the problem is reported).
+  bool loaded() const { return loaded_; }
   const YAML::Node& root() const { return root_; }
   const std::filesystem::path& path() const { return path_; }
   SourceLocation at(const YAML::Node& node) const;
@@ -50,6 +52,7 @@ class YamlFile {
   std::filesystem::path path_;
   Diagnostics& diagnostics_;
   YAML::Node root_;
+  bool loaded_ = false;
 };
 
 /// One YAML mapping with a fixed set of allowed keys. Reports a non-map node,

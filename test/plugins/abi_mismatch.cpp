@@ -1,0 +1,12 @@
+// Test fixture: a plugin as an older cluttertamp would have built it, with another
+// plugin ABI version. The registry must refuse it without calling its factory.
+#include "cluttertamp/plugin/export.hpp"
+
+namespace {
+cluttertamp::plugin::Plugin* create() { return nullptr; }
+const cluttertamp::plugin::PluginEntry old_entry{cluttertamp::plugin::kEntryMagic, 999,
+                                                 cluttertamp::plugin::Kind::grasp_sampler,
+                                                 "old_grasp", "built for ABI 999", "0.0", &create};
+}  // namespace
+
+BOOST_DLL_ALIAS_SECTIONED(old_entry, cluttertamp_grasp_sampler_old_grasp, ctplugin)

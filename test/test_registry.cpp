@@ -1,0 +1,141 @@
+#include <dlfcn.h>
+
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+
+#include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/registry.hpp"
+#include "cluttertamp/plugin/task_planner.hpp"
+#include "test_support.hpp"
+
+namespace cluttertamp {
+namespace {
+
+using plugin::Kind;
+using plugin::Registry;
+using test::plugin_dir;
+
+bool mentions(const std::vector<plugin::LoadProblem>& problems, const std::string& file, const std::string& text) {
+  for (const auto& p : problems) {
+    if (p.library.filename() == file && p.message.find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(Registry, LoadsARealPluginLibrary) {
+  const Registry registry({plugin_dir("good")});
+  ASSERT_EQ(registry.plugins().size(), 2u);
+  const plugin::PluginDescriptor* planner = registry.find(Kind::task_planner, "test_planner");
+  ASSERT_NE(planner, nullptr);
+  EXPECT_EQ(planner->version, "1.2.3");
+  EXPECT_EQ(planner->abi_version, plugin::kAbiVersion);
+  EXPECT_EQ(planner->description, "Test fixture: outcome chosen by a parameter");
+  EXPECT_EQ(planner->library.filename(), "libtest_good_plugins.so");
+  EXPECT_NE(registry.find(Kind::grasp_sampler, "test_grasp"), nullptr);
+  EXPECT_EQ(registry.find(Kind::grasp_sampler, "test_planner"), nullptr);  // names are per kind
+  EXPECT_TRUE(registry.problems().empty());
+}
+
+TEST(Registry, CreatesConfiguredObjectsOfTheRightInterface) {
+  const Registry registry({plugin_dir("good")});
+  Parameters params;
+  params.set("outcome", std::string("solve"));
+  auto planner = registry.create<plugin::TaskPlanner>("test_planner", params);
+  ASSERT_NE(planner, nullptr);
+  auto grasps = registry.create<plugin::GraspSampler>("test_grasp");
+  EXPECT_NE(dynamic_cast<plugin::GraspSampler*>(grasps.get()), nullptr);
+}
+
+TEST(Registry, PluginParameterErrorsAreInputErrors) {
+  const Registry registry({plugin_dir("good")});
+  Parameters bad_value;
+  bad_value.set("outcome", std::string("dance"), {"p.yaml", 9, 14});
+  const Diagnostics d1 = test::expect_input_error([&] { registry.create<plugin::TaskPlanner>("test_planner", bad_value); });
+  EXPECT_TRUE(test::has_error(d1, 9, 14, "parameter 'outcome' must be one of"));
+
+  Parameters unknown;
+  unknown.set("outcom", std::string("solve"), {"p.yaml", 10, 3});
+  const Diagnostics d2 = test::expect_input_error([&] { registry.create<plugin::TaskPlanner>("test_planner", unknown); });
+  EXPECT_TRUE(test::has_error(d2, 10, 3, "unknown parameter 'outcom' for task_planner 'test_planner'"));
+}
+
+TEST(Registry, RefusesAnAbiMismatchedPlugin) {
+  const Registry registry({plugin_dir("abi"), plugin_dir("good")});
+  EXPECT_EQ(registry.find(Kind::grasp_sampler, "old_grasp"), nullptr);
+  EXPECT_TRUE(mentions(registry.problems(), "libtest_abi_mismatch.so", "plugin ABI version 999"));
+  const Diagnostics d = test::expect_input_error([&] { registry.create<plugin::GraspSampler>("old_grasp"); });
+  ASSERT_EQ(d.size(), 1u);
+  // The error lists what was searched, what exists and what failed to load.
+  const std::string& message = d.items()[0].message;
+  EXPECT_NE(message.find("no grasp_sampler plugin named 'old_grasp'"), std::string::npos) << message;
+  EXPECT_NE(message.find(plugin_dir("abi").string()), std::string::npos) << message;
+  EXPECT_NE(message.find("grasp_sampler 'test_grasp'"), std::string::npos) << message;
+  EXPECT_NE(message.find("plugin ABI version 999"), std::string::npos) << message;
+}
+
+TEST(Registry, RefusesBrokenLibraries) {
+  const Registry registry({plugin_dir("broken")});
+  EXPECT_TRUE(registry.plugins().empty());
+  EXPECT_TRUE(mentions(registry.problems(), "libtest_broken.so", "cluttertamp_symbol_that_does_not_exist"));
+  EXPECT_TRUE(mentions(registry.problems(), "libnot_elf.so", "not a loadable shared library"));
+  EXPECT_THROW(registry.create<plugin::GraspSampler>("broken_grasp"), InputError);
+}
+
+TEST(Registry, MissingDirectoriesAreReportedNotFatal) {
+  const Registry registry({"/nonexistent/cluttertamp/plugins", plugin_dir("good")});
+  ASSERT_EQ(registry.searched().size(), 2u);
+  EXPECT_FALSE(registry.searched()[0].exists);
+  EXPECT_TRUE(registry.searched()[1].exists);
+  EXPECT_NE(registry.describe_search().find("does not exist"), std::string::npos);
+}
+
+TEST(Registry, FirstDirectoryWinsOnDuplicateNames) {
+  const Registry registry({plugin_dir("good"), plugin_dir("good") / "."});
+  EXPECT_EQ(registry.plugins().size(), 2u);
+  EXPECT_TRUE(mentions(registry.problems(), "libtest_good_plugins.so", "already provided by"));
+}
+
+TEST(Registry, ObjectsOutliveTheRegistryAndKeepTheirLibraryLoaded) {
+  std::shared_ptr<plugin::TaskPlanner> planner;
+  {
+    const Registry registry({plugin_dir("good")});
+    planner = registry.create<plugin::TaskPlanner>("test_planner");
+  }
+  // The registry is gone; the library must still be mapped while the object lives.
+  const std::string library = (plugin_dir("good") / "libtest_good_plugins.so").string();
+  void* handle = dlopen(library.c_str(), RTLD_NOW | RTLD_NOLOAD);
+  ASSERT_NE(handle, nullptr) << "the library was unloaded while one of its objects lived";
+  auto live = reinterpret_cast<int (*)()>(dlsym(handle, "cluttertamp_test_live_objects"));
+  ASSERT_NE(live, nullptr);
+  EXPECT_EQ(live(), 1);
+  planner.reset();  // runs the plugin's destructor: its code must still be there
+  EXPECT_EQ(live(), 0);
+  dlclose(handle);
+  EXPECT_EQ(dlopen(library.c_str(), RTLD_NOW | RTLD_NOLOAD), nullptr) << "the last object should unload it";
+}
+
+TEST(Registry, DefaultSearchPathsHonourTheEnvironmentAndProblemFirst) {
+  setenv("CLUTTERTAMP_PLUGIN_PATH", "/env/a:/env/b", 1);
+  const auto paths = Registry::default_search_paths({"/problem/dir"});
+  unsetenv("CLUTTERTAMP_PLUGIN_PATH");
+  ASSERT_GE(paths.size(), 5u);
+  EXPECT_EQ(paths[0], "/problem/dir");
+  EXPECT_EQ(paths[1], "/env/a");
+  EXPECT_EQ(paths[2], "/env/b");
+  // Then the directory beside libcluttertamp, which in the build tree holds the built plugins.
+  EXPECT_EQ(paths[3].filename(), "plugins");
+  EXPECT_EQ(paths[3].parent_path().filename(), "cluttertamp");
+}
+
+TEST(Registry, KindNamesRoundTrip) {
+  for (Kind k : {Kind::task_planner, Kind::object_pruner, Kind::grasp_sampler, Kind::placement_sampler,
+                 Kind::motion_sampler, Kind::push_sampler, Kind::stream_sampler}) {
+    EXPECT_EQ(plugin::kind_from_name(plugin::kind_name(k)), k);
+  }
+  EXPECT_FALSE(plugin::kind_from_name("teleporter").has_value());
+}
+
+}  // namespace
+}  // namespace cluttertamp

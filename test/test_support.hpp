@@ -1,0 +1,47 @@
+#pragma once
+// Shared helpers for the tests: paths of the test data and fixtures.
+
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cluttertamp/core/diagnostics.hpp"
+
+namespace cluttertamp::test {
+
+inline std::filesystem::path data(const std::string& relative) {
+  return std::filesystem::path(CLUTTERTAMP_TEST_DATA) / relative;
+}
+
+inline std::filesystem::path plugin_dir(const std::string& name) {
+  return std::filesystem::path(CLUTTERTAMP_TEST_PLUGINS) / name;
+}
+
+/// Runs `load`, expects InputError, and returns its diagnostics.
+template <class F>
+Diagnostics expect_input_error(F&& load) {
+  try {
+    load();
+  } catch (const InputError& e) {
+    return e.diagnostics();
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return {};
+}
+
+/// True when some diagnostic is at `line`:`column` (0: any column) and contains `text`.
+inline ::testing::AssertionResult has_error(const Diagnostics& d, std::size_t line, std::size_t column,
+                                            const std::string& text) {
+  for (const Diagnostic& item : d.items()) {
+    if (item.location.line == line && (column == 0 || item.location.column == column) &&
+        item.message.find(text) != std::string::npos) {
+      return ::testing::AssertionSuccess();
+    }
+  }
+  return ::testing::AssertionFailure() << "no error at " << line << ":" << column << " containing '" << text
+                                       << "'; got:\n"
+                                       << d.str();
+}
+
+}  // namespace cluttertamp::test
