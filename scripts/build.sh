@@ -7,6 +7,7 @@ cd "$(dirname "$0")/.."
 build_dir="${CLUTTERTAMP_BUILD_DIR:-build}"
 
 ./scripts/install-deps.sh
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DCLUTTERTAMP_USE_CCACHE=ON > "$build_dir.configure.log" 2>&1 \
-  || { cat "$build_dir.configure.log"; exit 1; }
+mkdir -p "$build_dir"
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DCLUTTERTAMP_USE_CCACHE=ON > "$build_dir/configure.log" 2>&1 \
+  || { cat "$build_dir/configure.log"; exit 1; }
 cmake --build "$build_dir" -j"$(nproc)"

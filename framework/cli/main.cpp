@@ -13,11 +13,10 @@ using cluttertamp::run::ExitCode;
 
 namespace {
 
-void add_verbosity(CLI::App& app, cli::Verbosity& verbosity) {
+void add_verbosity(CLI::App& app, cli::Verbosity& verbosity, const std::string& verbose_help) {
   auto* quiet = app.add_flag_callback("-q,--quiet", [&] { verbosity = cli::Verbosity::quiet; },
                                       "Print only errors");
-  app.add_flag_callback("-v,--verbose", [&] { verbosity = cli::Verbosity::verbose; },
-                        "Print plugin search details and progress")
+  app.add_flag_callback("-v,--verbose", [&] { verbosity = cli::Verbosity::verbose; }, verbose_help)
       ->excludes(quiet);
 }
 
@@ -38,17 +37,17 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   plan->add_option("-o,--output", plan_args.output, "Directory for result.json")->capture_default_str();
   plan->add_option("--plugin-path", plan_args.plugin_paths, "Search this plugin directory first (repeatable)");
-  add_verbosity(*plan, plan_args.verbosity);
+  add_verbosity(*plan, plan_args.verbosity, "Also print the plugin search (directories, plugins, failures)");
 
   cli::ValidateArgs validate_args;
   auto* validate = app.add_subcommand("validate", "Check problem and scene files; print every error with its location");
   validate->add_option("files", validate_args.files, "Problem or scene files (YAML)")->required();
-  add_verbosity(*validate, validate_args.verbosity);
+  add_verbosity(*validate, validate_args.verbosity, "Same output as the default");
 
   cli::PluginsArgs plugins_args;
   auto* plugins = app.add_subcommand("plugins", "List the plugins found, with kinds and versions, and any that failed to load");
   plugins->add_option("--plugin-path", plugins_args.plugin_paths, "Search this plugin directory first (repeatable)");
-  add_verbosity(*plugins, plugins_args.verbosity);
+  add_verbosity(*plugins, plugins_args.verbosity, "Also print each plugin's library path");
 
   try {
     app.parse(argc, argv);
