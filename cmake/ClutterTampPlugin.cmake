@@ -1,11 +1,12 @@
-# cluttertamp_add_plugin(NAME SOURCES... [LINK targets...])
+# cluttertamp_add_plugin(NAME SOURCES... [LINK targets...] [OUTPUT_DIRECTORY dir] [NO_INSTALL])
 #
 # Builds one plugin as a MODULE library with hidden visibility into the plugin
 # directory the registry searches by default (lib/cluttertamp/plugins in the build
 # tree and in the install prefix). Only symbols exported with the
-# CLUTTERTAMP_EXPORT_* macros are visible to the registry.
+# CLUTTERTAMP_EXPORT_* macros are visible to the registry. Inside the cluttertamp
+# build, plugins are installed beside libcluttertamp unless NO_INSTALL is given.
 function(cluttertamp_add_plugin name)
-  cmake_parse_arguments(ARG "" "OUTPUT_DIRECTORY" "SOURCES;LINK" ${ARGN})
+  cmake_parse_arguments(ARG "NO_INSTALL" "OUTPUT_DIRECTORY" "SOURCES;LINK" ${ARGN})
   add_library(${name} MODULE ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE cluttertamp::cluttertamp ${ARG_LINK})
   if(NOT ARG_OUTPUT_DIRECTORY)
@@ -16,4 +17,7 @@ function(cluttertamp_add_plugin name)
     CXX_VISIBILITY_PRESET hidden
     VISIBILITY_INLINES_HIDDEN ON
     LIBRARY_OUTPUT_DIRECTORY "${ARG_OUTPUT_DIRECTORY}")
+  if(CLUTTERTAMP_PLUGIN_SUBDIR AND NOT ARG_NO_INSTALL)
+    install(TARGETS ${name} LIBRARY DESTINATION "${CLUTTERTAMP_PLUGIN_SUBDIR}")
+  endif()
 endfunction()

@@ -96,6 +96,22 @@ int plan(const PlanArgs& args) {
   return outcome.info.exit_code;
 }
 
+namespace {
+
+void print_objects(std::ostream& out, const Scene& scene) {
+  for (const SceneObject& o : scene.objects) {
+    const Eigen::Vector3d p = o.world_T_object.translation();
+    out << "  " << std::left << std::setw(12) << o.id << std::setw(9) << shape_name(o.shape) << std::fixed
+        << std::setprecision(3) << "at (" << p.x() << ", " << p.y() << ", " << p.z() << ")"
+        << (o.movable ? "" : "  fixed") << (&o == &scene.objects[scene.target] ? "  TARGET" : "");
+    if (!o.supports.empty()) out << "  on " << object_names(scene, o.supports);
+    out << "\n";
+  }
+  out.unsetf(std::ios::floatfield);
+}
+
+}  // namespace
+
 int validate(const ValidateArgs& args) {
   int exit_code = ExitCode::solved;
   for (const fs::path& file : args.files) {
@@ -105,10 +121,12 @@ int validate(const ValidateArgs& args) {
         if (args.verbosity != Verbosity::quiet) {
           std::cout << file.string() << ": valid problem '" << problem.name << "', scene " << describe_scene(problem.scene)
                     << "\n";
+          if (args.verbosity == Verbosity::verbose) print_objects(std::cout, problem.scene);
         }
       } else {
         const Scene scene = io::load_scene(file);
         if (args.verbosity != Verbosity::quiet) std::cout << file.string() << ": valid scene " << describe_scene(scene) << "\n";
+        if (args.verbosity == Verbosity::verbose) print_objects(std::cout, scene);
       }
     } catch (const InputError& e) {
       std::cerr << e.diagnostics().str();

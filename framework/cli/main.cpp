@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
   cli::ValidateArgs validate_args;
   auto* validate = app.add_subcommand("validate", "Check problem and scene files; print every error with its location");
   validate->add_option("files", validate_args.files, "Problem or scene files (YAML)")->required();
-  add_verbosity(*validate, validate_args.verbosity, "Same output as the default");
+  add_verbosity(*validate, validate_args.verbosity, "Also list every object of each valid scene");
 
   cli::PluginsArgs plugins_args;
   auto* plugins = app.add_subcommand("plugins", "List the plugins found, with kinds and versions, and any that failed to load");

@@ -156,7 +156,7 @@ std::vector<fs::path> Registry::default_search_paths(const std::vector<fs::path>
     }
   }
   // The directory of libcluttertamp itself: lib/ in the build tree and in an install.
-  const fs::path library_dir = fs::path(boost::dll::this_line_location().string()).parent_path();
+  const fs::path library_dir = fs::path(boost::dll::this_line_location().string()).lexically_normal().parent_path();
   paths.push_back(library_dir / "cluttertamp" / "plugins");
   paths.emplace_back(detail::kInstallPluginDir);
 
