@@ -46,8 +46,8 @@ class Cli : public ::testing::Test {
     const fs::path file = dir_ / ("problem_" + outcome + ".yaml");
     std::ofstream(file) << "version: 1\n"
                         << "scene: " << test::data("scenes/good.yaml").string() << "\n"
-                        << "robot: {name: ur10_ag95, urdf: " << CLUTTERTAMP_SOURCE_DIR
-                        << "/domains/robots/ur10_ag95.urdf}\n"
+                        << "robot: {description: " << CLUTTERTAMP_SOURCE_DIR
+                        << "/domains/robots/ur10_ag95.yaml}\n"
                         << "task: {retrieve: a}\n"
                         << "planner: {plugin: " << planner << ", time_limit: 10, parameters: {outcome: " << outcome
                         << "}}\n"
@@ -90,8 +90,8 @@ TEST_F(Cli, UsageErrorsAreBadInput) {
 
 TEST_F(Cli, ValidatePrintsEveryErrorWithItsLocation) {
   EXPECT_EQ(run("validate " + test::data("scenes/good.yaml").string()).exit_code, 0);
-  const CliRun bad = run("validate " + test::data("scenes/bad_many.yaml").string() + " " +
-                      test::data("problems/good.yaml").string());
+  const CliRun bad = run("validate --plugin-path " + test::plugin_dir("good").string() + " " +
+                         test::data("scenes/bad_many.yaml").string() + " " + test::data("problems/good.yaml").string());
   EXPECT_EQ(bad.exit_code, 2);
   const std::string file = test::data("scenes/bad_many.yaml").string();
   for (const char* where : {":1:1: error:", ":3:35: error:", ":6:5: error:", ":6:89: error:", ":7:5: error:",
@@ -99,6 +99,44 @@ TEST_F(Cli, ValidatePrintsEveryErrorWithItsLocation) {
     EXPECT_NE(bad.output.find(file + where), std::string::npos) << where << "\n" << bad.output;
   }
   EXPECT_NE(bad.output.find("valid problem 'good'"), std::string::npos);  // later files are still checked
+}
+
+TEST_F(Cli, ValidateChecksThePluginsAProblemNames) {
+  const std::string problem = test::data("problems/good.yaml").string();
+  const CliRun missing = run("validate " + problem);  // test_planner is not on the default paths
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("no usable task_planner plugin named 'test_planner'"), std::string::npos);
+  EXPECT_EQ(run("validate --no-plugins " + problem).exit_code, 0);
+  EXPECT_EQ(run("validate --plugin-path " + test::plugin_dir("good").string() + " " + problem).exit_code, 0);
+}
+
+TEST_F(Cli, BadNumbersOnTheCommandLineAreBadInput) {
+  const std::string problem_file = problem("solve").string();
+  for (const char* option : {"--seed -1", "--seed 99999999999999999999", "--seed 1.5", "--time-limit nan",
+                             "--time-limit 0", "--time-limit -3", "--time-limit inf"}) {
+    const CliRun r = plan(problem_file, option);
+    EXPECT_EQ(r.exit_code, 2) << option << "\n" << r.output;
+  }
+}
+
+TEST_F(Cli, UnwritableOutputIsBadInput) {
+  const fs::path file = dir_ / "a_file";
+  std::ofstream(file) << "x";
+  const CliRun r = run("plan " + problem("solve").string() + " --output " + file.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("cannot write the result file"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, ValidateReportsParametersNoPluginReads) {
+  // Every plugin of pddl_ok.yaml exists; the test planner reads only 'outcome'.
+  const CliRun r = run("validate --plugin-path " + test::plugin_dir("good").string() + " " +
+                       test::data("problems/pddl_ok.yaml").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  for (const char* text : {"pddl_ok.yaml:6:70: error: unknown parameter 'weight' for task_planner 'test_planner'",
+                           "pddl_ok.yaml:6:84: error: unknown parameter 'verbose'",
+                           "pddl_ok.yaml:6:95: error: unknown parameter 'tag'"}) {
+    EXPECT_NE(r.output.find(text), std::string::npos) << text << "\n" << r.output;
+  }
 }
 
 TEST_F(Cli, SolvedPlanExitsZeroAndWritesResult) {
@@ -146,7 +184,7 @@ TEST_F(Cli, PluginExceptionIsAnInternalError) {
 TEST_F(Cli, MissingPluginIsBadInputAndListsTheSearch) {
   const CliRun r = plan(problem("solve", "no_such_planner"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("no task_planner plugin named 'no_such_planner'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no usable task_planner plugin named 'no_such_planner'"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(test::plugin_dir("good").string()), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("task_planner 'test_planner'"), std::string::npos) << r.output;
   EXPECT_EQ(result()["exit_code"], 2);
@@ -164,7 +202,7 @@ TEST_F(Cli, DefaultProblemReportsHonestlyThatNoPlannerIsAvailable) {
   const CliRun r = plan(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/default.yaml");
   if (r.output.find("SOLVED:") != std::string::npos) GTEST_SKIP() << "a retrieval planner is installed";
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("no task_planner plugin named 'retrieval_graph'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no usable task_planner plugin named 'retrieval_graph'"), std::string::npos) << r.output;
   EXPECT_EQ(result()["solved"], false);
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
 #include "test_support.hpp"
 
 namespace cluttertamp {
@@ -19,8 +20,10 @@ TEST(ProblemIo, LoadsAGoodProblem) {
   EXPECT_DOUBLE_EQ(p.time_limit, 5.0);
   EXPECT_EQ(p.seed, 3u);
   EXPECT_EQ(p.scene.objects.size(), 4u);
-  EXPECT_TRUE(p.robot.urdf.is_absolute());
-  EXPECT_TRUE(std::filesystem::exists(p.robot.urdf));
+  EXPECT_TRUE(p.robot.description.is_absolute());
+  ASSERT_NE(p.robot.loaded, nullptr);
+  EXPECT_EQ(p.robot.loaded->name(), "ur10_ag95");
+  EXPECT_EQ(p.robot.initial_configuration(), p.robot.loaded->home());
 }
 
 TEST(ProblemIo, DefaultProblemIsValid) {
@@ -32,7 +35,7 @@ TEST(ProblemIo, DefaultProblemIsValid) {
 TEST(ProblemIo, ReportsEveryProblemAtOnce) {
   const Diagnostics d = expect_input_error([] { io::load_problem(data("problems/bad_problem.yaml")); });
   EXPECT_EQ(d.size(), 5u) << d.str();
-  EXPECT_TRUE(has_error(d, 3, 32, "robot urdf 'missing.urdf' does not exist"));
+  EXPECT_TRUE(has_error(d, 3, 22, "robot description 'missing.yaml' does not exist"));
   EXPECT_TRUE(has_error(d, 4, 18, "retrieve names 'b' but the scene's target is 'a'"));
   EXPECT_TRUE(has_error(d, 7, 15, "time_limit must be positive"));
   EXPECT_TRUE(has_error(d, 8, 3, "unknown key 'speed' in planner"));
@@ -54,6 +57,42 @@ TEST(ProblemIo, SceneErrorsAreReportedWithTheScenesLocation) {
 TEST(ProblemIo, DetectsFileKind) {
   EXPECT_EQ(io::detect_file_kind(data("problems/good.yaml")), io::FileKind::problem);
   EXPECT_EQ(io::detect_file_kind(data("scenes/good.yaml")), io::FileKind::scene);
+}
+
+}  // namespace
+}  // namespace cluttertamp
+
+namespace cluttertamp {
+namespace {
+
+TEST(ProblemIo, MissingKeysWrongTypesAndNoTask) {
+  const Diagnostics d = test::expect_input_error([] { io::load_problem(test::data("problems/bad_fields.yaml")); });
+  EXPECT_EQ(d.size(), 4u) << d.str();
+  EXPECT_TRUE(test::has_error(d, 3, 77, "robot configuration must list 6 joint values"));
+  EXPECT_TRUE(test::has_error(d, 4, 7, "task needs 'retrieve: <target object>' or 'pddl:"));
+  EXPECT_TRUE(test::has_error(d, 5, 39, "planner seed must be a decimal integer, not '010'"));
+  EXPECT_TRUE(test::has_error(d, 5, 56, "planner time_limit must be a finite number, not 'soon'"));
+}
+
+TEST(ProblemIo, PddlTaskWithStreamsAndEveryPluginRole) {
+  const Problem p = io::load_problem(test::data("problems/pddl_ok.yaml"));
+  const auto& task = std::get<PddlTask>(p.task);
+  EXPECT_EQ(task.domain.filename(), "domain.pddl");
+  EXPECT_EQ(task.problem.filename(), "problem.pddl");
+  ASSERT_TRUE(task.streams.has_value());
+  EXPECT_EQ(task.streams->filename(), "stream.pddl");
+  EXPECT_EQ(p.samplers.at(SamplerRole::grasp).name, "test_grasp");
+  const PluginChoice& pruner = p.samplers.at(SamplerRole::object_pruner);
+  EXPECT_EQ(pruner.name, "corridor");
+  EXPECT_DOUBLE_EQ(pruner.parameters.get_double("finger_thickness", 0), 0.01);
+  ASSERT_EQ(p.streams.size(), 2u);
+  EXPECT_EQ(p.streams.at("sample-grasp").parameters.get_int("rings", 0), 3);
+  EXPECT_EQ(p.streams.at("test-free").name, "toy_stream");
+  // Planner parameters keep their YAML types; a quoted number stays a string.
+  EXPECT_DOUBLE_EQ(p.planner.parameters.get_double("weight", 0), 1.5);
+  EXPECT_TRUE(p.planner.parameters.get_bool("verbose", false));
+  EXPECT_EQ(p.planner.parameters.get_string("tag", ""), "7");
+  ASSERT_EQ(p.plugin_paths.size(), 1u);
 }
 
 }  // namespace

@@ -1,4 +1,8 @@
+#include <fstream>
+
 #include <gtest/gtest.h>
+
+#include "cluttertamp/io/problem_io.hpp"
 
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/io/scene_io.hpp"
@@ -114,7 +118,7 @@ TEST(SceneIo, ReportsEveryProblemAtOnce) {
   EXPECT_TRUE(has_error(d, 3, 35, "exit rpy must be a list of 3 numbers"));
   EXPECT_TRUE(has_error(d, 6, 89, "mass must be positive"));
   EXPECT_TRUE(has_error(d, 6, 5, "interpenetrates"));
-  EXPECT_TRUE(has_error(d, 7, 13, "unknown key 'sphere'"));
+  EXPECT_TRUE(has_error(d, 7, 13, "unknown key 'cone'"));
   EXPECT_TRUE(has_error(d, 7, 5, "needs a shape"));
 }
 
@@ -128,6 +132,68 @@ TEST(SceneIo, EmptyFile) {
   const Diagnostics d = test::expect_input_error([] { io::load_scene(test::data("scenes/bad_empty.yaml")); });
   ASSERT_EQ(d.size(), 1u);
   EXPECT_TRUE(test::has_error(d, 1, 1, "the scene file is empty"));
+}
+
+}  // namespace
+}  // namespace cluttertamp
+
+namespace cluttertamp {
+namespace {
+
+Diagnostics scene_errors2(const std::string& name) {
+  return test::expect_input_error([&] { io::load_scene(test::data("scenes/" + name)); });
+}
+
+TEST(SceneIo, ObjectInterpenetratingAFixedBody) {
+  EXPECT_TRUE(test::has_error(scene_errors2("bad_fixed_overlap.yaml"), 8, 5,
+                              "object 'a' interpenetrates fixed body 'wall' (by 30.0 mm)"));
+}
+
+TEST(SceneIo, ExitAndRegionOutsideTheWorkspace) {
+  const Diagnostics d = scene_errors2("bad_outside.yaml");
+  EXPECT_TRUE(test::has_error(d, 4, 7, "exit pose x_s lies outside the workspace"));
+  EXPECT_TRUE(test::has_error(d, 6, 5, "region 'buffer' lies (partly) outside the workspace"));
+}
+
+TEST(SceneIo, FixedTarget) {
+  EXPECT_TRUE(test::has_error(scene_errors2("bad_fixed_target.yaml"), 6, 5, "the target 'a' must be movable"));
+}
+
+TEST(SceneIo, DuplicateKey) {
+  EXPECT_TRUE(test::has_error(scene_errors2("bad_duplicate_key.yaml"), 6, 93, "duplicate key 'mass'"));
+}
+
+TEST(SceneIo, LyingCylinderOnTheFloorIsInsideTheWorkspace) {
+  // Rotated by a rounded pi/2, its bounds poke past the floor by less than the 1 mm tolerance.
+  const Scene scene = io::load_scene(test::data("scenes/good_lying_cylinder.yaml"));
+  EXPECT_EQ(scene.objects.size(), 2u);
+}
+
+// Malformed, hostile or absurd files: every one is either valid or an InputError;
+// nothing crashes, hangs or escapes as another exception.
+TEST(SceneIo, NastyFilesNeverCrash) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(test::data("nasty"))) files.push_back(entry.path());
+  ASSERT_GE(files.size(), 15u);
+  // Generated: nesting far deeper than any real file.
+  const auto deep = std::filesystem::temp_directory_path() / "cluttertamp_deep.yaml";
+  std::ofstream(deep) << "version: 1\nobjects: " << std::string(20000, '[') << std::string(20000, ']') << "\n";
+  files.push_back(deep);
+  files.push_back(test::data("."));  // a directory
+  for (const auto& file : files) {
+    try {
+      if (io::detect_file_kind(file) == io::FileKind::problem) {
+        io::load_problem(file);
+      } else {
+        io::load_scene(file);
+      }
+    } catch (const InputError& e) {
+      EXPECT_FALSE(e.diagnostics().empty()) << file;
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << file << ": " << e.what();
+    }
+  }
+  std::filesystem::remove(deep);
 }
 
 }  // namespace

@@ -73,7 +73,10 @@ void print_summary(std::ostream& out, const Problem& problem, const run::RunOutc
 
 int plan(const PlanArgs& args) {
   const Problem problem = io::load_problem(args.problem);
-  run::RunOptions options{args.seed, args.time_limit, args.plugin_paths};
+  run::RunOptions options;
+  if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
+  options.time_limit = args.time_limit;
+  options.plugin_paths = args.plugin_paths;
   const plugin::Registry registry(run::plugin_search_paths(problem, options));
   if (args.verbosity == Verbosity::verbose) std::cerr << registry.describe_search();
 
@@ -118,6 +121,12 @@ int validate(const ValidateArgs& args) {
     try {
       if (io::detect_file_kind(file) == io::FileKind::problem) {
         const Problem problem = io::load_problem(file);
+        if (!args.skip_plugins) {
+          run::RunOptions options;
+          options.plugin_paths = args.plugin_paths;
+          const plugin::Registry registry(run::plugin_search_paths(problem, options));
+          run::create_plugins(problem, registry);
+        }
         if (args.verbosity != Verbosity::quiet) {
           std::cout << file.string() << ": valid problem '" << problem.name << "', scene " << describe_scene(problem.scene)
                     << "\n";
@@ -135,6 +144,9 @@ int validate(const ValidateArgs& args) {
                   << (e.diagnostics().size() == 1 ? "" : "s") << "\n";
       }
       exit_code = ExitCode::bad_input;
+    } catch (const std::exception& e) {
+      std::cerr << file.string() << ": internal error: " << e.what() << "\n";
+      if (exit_code == ExitCode::solved) exit_code = ExitCode::internal_error;
     }
   }
   return exit_code;

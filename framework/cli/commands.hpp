@@ -14,7 +14,7 @@ enum class Verbosity { quiet, normal, verbose };
 
 struct PlanArgs {
   std::filesystem::path problem;
-  std::optional<std::uint64_t> seed;
+  std::optional<std::int64_t> seed;  ///< validated >= 0 by the parser
   std::optional<double> time_limit;
   std::filesystem::path output = "cluttertamp-out";
   std::vector<std::filesystem::path> plugin_paths;
@@ -24,6 +24,8 @@ int plan(const PlanArgs& args);
 
 struct ValidateArgs {
   std::vector<std::filesystem::path> files;
+  bool skip_plugins = false;
+  std::vector<std::filesystem::path> plugin_paths;
   Verbosity verbosity = Verbosity::normal;
 };
 int validate(const ValidateArgs& args);

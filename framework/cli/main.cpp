@@ -1,7 +1,11 @@
 // cluttertamp: the command-line front end. Parses arguments with CLI11 and maps every
 // outcome to the documented exit codes (README, "Exit codes").
 #include <CLI/CLI.hpp>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <iostream>
+#include <limits>
 
 #include "cli/commands.hpp"
 #include "cluttertamp/core/diagnostics.hpp"
@@ -32,21 +36,49 @@ int main(int argc, char** argv) {
   cli::PlanArgs plan_args;
   auto* plan = app.add_subcommand("plan", "Plan a problem file; write OUTPUT/result.json");
   plan->add_option("problem", plan_args.problem, "Problem file (YAML)")->required()->check(CLI::ExistingFile);
-  plan->add_option("--seed", plan_args.seed, "Random seed (overrides the problem file's planner.seed)");
-  plan->add_option("--time-limit", plan_args.time_limit, "Wall-clock limit in seconds (overrides planner.time_limit)")
-      ->check(CLI::PositiveNumber);
+  plan->add_option("--seed", plan_args.seed, "Random seed, 0 to 2^63-1 (overrides the problem file's planner.seed)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            std::int64_t value = 0;
+            const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+            return error == std::errc() && end == text.data() + text.size() && value >= 0
+                       ? std::string()
+                       : "must be a whole number from 0 to 9223372036854775807";
+          },
+          "SEED", "non-negative integer"));
+  plan->add_option("--time-limit", plan_args.time_limit, "Wall-clock limit in seconds, > 0 (overrides planner.time_limit)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            double value = 0;
+            return CLI::detail::lexical_cast(text, value) && std::isfinite(value) && value > 0
+                       ? std::string()
+                       : "must be a finite number of seconds greater than 0";
+          },
+          "SECONDS", "finite positive"));
   plan->add_option("-o,--output", plan_args.output, "Directory for result.json")->capture_default_str();
-  plan->add_option("--plugin-path", plan_args.plugin_paths, "Search this plugin directory first (repeatable)");
+  plan->add_option("--plugin-path", plan_args.plugin_paths, "Search this plugin directory first (repeatable)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   add_verbosity(*plan, plan_args.verbosity, "Also print the plugin search (directories, plugins, failures)");
 
   cli::ValidateArgs validate_args;
   auto* validate = app.add_subcommand("validate", "Check problem and scene files; print every error with its location");
   validate->add_option("files", validate_args.files, "Problem or scene files (YAML)")->required();
+  validate->add_flag("--no-plugins", validate_args.skip_plugins,
+                     "Do not check that the plugins a problem names exist and accept their parameters");
+  validate->add_option("--plugin-path", validate_args.plugin_paths, "Search this plugin directory first (repeatable)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   add_verbosity(*validate, validate_args.verbosity, "Also list every object of each valid scene");
 
   cli::PluginsArgs plugins_args;
   auto* plugins = app.add_subcommand("plugins", "List the plugins found, with kinds and versions, and any that failed to load");
-  plugins->add_option("--plugin-path", plugins_args.plugin_paths, "Search this plugin directory first (repeatable)");
+  plugins->add_option("--plugin-path", plugins_args.plugin_paths, "Search this plugin directory first (repeatable)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   add_verbosity(*plugins, plugins_args.verbosity, "Also print each plugin's library path");
 
   try {
@@ -71,6 +103,9 @@ int main(int argc, char** argv) {
     return ExitCode::bad_input;
   } catch (const std::exception& e) {
     std::cerr << "cluttertamp: internal error: " << e.what() << "\n";
+    return ExitCode::internal_error;
+  } catch (...) {
+    std::cerr << "cluttertamp: internal error: an exception of unknown type\n";
     return ExitCode::internal_error;
   }
   return ExitCode::internal_error;

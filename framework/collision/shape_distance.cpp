@@ -4,6 +4,7 @@
 
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/distance.h>
 
 namespace cluttertamp::collision {
@@ -11,6 +12,7 @@ namespace cluttertamp::collision {
 namespace {
 std::shared_ptr<fcl::CollisionGeometryd> make_geometry(const Shape& shape) {
   if (const auto* box = std::get_if<Box>(&shape)) return std::make_shared<fcl::Boxd>(box->size);
+  if (const auto* sphere = std::get_if<Sphere>(&shape)) return std::make_shared<fcl::Sphered>(sphere->radius);
   const auto& cylinder = std::get<Cylinder>(shape);
   return std::make_shared<fcl::Cylinderd>(cylinder.radius, cylinder.height);
 }

@@ -1,14 +1,10 @@
 #include "cluttertamp/core/geometry.hpp"
 
+#include <cmath>
+
 namespace cluttertamp {
 
 namespace {
-// Half extents of the shape's own bounding box, in its frame.
-Eigen::Vector3d half_extents(const Shape& shape) {
-  if (const auto* box = std::get_if<Box>(&shape)) return box->size / 2.0;
-  const auto& cylinder = std::get<Cylinder>(shape);
-  return {cylinder.radius, cylinder.radius, cylinder.height / 2.0};
-}
 }  // namespace
 
 Eigen::AlignedBox3d world_bounds(const Shape& shape, const Eigen::Isometry3d& world_T_shape) {
@@ -24,10 +20,20 @@ Eigen::AlignedBox3d world_bounds(const Shape& shape, const Eigen::Isometry3d& wo
     }
     return {centre - half, centre + half};
   }
-  const Eigen::Vector3d half = R.cwiseAbs() * half_extents(shape);
+  if (const auto* sphere = std::get_if<Sphere>(&shape)) {
+    const Eigen::Vector3d half = Eigen::Vector3d::Constant(sphere->radius);
+    return {centre - half, centre + half};
+  }
+  const Eigen::Vector3d half = R.cwiseAbs() * (std::get<Box>(shape).size / 2.0);
   return {centre - half, centre + half};
 }
 
-const char* shape_name(const Shape& shape) { return std::holds_alternative<Box>(shape) ? "box" : "cylinder"; }
+const char* shape_name(const Shape& shape) {
+  switch (shape.index()) {
+    case 0: return "box";
+    case 1: return "cylinder";
+    default: return "sphere";
+  }
+}
 
 }  // namespace cluttertamp

@@ -1,5 +1,6 @@
 #include "cluttertamp/io/problem_io.hpp"
 
+#include "cluttertamp/robot/robot_description.hpp"
 #include "io/readers.hpp"
 #include "io/yaml_reader.hpp"
 
@@ -17,8 +18,13 @@ std::optional<fs::path> existing_file(const YamlFile& file, const YAML::Node& no
   auto text = file.string(node, what);
   if (!text) return std::nullopt;
   fs::path path = file.resolve(*text);
-  if (!fs::is_regular_file(path)) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
     file.error(node, what + " '" + *text + "' does not exist (looked for " + path.string() + ")");
+    return std::nullopt;
+  }
+  if (!fs::is_regular_file(path, ec)) {
+    file.error(node, what + " '" + *text + "' is not a regular file (" + path.string() + ")");
     return std::nullopt;
   }
   return path;
@@ -105,13 +111,37 @@ Problem ProblemReader::read() {
 
 void ProblemReader::read_robot(const YAML::Node& node) {
   if (!node.IsDefined()) return;
-  MapReader map(file_, node, "robot", {"name", "urdf"});
+  MapReader map(file_, node, "robot", {"description", "configuration"});
   if (!map.valid()) return;
   problem_.robot.where = file_.at(node);
-  const YAML::Node name = map.required("name");
-  if (name.IsDefined()) problem_.robot.name = file_.string(name, "robot name").value_or("");
-  const YAML::Node urdf = map.required("urdf");
-  if (urdf.IsDefined()) problem_.robot.urdf = existing_file(file_, urdf, "robot urdf").value_or(fs::path());
+  const YAML::Node description = map.required("description");
+  if (!description.IsDefined()) return;
+  const auto path = existing_file(file_, description, "robot description");
+  if (!path) return;
+  problem_.robot.description = *path;
+  try {
+    problem_.robot.loaded = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(*path));
+  } catch (const InputError& e) {
+    diagnostics_.append(e.diagnostics());
+    return;
+  }
+  if (map.has("configuration")) {
+    const YAML::Node q = map.optional("configuration");
+    const robot::RobotModel& model = *problem_.robot.loaded->model();
+    if (!q.IsSequence() || q.size() != model.variable_count()) {
+      file_.error(q, "robot configuration must list " + std::to_string(model.variable_count()) +
+                         " joint values (URDF order), not " + std::to_string(q.IsSequence() ? q.size() : 0));
+      return;
+    }
+    Eigen::VectorXd values(static_cast<Eigen::Index>(q.size()));
+    bool ok = true;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      auto v = file_.number(q[i], "robot configuration[" + std::to_string(i) + "]");
+      if (v) values[static_cast<Eigen::Index>(i)] = *v; else ok = false;
+    }
+    if (ok && !model.within_limits(values)) file_.error(q, "robot configuration lies outside the joint limits");
+    if (ok) problem_.robot.configuration = values;
+  }
 }
 
 void ProblemReader::read_task(const YAML::Node& node) {
@@ -183,7 +213,15 @@ void ProblemReader::read_plugins(const YAML::Node& node) {
       return;
     }
     for (const auto& item : streams) {
+      if (!item.first.IsScalar()) {
+        file_.error(item.first, "stream names must be plain strings");
+        continue;
+      }
       const std::string stream = item.first.Scalar();
+      if (problem_.streams.count(stream)) {
+        file_.error(item.first, "duplicate stream '" + stream + "'");
+        continue;
+      }
       if (auto choice = read_choice(file_, item.second, "stream '" + stream + "'")) problem_.streams[stream] = *choice;
     }
   }

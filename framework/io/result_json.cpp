@@ -67,15 +67,19 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
   for (const auto& [key, value] : result.counters) counters[key] = value;
   out["counters"] = counters;
   out["failures"] = failures;
-  return out.dump(2) + "\n";
+  // Invalid UTF-8 from a plugin's text is replaced rather than making the file unwritable.
+  return out.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 void write_result_json(const std::filesystem::path& file, const Problem& problem, const Result& result,
                        const RunInfo& run) {
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
+  const std::string text = result_to_json(problem, result, run);
+  std::error_code ec;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
   std::ofstream out(file);
-  out << result_to_json(problem, result, run);
-  if (!out) throw std::runtime_error("cannot write " + file.string());
+  out << text;
+  out.close();
+  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the result file (is the output directory writable?)");
 }
 
 }  // namespace cluttertamp::io

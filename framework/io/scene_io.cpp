@@ -1,5 +1,7 @@
 #include "cluttertamp/io/scene_io.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "collision/shape_distance.hpp"
@@ -12,11 +14,16 @@ namespace {
 
 using detail::MapReader;
 using detail::YamlFile;
+using detail::kMaxCoordinate;
+using detail::kMaxSize;
+using detail::kMinSize;
 
 // Overlaps deeper than this are interpenetration; shallower ones are resting contact.
 constexpr double kPenetrationTolerance = 1e-3;  // m
 // How far a stacked object's bottom may be from its supports' tops.
 constexpr double kRestingTolerance = 5e-3;  // m
+// How far a shape may reach past the workspace box (rounding of rotated poses).
+constexpr double kWorkspaceTolerance = 1e-3;  // m
 
 struct ObjectDraft {
   SceneObject object;
@@ -26,13 +33,13 @@ struct ObjectDraft {
 };
 
 std::optional<Shape> read_shape(const YamlFile& file, const MapReader& map, const std::string& what) {
-  const bool has_box = map.has("box");
-  const bool has_cylinder = map.has("cylinder");
-  if (has_box == has_cylinder) {
-    file.error(map.node(), what + (has_box ? " has both 'box' and 'cylinder'" : " needs a shape: 'box' or 'cylinder'"));
+  const int given = int(map.has("box")) + int(map.has("cylinder")) + int(map.has("sphere"));
+  if (given != 1) {
+    file.error(map.node(), what + (given == 0 ? " needs a shape: 'box', 'cylinder' or 'sphere'"
+                                              : " has more than one shape; give one of 'box', 'cylinder', 'sphere'"));
     return std::nullopt;
   }
-  if (has_box) {
+  if (map.has("box")) {
     MapReader box(file, map.optional("box"), what + " box", {"size"});
     if (!box.valid()) return std::nullopt;
     const YAML::Node size = box.required("size");
@@ -43,7 +50,17 @@ std::optional<Shape> read_shape(const YamlFile& file, const MapReader& map, cons
       file.error(size, what + " box size must be positive in every axis");
       return std::nullopt;
     }
+    if (!file.vec3_in(size, what + " box size", kMinSize, kMaxSize, "m")) return std::nullopt;
     return Box{*v};
+  }
+  if (map.has("sphere")) {
+    MapReader sphere(file, map.optional("sphere"), what + " sphere", {"radius"});
+    if (!sphere.valid()) return std::nullopt;
+    const YAML::Node r = sphere.required("radius");
+    auto radius = r.IsDefined() ? file.positive(r, what + " sphere radius") : std::nullopt;
+    if (radius) radius = file.number_in(r, what + " sphere radius", kMinSize, kMaxSize, "m");
+    if (!radius) return std::nullopt;
+    return Sphere{*radius};
   }
   MapReader cylinder(file, map.optional("cylinder"), what + " cylinder", {"radius", "height"});
   if (!cylinder.valid()) return std::nullopt;
@@ -51,6 +68,8 @@ std::optional<Shape> read_shape(const YamlFile& file, const MapReader& map, cons
   const YAML::Node h = cylinder.required("height");
   auto radius = r.IsDefined() ? file.positive(r, what + " cylinder radius") : std::nullopt;
   auto height = h.IsDefined() ? file.positive(h, what + " cylinder height") : std::nullopt;
+  if (radius) radius = file.number_in(r, what + " cylinder radius", kMinSize, kMaxSize, "m");
+  if (height) height = file.number_in(h, what + " cylinder height", kMinSize, kMaxSize, "m");
   if (!radius || !height) return std::nullopt;
   return Cylinder{*radius, *height};
 }
@@ -70,7 +89,8 @@ class SceneReader {
   void claim_id(const std::string& id, const YAML::Node& where);
   void resolve_target_and_supports(const YAML::Node& objects_node);
   void check_geometry();
-  void check_inside(const Eigen::AlignedBox3d& bounds, const SourceLocation& where, const std::string& what);
+  /// False (and reported) when `bounds` leaves the workspace by more than the tolerance.
+  bool check_inside(const Eigen::AlignedBox3d& bounds, const SourceLocation& where, const std::string& what);
 
   YamlFile file_;
   Scene scene_;
@@ -131,8 +151,8 @@ void SceneReader::read_workspace(const YAML::Node& node) {
   if (!map.valid()) return;
   const YAML::Node min_node = map.required("min");
   const YAML::Node max_node = map.required("max");
-  auto lo = min_node.IsDefined() ? file_.vec3(min_node, "workspace min") : std::nullopt;
-  auto hi = max_node.IsDefined() ? file_.vec3(max_node, "workspace max") : std::nullopt;
+  auto lo = min_node.IsDefined() ? file_.vec3_in(min_node, "workspace min", -kMaxCoordinate, kMaxCoordinate, "m") : std::nullopt;
+  auto hi = max_node.IsDefined() ? file_.vec3_in(max_node, "workspace max", -kMaxCoordinate, kMaxCoordinate, "m") : std::nullopt;
   if (!lo || !hi) return;
   if (((*hi - *lo).array() <= 0).any()) {
     file_.error(node, "workspace max must exceed min in every axis");
@@ -154,7 +174,7 @@ void SceneReader::read_fixed(const YAML::Node& node) {
   }
   for (std::size_t i = 0; i < node.size(); ++i) {
     const YAML::Node item = node[i];
-    MapReader map(file_, item, "fixed body #" + std::to_string(i + 1), {"id", "box", "cylinder", "pose"});
+    MapReader map(file_, item, "fixed body #" + std::to_string(i + 1), {"id", "box", "cylinder", "sphere", "pose"});
     if (!map.valid()) continue;
     FixedBody body;
     body.where = file_.at(item);
@@ -183,7 +203,7 @@ void SceneReader::read_objects(const YAML::Node& node) {
     ObjectDraft draft;
     draft.object.where = file_.at(item);
     MapReader map(file_, item, "object #" + std::to_string(i + 1),
-                  {"id", "box", "cylinder", "pose", "mass", "friction", "movable", "target", "on"});
+                  {"id", "box", "cylinder", "sphere", "pose", "mass", "friction", "movable", "target", "on"});
     if (map.valid()) {
       const YAML::Node id = map.required("id");
       if (id.IsDefined()) {
@@ -194,12 +214,12 @@ void SceneReader::read_objects(const YAML::Node& node) {
       const YAML::Node pose_node = map.required("pose");
       auto pose = pose_node.IsDefined() ? file_.pose(pose_node, what + " pose") : std::nullopt;
       const YAML::Node mass = map.required("mass");
-      if (mass.IsDefined()) draft.object.mass = file_.positive(mass, what + " mass").value_or(0.0);
+      if (mass.IsDefined()) {
+        if (auto m = file_.positive(mass, what + " mass")) draft.object.mass = file_.number_in(mass, what + " mass", 0, 1e4, "kg").value_or(0.0);
+      }
       draft.object.friction = 0.5;
       if (map.has("friction")) {
-        auto mu = file_.number(map.optional("friction"), what + " friction");
-        if (mu && *mu < 0) file_.error(map.optional("friction"), what + " friction must not be negative");
-        draft.object.friction = mu.value_or(0.5);
+        draft.object.friction = file_.number_in(map.optional("friction"), what + " friction", 0, 10, "").value_or(0.5);
       }
       if (map.has("movable")) draft.object.movable = file_.boolean(map.optional("movable"), what + " movable").value_or(true);
       if (map.has("target")) draft.target = file_.boolean(map.optional("target"), what + " target").value_or(false);
@@ -245,6 +265,7 @@ void SceneReader::read_regions(const YAML::Node& node) {
       file_.error(size_node, what + " size must be positive in every axis");
       size.reset();
     }
+    if (size) size = file_.vec3_in(size_node, what + " size", kMinSize, kMaxSize, "m");
     const YAML::Node pose_node = map.required("pose");
     auto pose = pose_node.IsDefined() ? file_.pose(pose_node, what + " pose") : std::nullopt;
     if (!size || !pose) continue;
@@ -297,11 +318,15 @@ void SceneReader::resolve_target_and_supports(const YAML::Node& objects_node) {
   }
 }
 
-void SceneReader::check_inside(const Eigen::AlignedBox3d& bounds, const SourceLocation& where, const std::string& what) {
-  if (!workspace_ok_) return;
-  constexpr double eps = 1e-9;
-  const Eigen::AlignedBox3d padded(scene_.workspace.min().array() - eps, scene_.workspace.max().array() + eps);
-  if (!padded.contains(bounds)) file_.error(where, what + " lies (partly) outside the workspace");
+bool SceneReader::check_inside(const Eigen::AlignedBox3d& bounds, const SourceLocation& where, const std::string& what) {
+  if (!workspace_ok_) return true;
+  const Eigen::AlignedBox3d padded(scene_.workspace.min().array() - kWorkspaceTolerance,
+                                   scene_.workspace.max().array() + kWorkspaceTolerance);
+  if (!padded.contains(bounds)) {
+    file_.error(where, what + " lies (partly) outside the workspace");
+    return false;
+  }
+  return true;
 }
 
 void SceneReader::check_geometry() {
@@ -311,21 +336,36 @@ void SceneReader::check_geometry() {
     Eigen::AlignedBox3d bounds;
     std::string what;
     SourceLocation where;
+    bool measurable;  // inside the workspace: distances are meaningful
   };
   std::vector<Placed> objects;
   for (const SceneObject& o : scene_.objects) {
-    objects.push_back({&o.shape, &o.world_T_object, world_bounds(o.shape, o.world_T_object), "object '" + o.id + "'", o.where});
-    check_inside(objects.back().bounds, o.where, objects.back().what);
+    const Eigen::AlignedBox3d bounds = world_bounds(o.shape, o.world_T_object);
+    const std::string what = "object '" + o.id + "'";
+    objects.push_back({&o.shape, &o.world_T_object, bounds, what, o.where, check_inside(bounds, o.where, what)});
   }
   std::vector<Placed> fixed;
+  const double workspace_size = workspace_ok_ ? scene_.workspace.diagonal().norm() : 0.0;
   for (const FixedBody& f : scene_.fixed) {
-    fixed.push_back({&f.shape, &f.world_T_body, world_bounds(f.shape, f.world_T_body), "fixed body '" + f.id + "'", f.where});
+    // Fixed bodies may reach past the workspace (a floor); absurd sizes are not measured.
+    const Eigen::AlignedBox3d bounds = world_bounds(f.shape, f.world_T_body);
+    const bool sane = bounds.diagonal().allFinite() && (!workspace_ok_ || bounds.diagonal().norm() < 100 * workspace_size);
+    if (!sane) file_.error(f.where, "fixed body '" + f.id + "' is far larger than the workspace");
+    fixed.push_back({&f.shape, &f.world_T_body, bounds, "fixed body '" + f.id + "'", f.where, sane});
   }
   auto report_overlap = [&](const Placed& a, const Placed& b) {
     // Bounding boxes that do not even touch cannot interpenetrate.
-    if (!a.bounds.intersects(b.bounds)) return;
-    const double d = collision::signed_distance(*a.shape, *a.pose, *b.shape, *b.pose);
-    if (d < -kPenetrationTolerance) {
+    if (!a.measurable || !b.measurable || !a.bounds.intersects(b.bounds)) return;
+    double d = 0.0;
+    try {
+      d = collision::signed_distance(*a.shape, *a.pose, *b.shape, *b.pose);
+    } catch (const std::exception& e) {
+      file_.error(a.where, "cannot measure whether " + a.what + " overlaps " + b.what + ": " + e.what());
+      return;
+    }
+    if (!std::isfinite(d)) {
+      file_.error(a.where, "cannot measure whether " + a.what + " overlaps " + b.what + " (degenerate geometry)");
+    } else if (d < -kPenetrationTolerance) {
       char depth[32];
       std::snprintf(depth, sizeof depth, "%.1f mm", -d * 1e3);
       file_.error(a.where, a.what + " interpenetrates " + b.what + " (by " + depth + ")");

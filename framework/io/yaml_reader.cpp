@@ -1,8 +1,11 @@
 #include "io/yaml_reader.hpp"
 
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace cluttertamp::io::detail {
@@ -20,12 +23,39 @@ std::string describe(const YAML::Node& node) {
   }
 }
 bool quoted(const YAML::Node& node) { return node.Tag() == "!"; }
+
+// YAML files we read are small; anything larger is a mistake (e.g. /dev/zero).
+constexpr std::uintmax_t kMaxFileSize = 64u << 20;
+
+// A plain decimal integer: yaml-cpp would also read 010 as octal 8 and 0x10 as 16.
+bool decimal_integer(const std::string& text) {
+  std::size_t i = (!text.empty() && (text[0] == '-' || text[0] == '+')) ? 1 : 0;
+  if (i >= text.size()) return false;
+  if (text[i] == '0' && i + 1 < text.size()) return false;
+  for (; i < text.size(); ++i) {
+    if (!std::isdigit(static_cast<unsigned char>(text[i]))) return false;
+  }
+  return true;
+}
 }  // namespace
 
 YamlFile::YamlFile(const fs::path& file, Diagnostics& diagnostics) : path_(file), diagnostics_(diagnostics) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    diagnostics_.error({file.string(), 0, 0}, "no such file");
+    return;
+  }
+  if (!fs::is_regular_file(file, ec)) {
+    diagnostics_.error({file.string(), 0, 0}, "not a regular file");
+    return;
+  }
+  if (fs::file_size(file, ec) > kMaxFileSize) {
+    diagnostics_.error({file.string(), 0, 0}, "larger than " + std::to_string(kMaxFileSize >> 20) + " MiB; not a problem or scene file");
+    return;
+  }
   std::ifstream in(file);
   if (!in) {
-    diagnostics_.error({file.string(), 0, 0}, fs::exists(file) ? "cannot read the file" : "no such file");
+    diagnostics_.error({file.string(), 0, 0}, "cannot read the file");
     return;
   }
   std::stringstream text;
@@ -73,10 +103,25 @@ std::optional<double> YamlFile::positive(const YAML::Node& node, const std::stri
   return value;
 }
 
+std::optional<double> YamlFile::number_in(const YAML::Node& node, const std::string& what, double lo, double hi,
+                                          const std::string& unit) const {
+  auto value = number(node, what);
+  if (value && (*value < lo || *value > hi)) {
+    char range[96];
+    std::snprintf(range, sizeof range, " must lie in [%g, %g] %s, not ", lo, hi, unit.c_str());
+    error(node, what + range + node.Scalar());
+    return std::nullopt;
+  }
+  return value;
+}
+
 std::optional<std::int64_t> YamlFile::integer(const YAML::Node& node, const std::string& what) const {
   long long value = 0;
-  if (node.IsScalar() && !quoted(node) && YAML::convert<long long>::decode(node, value)) return value;
-  error(node, what + " must be an integer, not " + describe(node));
+  if (node.IsScalar() && !quoted(node) && decimal_integer(node.Scalar()) &&
+      YAML::convert<long long>::decode(node, value)) {
+    return value;
+  }
+  error(node, what + " must be a decimal integer, not " + describe(node));
   return std::nullopt;
 }
 
@@ -123,14 +168,30 @@ std::optional<Eigen::Vector3d> YamlFile::vec3(const YAML::Node& node, const std:
   return v;
 }
 
+std::optional<Eigen::Vector3d> YamlFile::vec3_in(const YAML::Node& node, const std::string& what, double lo, double hi,
+                                                 const std::string& unit) const {
+  if (!node.IsSequence() || node.size() != 3) {
+    error(node, what + " must be a list of 3 numbers, not " + describe(node));
+    return std::nullopt;
+  }
+  Eigen::Vector3d v;
+  bool ok = true;
+  for (int i = 0; i < 3; ++i) {
+    auto x = number_in(node[i], what + "[" + std::to_string(i) + "]", lo, hi, unit);
+    if (x) v[i] = *x; else ok = false;
+  }
+  if (!ok) return std::nullopt;
+  return v;
+}
+
 std::optional<Eigen::Isometry3d> YamlFile::pose(const YAML::Node& node, const std::string& what) const {
   MapReader map(*this, node, what, {"xyz", "rpy"});
   if (!map.valid()) return std::nullopt;
   const YAML::Node xyz_node = map.required("xyz");
   std::optional<Eigen::Vector3d> xyz;
-  if (xyz_node.IsDefined()) xyz = vec3(xyz_node, what + " xyz");
+  if (xyz_node.IsDefined()) xyz = vec3_in(xyz_node, what + " xyz", -kMaxCoordinate, kMaxCoordinate, "m");
   std::optional<Eigen::Vector3d> rpy = Eigen::Vector3d::Zero().eval();
-  if (map.has("rpy")) rpy = vec3(map.optional("rpy"), what + " rpy");
+  if (map.has("rpy")) rpy = vec3_in(map.optional("rpy"), what + " rpy", -kMaxAngle, kMaxAngle, "rad");
   if (!xyz || !rpy) return std::nullopt;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = *xyz;
@@ -149,19 +210,35 @@ Parameters YamlFile::parameters(const YAML::Node& node, const std::string& what)
     error(node, what + " must be a mapping of names to values, not " + describe(node));
     return params;
   }
+  std::set<std::string> seen;
   for (const auto& item : node) {
+    if (!item.first.IsScalar()) {
+      error(item.first, what + ": parameter names must be plain strings");
+      continue;
+    }
     const std::string key = item.first.Scalar();
+    if (!seen.insert(key).second) {
+      error(item.first, what + ": duplicate parameter '" + key + "'");
+      continue;
+    }
     const YAML::Node& value = item.second;
     const SourceLocation where = at(value);
     if (value.IsScalar()) {
       long long i = 0;
       double d = 0;
       bool b = false;
-      if (quoted(value)) params.set(key, value.Scalar(), where);
-      else if (YAML::convert<long long>::decode(value, i)) params.set(key, static_cast<std::int64_t>(i), where);
-      else if (YAML::convert<double>::decode(value, d)) params.set(key, d, where);
-      else if (YAML::convert<bool>::decode(value, b)) params.set(key, b, where);
-      else params.set(key, value.Scalar(), where);
+      if (quoted(value)) {
+        params.set(key, value.Scalar(), where);
+      } else if (decimal_integer(value.Scalar()) && YAML::convert<long long>::decode(value, i)) {
+        params.set(key, static_cast<std::int64_t>(i), where);
+      } else if (YAML::convert<double>::decode(value, d)) {
+        if (std::isfinite(d)) params.set(key, d, where);
+        else error(value, "parameter '" + key + "' must be a finite number, not " + value.Scalar());
+      } else if (YAML::convert<bool>::decode(value, b)) {
+        params.set(key, b, where);
+      } else {
+        params.set(key, value.Scalar(), where);
+      }
     } else if (value.IsSequence()) {
       std::vector<double> numbers;
       bool ok = true;
@@ -187,6 +264,10 @@ MapReader::MapReader(const YamlFile& file, const YAML::Node& node, std::string w
   valid_ = true;
   std::map<std::string, YAML::Node> first_seen;
   for (const auto& item : node_) {
+    if (!item.first.IsScalar()) {
+      file_.error(item.first, "keys in " + what_ + " must be plain strings");
+      continue;
+    }
     const std::string key = item.first.Scalar();
     auto [it, inserted] = first_seen.emplace(key, item.first);
     if (!inserted) {
@@ -196,9 +277,13 @@ MapReader::MapReader(const YamlFile& file, const YAML::Node& node, std::string w
   }
 }
 
-MapReader::~MapReader() {
-  if (!valid_) return;
+MapReader::~MapReader() { report_unknown_keys(); }
+
+void MapReader::report_unknown_keys() {
+  if (!valid_ || reported_) return;
+  reported_ = true;
   for (const auto& item : node_) {
+    if (!item.first.IsScalar()) continue;  // reported by the constructor
     const std::string key = item.first.Scalar();
     if (allowed_.count(key)) continue;
     std::string expected;

@@ -18,6 +18,13 @@
 
 namespace cluttertamp::io::detail {
 
+/// Physical bounds on what files may say, so that no value reaches geometry code as
+/// an absurd magnitude (metres, radians).
+inline constexpr double kMaxCoordinate = 1000.0;
+inline constexpr double kMaxAngle = 1000.0;
+inline constexpr double kMinSize = 1e-4;
+inline constexpr double kMaxSize = 100.0;
+
 /// A parsed YAML file and the sink for its problems.
 class YamlFile {
  public:
@@ -38,12 +45,19 @@ class YamlFile {
   // Typed reads of one node; each reports a type error with `what` naming the value.
   std::optional<double> number(const YAML::Node& node, const std::string& what) const;
   std::optional<double> positive(const YAML::Node& node, const std::string& what) const;
+  /// A number in [lo, hi]; the message names the range and `unit` (e.g. "m").
+  std::optional<double> number_in(const YAML::Node& node, const std::string& what, double lo, double hi,
+                                  const std::string& unit) const;
   std::optional<std::int64_t> integer(const YAML::Node& node, const std::string& what) const;
   std::optional<bool> boolean(const YAML::Node& node, const std::string& what) const;
   std::optional<std::string> string(const YAML::Node& node, const std::string& what) const;
   std::optional<std::vector<std::string>> strings(const YAML::Node& node, const std::string& what) const;
   std::optional<Eigen::Vector3d> vec3(const YAML::Node& node, const std::string& what) const;
+  /// Three numbers in [lo, hi].
+  std::optional<Eigen::Vector3d> vec3_in(const YAML::Node& node, const std::string& what, double lo, double hi,
+                                         const std::string& unit) const;
   /// `{xyz: [x, y, z], rpy: [roll, pitch, yaw]}`; rpy in radians, optional (zero).
+  /// Coordinates within +-kMaxCoordinate metres, angles within +-kMaxAngle radians.
   std::optional<Eigen::Isometry3d> pose(const YAML::Node& node, const std::string& what) const;
   /// A map of plugin parameters: numbers, integers, booleans, strings, number lists.
   Parameters parameters(const YAML::Node& node, const std::string& what) const;
@@ -73,6 +87,8 @@ class MapReader {
   YAML::Node optional(const std::string& key) const;
   /// The value of `key`; reports "missing key" when absent.
   YAML::Node required(const std::string& key) const;
+  /// Reports keys that are not allowed; done once, at the latest by the destructor.
+  void report_unknown_keys();
 
  private:
   const YamlFile& file_;
@@ -80,6 +96,7 @@ class MapReader {
   std::string what_;
   std::set<std::string> allowed_;
   bool valid_ = false;
+  bool reported_ = false;
 };
 
 }  // namespace cluttertamp::io::detail

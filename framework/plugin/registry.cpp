@@ -7,6 +7,10 @@
 #include <set>
 #include <sstream>
 
+#include <cctype>
+#include <mutex>
+#include <optional>
+
 #include <boost/dll/library_info.hpp>
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
@@ -60,26 +64,43 @@ std::vector<fs::path> sorted_files(const fs::path& dir) {
 
 }  // namespace
 
+// Libraries are never unloaded: code of a plugin (a destructor, an exception's
+// what(), a control block) may still run after the last object the registry knows
+// of is gone, so its mapping must last as long as the process.
+std::mutex g_libraries_mutex;
+std::vector<std::shared_ptr<Library>>& loaded_libraries() {
+  static auto* libraries = new std::vector<std::shared_ptr<Library>>();  // never destroyed
+  return *libraries;
+}
+
 struct Registry::Impl {
-  struct Loaded {
+  // A plugin named by a symbol of a library's plugin section; loaded on first use.
+  struct Candidate {
+    Kind kind;
+    std::string name;
+    fs::path library;
+    std::string symbol;
+    enum class State { unloaded, loaded, failed } state = State::unloaded;
     PluginDescriptor descriptor;
-    const PluginEntry* entry;
-    std::shared_ptr<Library> library;
+    const PluginEntry* entry = nullptr;
   };
 
   std::vector<SearchedDirectory> searched;
-  std::vector<PluginDescriptor> descriptors;
-  std::vector<Loaded> loaded;
+  std::vector<Candidate> candidates;
+  std::vector<PluginDescriptor> descriptors;  // of the loaded candidates, in discovery order
   std::vector<LoadProblem> problems;
+  std::map<fs::path, std::shared_ptr<Library>> libraries;
+  std::mutex mutex;
 
   void examine(const fs::path& file);
-  void add_entry(const fs::path& file, const std::shared_ptr<Library>& library, const std::string& symbol);
+  bool load(Candidate& candidate);
+  void refresh_descriptors();
 };
 
 void Registry::Impl::examine(const fs::path& file) {
   std::vector<std::string> symbols;
   try {
-    // Reads the section table from the file without running any of its code.
+    // Reads the file's section table; nothing of the library runs.
     boost::dll::library_info info(boost::dll::fs::path(file.string()));
     symbols = info.symbols(kSection);
   } catch (const std::exception& e) {
@@ -90,46 +111,99 @@ void Registry::Impl::examine(const fs::path& file) {
     problems.push_back({file, "exports no cluttertamp plugin (no 'ctplugin' section); not a plugin library"});
     return;
   }
-  std::shared_ptr<Library> library;
-  try {
-    // rtld_now: a library with unresolved symbols fails here, not in the middle of a run.
-    library = std::make_shared<Library>(boost::dll::fs::path(file.string()),
-                                        boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local);
-  } catch (const std::exception& e) {
-    problems.push_back({file, std::string("failed to load: ") + e.what()});
-    return;
+  const std::string prefix = "cluttertamp_abi";
+  for (const std::string& symbol : symbols) {
+    // cluttertamp_abi<N>_<kind>_<name>
+    std::size_t pos = prefix.size();
+    std::size_t digits_end = pos;
+    while (digits_end < symbol.size() && std::isdigit(static_cast<unsigned char>(symbol[digits_end]))) ++digits_end;
+    if (symbol.compare(0, prefix.size(), prefix) != 0 || digits_end == pos || digits_end >= symbol.size() ||
+        symbol[digits_end] != '_') {
+      problems.push_back({file, "symbol '" + symbol + "' in the plugin section is not a cluttertamp plugin entry"});
+      continue;
+    }
+    const unsigned long abi = std::stoul(symbol.substr(pos, digits_end - pos));
+    const std::string rest = symbol.substr(digits_end + 1);
+    std::optional<Kind> kind;
+    std::string name;
+    for (Kind k : {Kind::task_planner, Kind::object_pruner, Kind::grasp_sampler, Kind::placement_sampler,
+                   Kind::motion_sampler, Kind::push_sampler, Kind::stream_sampler}) {
+      const std::string k_name = std::string(kind_name(k)) + "_";
+      if (rest.compare(0, k_name.size(), k_name) == 0 && rest.size() > k_name.size()) {
+        kind = k;
+        name = rest.substr(k_name.size());
+      }
+    }
+    if (abi != kAbiVersion) {
+      problems.push_back({file, "plugin '" + (kind ? name : rest) + "' was built for plugin ABI version " +
+                                    std::to_string(abi) + ", but this cluttertamp needs version " +
+                                    std::to_string(kAbiVersion) + "; rebuild it against this cluttertamp"});
+      continue;
+    }
+    if (!kind) {
+      problems.push_back({file, "symbol '" + symbol + "' names no known plugin kind"});
+      continue;
+    }
+    const auto same = std::find_if(candidates.begin(), candidates.end(),
+                                   [&](const Candidate& c) { return c.kind == *kind && c.name == name; });
+    if (same != candidates.end()) {
+      problems.push_back({file, std::string("ignored ") + kind_name(*kind) + " '" + name +
+                                    "': already provided by " + same->library.string()});
+      continue;
+    }
+    Candidate candidate;
+    candidate.kind = *kind;
+    candidate.name = name;
+    candidate.library = file;
+    candidate.symbol = symbol;
+    candidates.push_back(std::move(candidate));
   }
-  for (const std::string& symbol : symbols) add_entry(file, library, symbol);
 }
 
-void Registry::Impl::add_entry(const fs::path& file, const std::shared_ptr<Library>& library,
-                               const std::string& symbol) {
-  const auto* entry = static_cast<const PluginEntry*>(library->get<const void*>(symbol));
-  if (entry == nullptr || entry->magic != kEntryMagic) {
-    problems.push_back({file, "symbol '" + symbol + "' in the plugin section is not a cluttertamp plugin entry"});
-    return;
-  }
-  if (entry->abi_version != kAbiVersion) {
-    problems.push_back({file, "plugin '" + symbol + "' was built for plugin ABI version " +
-                                  std::to_string(entry->abi_version) + ", but this cluttertamp needs version " +
-                                  std::to_string(kAbiVersion) + "; rebuild it against this cluttertamp"});
-    return;
-  }
-  if (std::string(kind_name(entry->kind)) == "unknown" || entry->name == nullptr || entry->create == nullptr) {
-    problems.push_back({file, "plugin entry '" + symbol + "' is malformed (unknown kind or missing factory)"});
-    return;
-  }
-  PluginDescriptor descriptor{entry->kind,    entry->name, entry->description ? entry->description : "",
-                              entry->version ? entry->version : "", entry->abi_version, file};
-  for (const Loaded& other : loaded) {
-    if (other.descriptor.kind == descriptor.kind && other.descriptor.name == descriptor.name) {
-      problems.push_back({file, std::string("ignored ") + kind_name(descriptor.kind) + " '" + descriptor.name +
-                                    "': already provided by " + other.descriptor.library.string()});
-      return;
+bool Registry::Impl::load(Candidate& candidate) {
+  if (candidate.state != Candidate::State::unloaded) return candidate.state == Candidate::State::loaded;
+  candidate.state = Candidate::State::failed;
+  std::shared_ptr<Library>& library = libraries[candidate.library];
+  if (!library) {
+    try {
+      // rtld_now: a library with unresolved symbols fails here, not in the middle of a run.
+      library = std::make_shared<Library>(boost::dll::fs::path(candidate.library.string()),
+                                          boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local);
+    } catch (const std::exception& e) {
+      problems.push_back({candidate.library, std::string("failed to load: ") + e.what()});
+      for (Candidate& other : candidates) {
+        if (other.library == candidate.library) other.state = Candidate::State::failed;
+      }
+      return false;
     }
+    std::lock_guard<std::mutex> lock(g_libraries_mutex);
+    loaded_libraries().push_back(library);
   }
-  descriptors.push_back(descriptor);
-  loaded.push_back({std::move(descriptor), entry, library});
+  const auto* entry = static_cast<const PluginEntry*>(library->get<const void*>(candidate.symbol));
+  if (entry == nullptr || entry->magic != kEntryMagic || entry->abi_version != kAbiVersion ||
+      entry->kind != candidate.kind || entry->name == nullptr || candidate.name != entry->name ||
+      entry->create == nullptr) {
+    problems.push_back({candidate.library, "plugin entry '" + candidate.symbol +
+                                               "' is malformed (its fields disagree with its exported name)"});
+    return false;
+  }
+  candidate.entry = entry;
+  candidate.descriptor = {candidate.kind,
+                          candidate.name,
+                          entry->description ? entry->description : "",
+                          entry->version ? entry->version : "",
+                          entry->abi_version,
+                          candidate.library};
+  candidate.state = Candidate::State::loaded;
+  refresh_descriptors();
+  return true;
+}
+
+void Registry::Impl::refresh_descriptors() {
+  descriptors.clear();
+  for (const Candidate& c : candidates) {
+    if (c.state == Candidate::State::loaded) descriptors.push_back(c.descriptor);
+  }
 }
 
 Registry::Registry(const std::vector<fs::path>& search_paths) : impl_(std::make_unique<Impl>()) {
@@ -172,17 +246,25 @@ std::vector<fs::path> Registry::default_search_paths(const std::vector<fs::path>
 }
 
 const std::vector<SearchedDirectory>& Registry::searched() const { return impl_->searched; }
-const std::vector<PluginDescriptor>& Registry::plugins() const { return impl_->descriptors; }
+
+const std::vector<PluginDescriptor>& Registry::plugins() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  for (Impl::Candidate& c : impl_->candidates) impl_->load(c);
+  return impl_->descriptors;
+}
+
 const std::vector<LoadProblem>& Registry::problems() const { return impl_->problems; }
 
 const PluginDescriptor* Registry::find(Kind kind, std::string_view name) const {
-  for (const PluginDescriptor& d : impl_->descriptors) {
-    if (d.kind == kind && d.name == name) return &d;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  for (Impl::Candidate& c : impl_->candidates) {
+    if (c.kind == kind && c.name == name) return impl_->load(c) ? &c.descriptor : nullptr;
   }
   return nullptr;
 }
 
 std::string Registry::describe_search() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
   std::ostringstream out;
   out << "searched, in order:\n";
   if (impl_->searched.empty()) out << "  (no directories)\n";
@@ -192,12 +274,13 @@ std::string Registry::describe_search() const {
         << ")\n";
   }
   out << "plugins found:\n";
-  if (impl_->descriptors.empty()) out << "  (none)\n";
-  for (const PluginDescriptor& d : impl_->descriptors) {
-    out << "  " << kind_name(d.kind) << " '" << d.name << "' (" << d.library.filename().string() << ")\n";
+  if (impl_->candidates.empty()) out << "  (none)\n";
+  for (const Impl::Candidate& c : impl_->candidates) {
+    out << "  " << kind_name(c.kind) << " '" << c.name << "' (" << c.library.filename().string()
+        << (c.state == Impl::Candidate::State::failed ? ", failed to load" : "") << ")\n";
   }
   if (!impl_->problems.empty()) {
-    out << "libraries not used:\n";
+    out << "libraries or entries not used:\n";
     for (const LoadProblem& p : impl_->problems) out << "  " << p.library.string() << ": " << p.message << "\n";
   }
   return out.str();
@@ -205,24 +288,42 @@ std::string Registry::describe_search() const {
 
 std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const Parameters& parameters,
                                          const SourceLocation& where) const {
-  const Impl::Loaded* found = nullptr;
-  for (const Impl::Loaded& l : impl_->loaded) {
-    if (l.descriptor.kind == kind && l.descriptor.name == name) found = &l;
+  const PluginDescriptor* descriptor = find(kind, name);
+  const PluginEntry* entry = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    for (const Impl::Candidate& c : impl_->candidates) {
+      if (descriptor && &c.descriptor == descriptor) entry = c.entry;
+    }
   }
-  if (found == nullptr) {
+  if (entry == nullptr) {
     std::string text = describe_search();
     if (!text.empty() && text.back() == '\n') text.pop_back();
-    throw InputError(where, std::string("no ") + kind_name(kind) + " plugin named '" + std::string(name) + "'\n" + text);
+    throw InputError(where, std::string("no usable ") + kind_name(kind) + " plugin named '" + std::string(name) +
+                                "'\n" + text);
   }
-  Plugin* raw = found->entry->create();
-  // The deleter owns a reference to the library: the code of the object's destructor
-  // stays mapped until the object is gone, even if this registry is destroyed first.
-  std::shared_ptr<Plugin> object(raw, [library = found->library](Plugin* p) { delete p; });
-  if (raw == nullptr || !implements(kind, raw)) {
-    throw InputError(where, found->descriptor.library.string() + ": the factory of " + kind_name(kind) + " '" +
-                                std::string(name) + "' did not create a " + kind_name(kind));
+  const std::string who = std::string(kind_name(kind)) + " '" + std::string(name) + "' (" +
+                          descriptor->library.filename().string() + ")";
+  std::shared_ptr<Plugin> object;
+  try {
+    object.reset(entry->create());
+  } catch (const std::exception& e) {
+    throw std::runtime_error("the factory of " + who + " threw: " + e.what());
+  } catch (...) {
+    throw std::runtime_error("the factory of " + who + " threw a non-standard exception");
   }
-  object->configure(parameters);
+  if (!object || !implements(kind, object.get())) {
+    throw std::runtime_error("the factory of " + who + " did not create a " + kind_name(kind));
+  }
+  try {
+    object->configure(parameters);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(where, who + " rejected its parameters: " + e.what());
+  } catch (...) {
+    throw InputError(where, who + " rejected its parameters (non-standard exception)");
+  }
   const std::vector<std::string> unknown = parameters.unused();
   if (!unknown.empty()) {
     Diagnostics diagnostics;

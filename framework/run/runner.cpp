@@ -45,6 +45,14 @@ plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem
 
 }  // namespace
 
+Plugins create_plugins(const Problem& problem, const plugin::Registry& registry) {
+  Plugins plugins;
+  plugins.samplers = create_samplers(registry, problem);
+  plugins.planner =
+      registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters, problem.planner.where);
+  return plugins;
+}
+
 RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RunOutcome outcome;
@@ -52,10 +60,10 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   outcome.info.seed = options.seed.value_or(problem.seed);
   outcome.info.time_limit = options.time_limit.value_or(problem.time_limit);
 
-  // Bad plugins are bad input: these throw InputError before any planning starts.
-  const plugin::Samplers samplers = create_samplers(registry, problem);
-  const auto planner = registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters,
-                                                            problem.planner.where);
+  // Bad plugins are bad input: this throws InputError before any planning starts.
+  const Plugins plugins = create_plugins(problem, registry);
+  const plugin::Samplers& samplers = plugins.samplers;
+  const auto& planner = plugins.planner;
 
   std::map<std::string, std::uint64_t> counters;
   plugin::PlanningContext context{problem, plugin::Deadline::after(outcome.info.time_limit), outcome.info.seed,
@@ -68,6 +76,10 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   } catch (const std::exception& e) {
     outcome.result = Result{};
     outcome.result.reason = "internal error in task_planner '" + problem.planner.name + "': " + e.what();
+    outcome.info.exit_code = ExitCode::internal_error;
+  } catch (...) {
+    outcome.result = Result{};
+    outcome.result.reason = "internal error in task_planner '" + problem.planner.name + "': an exception of unknown type";
     outcome.info.exit_code = ExitCode::internal_error;
   }
   for (const auto& [key, value] : counters) outcome.result.counters[key] += value;

@@ -1,5 +1,7 @@
 // Test fixture: a plugin as an older cluttertamp would have built it, with another
-// plugin ABI version. The registry must refuse it without calling its factory.
+// plugin ABI version. The registry must refuse it without loading it.
+#include <cstdlib>
+
 #include "cluttertamp/plugin/export.hpp"
 
 namespace {
@@ -9,4 +11,7 @@ const cluttertamp::plugin::PluginEntry old_entry{cluttertamp::plugin::kEntryMagi
                                                  "old_grasp", "built for ABI 999", "0.0", &create};
 }  // namespace
 
-BOOST_DLL_ALIAS_SECTIONED(old_entry, cluttertamp_grasp_sampler_old_grasp, ctplugin)
+BOOST_DLL_ALIAS_SECTIONED(old_entry, cluttertamp_abi999_grasp_sampler_old_grasp, ctplugin)
+
+// If the registry ever loaded this library, this initializer would end the test run.
+[[maybe_unused]] static const int trap = (std::abort(), 0);

@@ -1,9 +1,11 @@
-// Test plugins: a task planner whose outcome a parameter chooses, and a grasp sampler.
+// Test plugins: a task planner whose outcome a parameter chooses, a grasp sampler and a
+// stream sampler.
 // They exist to exercise the registry and the CLI's exit codes; they do not plan.
 #include <stdexcept>
 
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/stream_sampler.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 
 namespace {
@@ -60,9 +62,34 @@ class RingGrasps final : public plugin::GraspSampler {
   plugin::GraspAnswer sample(plugin::PlanningContext&, const plugin::GraspQuery&) override { return {}; }
 };
 
+// Yields the numbers start, start + 1, ... up to `count` values, then is exhausted.
+class CountingStream final : public plugin::StreamSampler {
+ public:
+  void configure(const Parameters& parameters) override { count_ = parameters.get_int("rings", 2); }
+  std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext&, std::string_view,
+                                                       const std::vector<plugin::StreamValue>&) override {
+    struct Generator final : plugin::StreamGenerator {
+      std::int64_t left;
+      double next_value = 0;
+      explicit Generator(std::int64_t n) : left(n) {}
+      plugin::StreamBatch next(plugin::PlanningContext&) override {
+        plugin::StreamBatch batch;
+        if (left-- > 0) batch.outputs.push_back({next_value++});
+        batch.exhausted = left <= 0;
+        return batch;
+      }
+    };
+    return std::make_unique<Generator>(count_);
+  }
+
+ private:
+  std::int64_t count_ = 2;
+};
+
 }  // namespace
 
 extern "C" __attribute__((visibility("default"))) int cluttertamp_test_live_objects() { return g_live_objects; }
 
 CLUTTERTAMP_EXPORT_TASK_PLANNER(ScriptedPlanner, test_planner, "Test fixture: outcome chosen by a parameter", "1.2.3")
 CLUTTERTAMP_EXPORT_GRASP_SAMPLER(RingGrasps, test_grasp, "Test fixture: returns no grasps", "0.1")
+CLUTTERTAMP_EXPORT_STREAM_SAMPLER(CountingStream, toy_stream, "Test fixture: yields 0, 1, ... then stops", "0.1")

@@ -19,13 +19,18 @@ struct Cylinder {
   double height = 0.0;
 };
 
-/// The primitive shapes scenes are made of.
-using Shape = std::variant<Box, Cylinder>;
+/// A sphere centred at its frame's origin. Radius in metres.
+struct Sphere {
+  double radius = 0.0;
+};
+
+/// The primitive shapes scenes and robot links are made of.
+using Shape = std::variant<Box, Cylinder, Sphere>;
 
 /// The world-frame axis-aligned bounding box of `shape` placed at `world_T_shape`.
 Eigen::AlignedBox3d world_bounds(const Shape& shape, const Eigen::Isometry3d& world_T_shape);
 
-/// "box" or "cylinder".
+/// "box", "cylinder" or "sphere".
 const char* shape_name(const Shape& shape);
 
 }  // namespace cluttertamp

@@ -3,16 +3,23 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/core/parameters.hpp"
 #include "cluttertamp/core/scene.hpp"
 
 namespace cluttertamp {
+
+namespace robot {
+class RobotDescription;
+}
 
 /// Carry the scene's target out to its exit pose x_s, removing what is in the way.
 struct RetrievalTask {
@@ -41,10 +48,18 @@ enum class SamplerRole { grasp, placement, motion, push, object_pruner };
 /// The YAML key of a role: "grasp_sampler", ..., "object_pruner".
 const char* role_key(SamplerRole role);
 
+/// The robot of a problem: its description file (URDF plus semantics) and where its
+/// joints start.
 struct RobotSpec {
-  std::string name;
-  std::filesystem::path urdf;  ///< absolute
+  std::filesystem::path description;  ///< absolute path of the robot description file
+  /// Initial joint values (rad, m; URDF order); absent: the description's home.
+  std::optional<Eigen::VectorXd> configuration;
   SourceLocation where;
+  /// The loaded description (set by io::load_problem).
+  std::shared_ptr<const robot::RobotDescription> loaded;
+
+  /// The initial joint values: `configuration` or the description's home.
+  Eigen::VectorXd initial_configuration() const;
 };
 
 /// Everything `cluttertamp plan` needs: the scene, the robot, the task, the planner

@@ -24,8 +24,8 @@ struct RunInfo {
 /// as the scene's object ids.
 CLUTTERTAMP_API std::string result_to_json(const Problem& problem, const Result& result, const RunInfo& run);
 
-/// Writes result_to_json to `file`, creating its directory. Throws std::runtime_error
-/// when the file cannot be written.
+/// Writes result_to_json to `file`, creating its directory. Throws InputError when
+/// the file cannot be written (a bad --output is bad input).
 CLUTTERTAMP_API void write_result_json(const std::filesystem::path& file, const Problem& problem,
                                        const Result& result, const RunInfo& run);
 

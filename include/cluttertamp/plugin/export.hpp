@@ -7,8 +7,9 @@
 ///
 /// NAME is a C identifier, unique among the plugins of the same kind that a run can
 /// see. The class must be default-constructible and derive from the interface of the
-/// macro's kind (checked at compile time). Each macro puts one PluginEntry into the
-/// library's "ctplugin" section, which the registry lists without running plugin code.
+/// macro's kind (checked at compile time). Each macro exports one PluginEntry under the
+/// name cluttertamp_abi<ABI>_<kind>_<NAME> in the library's "ctplugin" section, which
+/// the registry lists (kind, name, ABI) without loading the library.
 
 #include <type_traits>
 
@@ -27,8 +28,12 @@
       DESCRIPTION,                        VERSION,                                            \
       &create};                                                                               \
   }                                                                                           \
-  BOOST_DLL_ALIAS_SECTIONED(cluttertamp_export_##KIND##_##NAME::entry,                        \
-                            cluttertamp_##KIND##_##NAME, ctplugin)
+  CLUTTERTAMP_DETAIL_ALIAS(cluttertamp_export_##KIND##_##NAME::entry, CLUTTERTAMP_PLUGIN_ABI_VERSION, KIND, NAME)
+
+// Two levels so that the ABI version macro is expanded before it is pasted.
+#define CLUTTERTAMP_DETAIL_ALIAS(ENTRY, ABI, KIND, NAME) CLUTTERTAMP_DETAIL_ALIAS2(ENTRY, ABI, KIND, NAME)
+#define CLUTTERTAMP_DETAIL_ALIAS2(ENTRY, ABI, KIND, NAME) \
+  BOOST_DLL_ALIAS_SECTIONED(ENTRY, cluttertamp_abi##ABI##_##KIND##_##NAME, ctplugin)
 
 #define CLUTTERTAMP_EXPORT_TASK_PLANNER(CLASS, NAME, DESCRIPTION, VERSION) \
   CLUTTERTAMP_DETAIL_EXPORT(::cluttertamp::plugin::TaskPlanner, task_planner, CLASS, NAME, DESCRIPTION, VERSION)

@@ -11,7 +11,10 @@ namespace cluttertamp::plugin {
 
 /// Raised whenever an interface in include/cluttertamp/plugin/ or a type it passes by
 /// value changes layout. The registry refuses plugins built against another value.
-inline constexpr std::uint32_t kAbiVersion = 1;
+/// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>_<name>), so a
+/// mismatch is seen before the library is loaded.
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 1
+inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.
 inline constexpr std::uint32_t kEntryMagic = 0x43545047;  // "CTPG"

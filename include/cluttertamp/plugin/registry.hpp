@@ -40,14 +40,16 @@ struct SearchedDirectory {
 
 /// Finds plugin libraries, checks their ABI version and creates plugin objects.
 ///
-/// Every object the registry creates keeps its library loaded until the object is
-/// destroyed, so plugin objects may outlive the registry itself. Libraries are
-/// examined when the registry is constructed; nothing is loaded later.
+/// Construction lists the plugins of every library from its exported symbol names
+/// (cluttertamp_abi<N>_<kind>_<name>) without loading it, so libraries built for
+/// another ABI are refused unloaded. A library is loaded when one of its plugins is
+/// first found or created, or by plugins(). Loaded libraries stay loaded until the
+/// process ends, so every object a plugin creates may outlive the registry.
 class CLUTTERTAMP_API Registry {
  public:
   /// Examines every `*.so` file directly in each directory, in order. When two
   /// libraries export the same kind and name, the first one wins and the second is
-  /// reported as a LoadProblem.
+  /// reported as a LoadProblem. Safe to use from several threads.
   explicit Registry(const std::vector<std::filesystem::path>& search_paths);
   ~Registry();
   Registry(const Registry&) = delete;
@@ -63,16 +65,20 @@ class CLUTTERTAMP_API Registry {
       const std::vector<std::filesystem::path>& first = {});
 
   const std::vector<SearchedDirectory>& searched() const;
+  /// Loads every library found and returns the plugins that loaded.
   const std::vector<PluginDescriptor>& plugins() const;
+  /// Libraries and entries not used so far, and why; grows as libraries are loaded.
   const std::vector<LoadProblem>& problems() const;
 
-  /// Null when no usable plugin of that kind and name was found.
+  /// Loads the plugin's library if needed; null when no usable plugin of that kind
+  /// and name exists.
   const PluginDescriptor* find(Kind kind, std::string_view name) const;
 
   /// Creates and configures a plugin. `where` is the place in a problem file that
   /// names the plugin, used in errors. Throws InputError when the plugin does not
   /// exist (listing what was searched, what exists and what failed to load), when
-  /// configure() rejects a parameter, or when a parameter is never read.
+  /// configure() rejects a parameter, or when a parameter is never read; throws
+  /// std::runtime_error when the plugin's factory fails.
   std::shared_ptr<Plugin> create(Kind kind, std::string_view name, const Parameters& parameters = {},
                                  const SourceLocation& where = {}) const;
 

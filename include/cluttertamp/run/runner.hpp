@@ -10,7 +10,12 @@
 #include "cluttertamp/core/result.hpp"
 #include "cluttertamp/export.hpp"
 #include "cluttertamp/io/result_json.hpp"
+#include "cluttertamp/plugin/context.hpp"
 #include "cluttertamp/plugin/registry.hpp"
+
+namespace cluttertamp::plugin {
+class TaskPlanner;
+}
 
 namespace cluttertamp::run {
 
@@ -33,6 +38,16 @@ struct RunOutcome {
 /// the problem file's `plugins: paths:`, then Registry::default_search_paths().
 CLUTTERTAMP_API std::vector<std::filesystem::path> plugin_search_paths(const Problem& problem,
                                                                        const RunOptions& options);
+
+/// The plugins a problem names, created and configured.
+struct Plugins {
+  std::shared_ptr<plugin::TaskPlanner> planner;
+  plugin::Samplers samplers;
+};
+
+/// Creates and configures every plugin the problem names. Throws InputError when
+/// one is missing or rejects its parameters.
+CLUTTERTAMP_API Plugins create_plugins(const Problem& problem, const plugin::Registry& registry);
 
 /// Creates the problem's plugins from `registry` and runs its task planner within the
 /// time limit. Throws InputError when a plugin is missing or rejects its parameters.

@@ -1,0 +1,290 @@
+#include "cluttertamp/robot/ik.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace cluttertamp::robot {
+
+namespace {
+
+constexpr double kPi = M_PI;
+
+// Standard DH link transform A(theta) = Rz(theta) Tz(d) Tx(a) Rx(alpha).
+Eigen::Isometry3d dh_transform(double theta, double d, double a, double alpha) {
+  const double ct = std::cos(theta), st = std::sin(theta), ca = std::cos(alpha), sa = std::sin(alpha);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() << ct, -st * ca, st * sa, st, ct * ca, -ct * sa, 0, sa, ca;
+  t.translation() << a * ct, a * st, d;
+  return t;
+}
+
+double wrap(double angle) {
+  angle = std::remainder(angle, 2 * kPi);
+  return angle <= -kPi ? angle + 2 * kPi : angle;
+}
+
+// acos that tolerates rounding just outside [-1, 1]; nullopt when truly outside.
+std::optional<double> safe_acos(double x) {
+  if (x > 1.0 + 1e-10 || x < -1.0 - 1e-10) return std::nullopt;
+  return std::acos(std::clamp(x, -1.0, 1.0));
+}
+
+// Puts an angle inside a joint's limits by shifting it by multiples of 2 pi.
+std::optional<double> fit_limits(double angle, const Joint& joint) {
+  for (double shift : {0.0, 2 * kPi, -2 * kPi}) {
+    const double value = angle + shift;
+    if (value >= joint.lower - 1e-12 && value <= joint.upper + 1e-12) return std::clamp(value, joint.lower, joint.upper);
+  }
+  return std::nullopt;
+}
+
+bool near(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double tolerance = 1e-9) {
+  return a.matrix().isApprox(b.matrix(), tolerance) || (a.matrix() - b.matrix()).cwiseAbs().maxCoeff() < tolerance;
+}
+
+Eigen::Isometry3d rx(double angle) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  return t;
+}
+
+Eigen::Isometry3d translation(double x, double y, double z) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() << x, y, z;
+  return t;
+}
+
+bool contains_close(const std::vector<Eigen::VectorXd>& set, const Eigen::VectorXd& q, double tolerance) {
+  return std::any_of(set.begin(), set.end(), [&](const Eigen::VectorXd& s) { return (s - q).cwiseAbs().maxCoeff() < tolerance; });
+}
+
+}  // namespace
+
+std::pair<double, double> pose_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  const double position = (a.translation() - b.translation()).norm();
+  const double orientation = Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+  return {position, orientation};
+}
+
+IkSolver::~IkSolver() = default;
+
+IkSolver::IkSolver(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip)
+    : model_(std::move(model)), base_(base), tip_(tip) {
+  chain_ = model_->chain(base, tip);
+  for (LinkIndex current = tip; current != base;) {
+    const JointIndex j = model_->links()[current].parent_joint;
+    path_.push_back(j);
+    current = model_->joints()[j].parent;
+  }
+  std::reverse(path_.begin(), path_.end());
+}
+
+Eigen::Isometry3d IkSolver::forward(const Eigen::VectorXd& q) const {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  for (JointIndex j : path_) {
+    const Joint& joint = model_->joints()[j];
+    t = t * RobotModel::joint_transform(joint, joint.variable >= 0 ? q[joint.variable] : 0.0);
+  }
+  return t;
+}
+
+// ---------------------------------------------------------------------------------
+// UR analytic IK (the closed form of Hawkins, "Analytic inverse kinematics for the
+// Universal Robots UR-5/UR-10 arms", 2013, for joints 1, 5 and 6; joints 2 to 4 as a
+// planar 2R arm plus the remaining rotation), on DH parameters read from the model.
+
+UrAnalyticIk::UrAnalyticIk(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip)
+    : IkSolver(std::move(model), base, tip) {
+  const auto& joints = model_->joints();
+  if (chain_.size() != 6) {
+    throw std::invalid_argument("ur_analytic IK needs a chain of 6 movable joints; this one has " +
+                                std::to_string(chain_.size()));
+  }
+  // Fixed transforms: before joint 1, between consecutive joints (joint origin plus any
+  // fixed joints in between), and after joint 6.
+  std::vector<Eigen::Isometry3d> between(7, Eigen::Isometry3d::Identity());
+  std::size_t slot = 0;
+  for (JointIndex j : path_) {
+    const Joint& joint = joints[j];
+    between[slot] = between[slot] * joint.parent_T_joint;
+    if (joint.type != JointType::fixed) {
+      if (joint.type != JointType::revolute || !joint.axis.isApprox(Eigen::Vector3d::UnitZ())) {
+        throw std::invalid_argument("ur_analytic IK: joint '" + joint.name + "' must be revolute about its z axis");
+      }
+      ++slot;
+    }
+  }
+  base_T_joint1_ = between[0];
+  flange_T_tip_ = between[6];
+  auto expect = [&](int index, const Eigen::Isometry3d& actual, const Eigen::Isometry3d& layout) {
+    if (!near(actual, layout)) {
+      throw std::invalid_argument("ur_analytic IK: the origin of joint '" + joints[chain_[index]].name +
+                                  "' does not follow the UR DH layout");
+    }
+  };
+  const Eigen::Vector3d t1 = between[1].translation(), t2 = between[2].translation(), t3 = between[3].translation(),
+                        t4 = between[4].translation(), t5 = between[5].translation();
+  dh_ = {t1.z(), t2.x(), t3.x(), t4.z(), t5.z(), flange_T_tip_.translation().z()};
+  expect(1, between[1], translation(0, 0, dh_.d1) * rx(kPi / 2));
+  expect(2, between[2], translation(dh_.a2, 0, 0));
+  expect(3, between[3], translation(dh_.a3, 0, 0));
+  expect(4, between[4], translation(0, 0, dh_.d4) * rx(kPi / 2));
+  expect(5, between[5], translation(0, 0, dh_.d5) * rx(-kPi / 2));
+  if (std::abs(dh_.a2) < 1e-6 || std::abs(dh_.a3) < 1e-6) {
+    throw std::invalid_argument("ur_analytic IK: link lengths a2 and a3 must not be zero");
+  }
+}
+
+std::vector<Eigen::VectorXd> UrAnalyticIk::solve(const Eigen::Isometry3d& base_T_tip,
+                                                 const Eigen::VectorXd& seed_configuration, std::uint64_t) const {
+  const auto [d1, a2, a3, d4, d5, d6_unused] = dh_;
+  (void)d6_unused;
+  // A virtual flange one metre along the sixth axis keeps the closed form valid for
+  // any tool transform (the formulas divide by d6).
+  constexpr double d6 = 1.0;
+  const Eigen::Isometry3d T = base_T_joint1_.inverse() * base_T_tip * flange_T_tip_.inverse() * translation(0, 0, d6);
+  const Eigen::Matrix4d& m = T.matrix();
+  const Eigen::Isometry3d T_inv = T.inverse();
+  const Eigen::Matrix4d& mi = T_inv.matrix();
+
+  std::vector<Eigen::VectorXd> solutions;
+  const Eigen::Vector3d p05 = (T * Eigen::Vector3d(0, 0, -d6));
+  const double r = std::hypot(p05.x(), p05.y());
+  const auto phi = safe_acos(r > 0 ? d4 / r : 2.0);
+  if (!phi) return solutions;
+  const double psi = std::atan2(p05.y(), p05.x());
+  for (double theta1 : {psi + *phi + kPi / 2, psi - *phi + kPi / 2}) {
+    const double s1 = std::sin(theta1), c1 = std::cos(theta1);
+    const auto acos5 = safe_acos((m(0, 3) * s1 - m(1, 3) * c1 - d4) / d6);
+    if (!acos5) continue;
+    for (double theta5 : {*acos5, -*acos5}) {
+      const double s5 = std::sin(theta5);
+      double theta6;
+      if (std::abs(s5) < 1e-10) {
+        // Wrist singularity: joints 4 and 6 align; keep the seed's joint 6.
+        theta6 = seed_configuration[model_->joints()[chain_[5]].variable];
+      } else {
+        theta6 = std::atan2((-mi(1, 0) * s1 + mi(1, 1) * c1) / s5, (mi(0, 0) * s1 - mi(0, 1) * c1) / s5);
+      }
+      const Eigen::Isometry3d T14 = dh_transform(theta1, d1, 0, kPi / 2).inverse() * T * dh_transform(theta6, d6, 0, 0).inverse() *
+                                    dh_transform(theta5, d5, 0, -kPi / 2).inverse();
+      // Joints 2 and 3 form a planar 2R arm in frame 1's x-y plane reaching frame 4's origin.
+      const Eigen::Vector3d p14 = T14.translation();
+      const double reach2 = p14.x() * p14.x() + p14.y() * p14.y();
+      const auto acos3 = safe_acos((reach2 - a2 * a2 - a3 * a3) / (2 * a2 * a3));
+      if (!acos3) continue;
+      for (double theta3 : {*acos3, -*acos3}) {
+        const double theta2 =
+            std::atan2(p14.y(), p14.x()) - std::atan2(a3 * std::sin(theta3), a2 + a3 * std::cos(theta3));
+        const Eigen::Isometry3d T34 = dh_transform(theta3, 0, a3, 0).inverse() * dh_transform(theta2, 0, a2, 0).inverse() * T14;
+        const double theta4 = std::atan2(T34(1, 0), T34(0, 0));
+        const double angles[6] = {theta1, theta2, theta3, theta4, theta5, theta6};
+        Eigen::VectorXd q = seed_configuration;
+        bool ok = true;
+        for (int i = 0; i < 6 && ok; ++i) {
+          const Joint& joint = model_->joints()[chain_[i]];
+          const auto value = fit_limits(wrap(angles[i]), joint);
+          if (value) q[joint.variable] = *value; else ok = false;
+        }
+        if (ok && !contains_close(solutions, q, 1e-9)) solutions.push_back(q);
+      }
+    }
+  }
+  return solutions;
+}
+
+// ---------------------------------------------------------------------------------
+// Numeric IK.
+
+NumericIk::NumericIk(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip, Options options)
+    : IkSolver(std::move(model), base, tip), options_(options) {}
+
+bool NumericIk::descend(const Eigen::Isometry3d& goal, Eigen::VectorXd& q) const {
+  const auto& joints = model_->joints();
+  const Eigen::Index n = static_cast<Eigen::Index>(chain_.size());
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J(6, n);
+  std::vector<Eigen::Isometry3d> frames(chain_.size());
+
+  // Tip pose and the frames of the chain's joints (after origin, before motion).
+  auto evaluate = [&](const Eigen::VectorXd& config, Eigen::Isometry3d& tip) {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    std::size_t k = 0;
+    for (JointIndex j : path_) {
+      const Joint& joint = joints[j];
+      if (joint.type != JointType::fixed) frames[k++] = t * joint.parent_T_joint;
+      t = t * RobotModel::joint_transform(joint, joint.variable >= 0 ? config[joint.variable] : 0.0);
+    }
+    tip = t;
+  };
+  auto error_of = [&](const Eigen::Isometry3d& tip) {
+    Eigen::Matrix<double, 6, 1> e;
+    e.head<3>() = goal.translation() - tip.translation();
+    const Eigen::AngleAxisd aa(goal.linear() * tip.linear().transpose());
+    e.tail<3>() = aa.axis() * aa.angle();
+    return e;
+  };
+
+  Eigen::Isometry3d tip;
+  evaluate(q, tip);
+  Eigen::Matrix<double, 6, 1> e = error_of(tip);
+  double lambda = 1e-2;
+  for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
+    if (e.head<3>().norm() < options_.position_tolerance && e.tail<3>().norm() < options_.orientation_tolerance) return true;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Joint& joint = joints[chain_[k]];
+      const Eigen::Vector3d axis = frames[k].linear() * joint.axis;
+      if (joint.type == JointType::revolute) {
+        J.col(k) << axis.cross(tip.translation() - frames[k].translation()), axis;
+      } else {
+        J.col(k) << axis, Eigen::Vector3d::Zero();
+      }
+    }
+    const Eigen::Matrix<double, 6, 6> A = J * J.transpose() + lambda * lambda * Eigen::Matrix<double, 6, 6>::Identity();
+    const Eigen::VectorXd step = J.transpose() * A.ldlt().solve(e);
+    Eigen::VectorXd candidate = q;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Joint& joint = joints[chain_[k]];
+      double value = q[joint.variable] + step[k];
+      if (joint.continuous) value = wrap(value);
+      candidate[joint.variable] = std::clamp(value, joint.lower, joint.upper);
+    }
+    Eigen::Isometry3d candidate_tip;
+    evaluate(candidate, candidate_tip);
+    const Eigen::Matrix<double, 6, 1> candidate_error = error_of(candidate_tip);
+    if (candidate_error.squaredNorm() < e.squaredNorm()) {
+      q = candidate;
+      tip = candidate_tip;
+      e = candidate_error;
+      lambda = std::max(lambda * 0.3, 1e-9);
+    } else {
+      lambda = std::min(lambda * 5.0, 1e3);
+      if (lambda >= 1e3) break;  // stuck in a local minimum or at a limit
+      evaluate(q, tip);          // restore the frames of the accepted configuration
+    }
+  }
+  return e.head<3>().norm() < options_.position_tolerance && e.tail<3>().norm() < options_.orientation_tolerance;
+}
+
+std::vector<Eigen::VectorXd> NumericIk::solve(const Eigen::Isometry3d& base_T_tip,
+                                              const Eigen::VectorXd& seed_configuration,
+                                              std::uint64_t random_seed) const {
+  std::vector<Eigen::VectorXd> solutions;
+  std::mt19937_64 rng(random_seed);
+  for (int attempt = 0; attempt <= options_.restarts && solutions.size() < options_.max_solutions; ++attempt) {
+    Eigen::VectorXd q = seed_configuration;
+    for (JointIndex j : chain_) {
+      const Joint& joint = model_->joints()[j];
+      if (attempt == 0) {
+        q[joint.variable] = std::clamp(q[joint.variable], joint.lower, joint.upper);
+      } else {
+        q[joint.variable] = std::uniform_real_distribution<double>(joint.lower, joint.upper)(rng);
+      }
+    }
+    if (descend(base_T_tip, q) && !contains_close(solutions, q, options_.distinct_tolerance)) solutions.push_back(q);
+  }
+  return solutions;
+}
+
+}  // namespace cluttertamp::robot

@@ -1,0 +1,100 @@
+#include "cluttertamp/robot/robot_description.hpp"
+
+#include "io/yaml_reader.hpp"
+
+namespace cluttertamp::robot {
+
+namespace {
+using io::detail::MapReader;
+using io::detail::YamlFile;
+}  // namespace
+
+RobotDescription RobotDescription::load(const std::filesystem::path& file) {
+  Diagnostics diagnostics;
+  YamlFile yaml(file, diagnostics);
+  diagnostics.throw_if_any();
+  RobotDescription robot;
+  robot.name_ = file.stem().string();
+  MapReader top(yaml, yaml.root(), "the robot description",
+                {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home"});
+  if (!top.valid()) diagnostics.throw_if_any();
+
+  if (const YAML::Node v = top.required("version"); v.IsDefined()) {
+    if (auto version = yaml.integer(v, "version"); version && *version != 1) {
+      yaml.error(v, "unsupported robot description version " + std::to_string(*version) + " (this cluttertamp reads 1)");
+    }
+  }
+  if (top.has("name")) robot.name_ = yaml.string(top.optional("name"), "name").value_or(robot.name_);
+  const YAML::Node urdf = top.required("urdf");
+  const YAML::Node base = top.required("base_link");
+  const YAML::Node tip = top.required("tip_link");
+  const YAML::Node ik = top.required("ik");
+  const auto urdf_name = urdf.IsDefined() ? yaml.string(urdf, "urdf") : std::nullopt;
+  const auto base_name = base.IsDefined() ? yaml.string(base, "base_link") : std::nullopt;
+  const auto tip_name = tip.IsDefined() ? yaml.string(tip, "tip_link") : std::nullopt;
+  const auto ik_name = ik.IsDefined() ? yaml.string(ik, "ik") : std::nullopt;
+  if (ik_name && *ik_name != "ur_analytic" && *ik_name != "numeric") {
+    yaml.error(ik, "ik must be 'ur_analytic' or 'numeric', not '" + *ik_name + "'");
+  }
+
+  if (top.has("gripper")) {
+    MapReader g(yaml, top.optional("gripper"), "gripper", {"finger_thickness", "base_half_length", "stroke", "large_base"});
+    if (g.valid()) {
+      auto read = [&](const char* key, double& out) {
+        const YAML::Node n = g.required(key);
+        if (n.IsDefined()) {
+          auto value = yaml.number(n, std::string("gripper ") + key);
+          if (value && *value < 0) yaml.error(n, std::string("gripper ") + key + " must not be negative");
+          out = value.value_or(0.0);
+        }
+      };
+      read("finger_thickness", robot.gripper_.finger_thickness);
+      read("base_half_length", robot.gripper_.base_half_length);
+      read("stroke", robot.gripper_.stroke);
+      if (g.has("large_base")) robot.gripper_.large_base = yaml.boolean(g.optional("large_base"), "gripper large_base").value_or(false);
+    }
+  } else {
+    top.required("gripper");
+  }
+  top.report_unknown_keys();
+  diagnostics.throw_if_any();
+
+  robot.urdf_ = yaml.resolve(*urdf_name);
+  robot.model_ = std::make_shared<const RobotModel>(RobotModel::load_urdf(robot.urdf_));
+  const RobotModel& model = *robot.model_;
+  auto link = [&](const YAML::Node& node, const std::string& name) -> LinkIndex {
+    if (auto index = model.find_link(name)) return *index;
+    yaml.error(node, "the URDF " + robot.urdf_.string() + " has no link '" + name + "'");
+    return -1;
+  };
+  robot.base_link_ = link(base, *base_name);
+  robot.tip_link_ = link(tip, *tip_name);
+
+  robot.home_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.variable_count()));
+  if (top.has("home")) {
+    const YAML::Node home = top.optional("home");
+    if (!home.IsSequence() || home.size() != model.variable_count()) {
+      yaml.error(home, "home must list " + std::to_string(model.variable_count()) + " joint values, in URDF order");
+    } else {
+      for (std::size_t i = 0; i < home.size(); ++i) {
+        if (auto v = yaml.number(home[i], "home[" + std::to_string(i) + "]")) robot.home_[static_cast<Eigen::Index>(i)] = *v;
+      }
+      if (!model.within_limits(robot.home_)) yaml.error(home, "home lies outside the joint limits");
+    }
+  }
+  diagnostics.throw_if_any();
+
+  try {
+    if (*ik_name == "ur_analytic") {
+      robot.ik_ = std::make_shared<UrAnalyticIk>(robot.model_, robot.base_link_, robot.tip_link_);
+    } else {
+      robot.ik_ = std::make_shared<NumericIk>(robot.model_, robot.base_link_, robot.tip_link_);
+    }
+  } catch (const std::invalid_argument& e) {
+    yaml.error(ik, e.what());
+  }
+  diagnostics.throw_if_any();
+  return robot;
+}
+
+}  // namespace cluttertamp::robot

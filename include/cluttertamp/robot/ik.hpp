@@ -1,0 +1,103 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/robot/robot_model.hpp"
+
+namespace cluttertamp::robot {
+
+/// Inverse kinematics of one chain of a RobotModel: from `base` link to `tip` link.
+/// Poses are of the tip frame in the base link's frame. Solutions are full robot
+/// configurations (RobotModel::variable_count()): the chain's joints solved, every
+/// other joint copied from the caller's `seed_configuration`. Every solution lies
+/// within the joint limits. Const members are safe to call from several threads.
+class CLUTTERTAMP_API IkSolver {
+ public:
+  virtual ~IkSolver();
+
+  /// Every solution the solver finds, without duplicates; empty when none is found.
+  /// `random_seed` drives any random choice (same seed, same answer).
+  virtual std::vector<Eigen::VectorXd> solve(const Eigen::Isometry3d& base_T_tip,
+                                             const Eigen::VectorXd& seed_configuration,
+                                             std::uint64_t random_seed = 0) const = 0;
+
+  const RobotModel& model() const { return *model_; }
+  const std::vector<JointIndex>& chain() const { return chain_; }
+  LinkIndex base() const { return base_; }
+  LinkIndex tip() const { return tip_; }
+
+  /// The tip pose (in the base frame) of a configuration: forward kinematics of the chain.
+  Eigen::Isometry3d forward(const Eigen::VectorXd& q) const;
+
+ protected:
+  /// Throws std::invalid_argument when `tip` does not descend from `base`.
+  IkSolver(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip);
+
+  std::shared_ptr<const RobotModel> model_;
+  LinkIndex base_;
+  LinkIndex tip_;
+  std::vector<JointIndex> chain_;
+  std::vector<JointIndex> path_;  ///< every joint (fixed ones too) from base to tip
+};
+
+/// Closed-form IK of the UR family (UR3/5/10/16, e-series): up to 8 solutions per
+/// pose. The chain must be six revolute joints whose frames follow the standard DH
+/// layout of a UR arm (alpha = pi/2, 0, 0, pi/2, -pi/2, 0), with any fixed transform
+/// after the sixth joint (flange, gripper, TCP). Each angle is returned in (-pi, pi],
+/// or shifted by 2 pi where that is needed to respect the joint limits.
+class CLUTTERTAMP_API UrAnalyticIk final : public IkSolver {
+ public:
+  /// Throws std::invalid_argument, saying which joint breaks the UR layout.
+  UrAnalyticIk(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip);
+
+  std::vector<Eigen::VectorXd> solve(const Eigen::Isometry3d& base_T_tip, const Eigen::VectorXd& seed_configuration,
+                                     std::uint64_t random_seed = 0) const override;
+
+  /// The DH parameters read from the model, metres: d1, a2, a3, d4, d5, d6.
+  struct Dh {
+    double d1, a2, a3, d4, d5, d6;
+  };
+  const Dh& dh() const { return dh_; }
+
+ private:
+  Dh dh_{};
+  Eigen::Isometry3d base_T_joint1_;  ///< fixed transform before the first joint
+  Eigen::Isometry3d flange_T_tip_;   ///< fixed transform after the sixth joint's DH frame
+};
+
+/// Damped least-squares (Levenberg-Marquardt) IK for any chain, with joint limits and
+/// random restarts. Works for redundant chains (7-DOF arms, a mobile base plus arm).
+class CLUTTERTAMP_API NumericIk final : public IkSolver {
+ public:
+  struct Options {
+    int restarts = 20;             ///< attempts from random configurations after the seed's
+    int max_iterations = 200;      ///< per attempt
+    double position_tolerance = 1e-9;     ///< m
+    double orientation_tolerance = 1e-9;  ///< rad
+    std::size_t max_solutions = 1; ///< stop after this many distinct solutions
+    double distinct_tolerance = 1e-4;     ///< rad or m: closer solutions count as one
+  };
+
+  NumericIk(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip, Options options);
+  NumericIk(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip)
+      : NumericIk(std::move(model), base, tip, Options{}) {}
+
+  std::vector<Eigen::VectorXd> solve(const Eigen::Isometry3d& base_T_tip, const Eigen::VectorXd& seed_configuration,
+                                     std::uint64_t random_seed = 0) const override;
+
+  const Options& options() const { return options_; }
+
+ private:
+  bool descend(const Eigen::Isometry3d& goal, Eigen::VectorXd& q) const;
+  Options options_;
+};
+
+/// Position and orientation error between two poses: (metres, radians).
+CLUTTERTAMP_API std::pair<double, double> pose_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
+
+}  // namespace cluttertamp::robot

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/robot/ik.hpp"
+#include "cluttertamp/robot/robot_model.hpp"
+
+namespace cluttertamp::robot {
+
+/// The gripper measures the retrieval planner needs (Tian et al., Appendix B).
+struct GripperParameters {
+  double finger_thickness = 0.0;  ///< r_f, m
+  double base_half_length = 0.0;  ///< r_base, m
+  double stroke = 0.0;            ///< largest opening, m
+  bool large_base = false;        ///< true when the base, not the fingers, bounds the footprint
+
+  /// r_b: the radius of the target's footprint while held, for a target of radius r_g.
+  double footprint_radius(double target_radius) const {
+    return large_base ? base_half_length : target_radius + finger_thickness;
+  }
+};
+
+/// A robot as the planners use it: the URDF model plus what a URDF does not say —
+/// which chain is the arm, which link is the tool centre point, the IK solver, the
+/// gripper's measures and a home configuration. Read from a robot description file
+/// (README, "Robot description files").
+class CLUTTERTAMP_API RobotDescription {
+ public:
+  /// Throws InputError with file:line:column for a bad description and with the
+  /// URDF's file and element for a bad model.
+  static RobotDescription load(const std::filesystem::path& file);
+
+  const std::string& name() const { return name_; }
+  const std::shared_ptr<const RobotModel>& model() const { return model_; }
+  const std::filesystem::path& urdf() const { return urdf_; }
+  LinkIndex base_link() const { return base_link_; }
+  LinkIndex tip_link() const { return tip_link_; }  ///< the TCP: grasp poses are its poses
+  const GripperParameters& gripper() const { return gripper_; }
+  const Eigen::VectorXd& home() const { return home_; }
+  /// The IK solver of the arm chain (base_link to tip_link).
+  const IkSolver& ik() const { return *ik_; }
+
+ private:
+  std::string name_;
+  std::filesystem::path urdf_;
+  std::shared_ptr<const RobotModel> model_;
+  LinkIndex base_link_ = -1;
+  LinkIndex tip_link_ = -1;
+  GripperParameters gripper_;
+  Eigen::VectorXd home_;
+  std::shared_ptr<const IkSolver> ik_;
+};
+
+}  // namespace cluttertamp::robot

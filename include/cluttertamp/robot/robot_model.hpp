@@ -1,0 +1,110 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "cluttertamp/core/geometry.hpp"
+#include "cluttertamp/export.hpp"
+
+namespace cluttertamp::robot {
+
+using LinkIndex = std::int32_t;
+using JointIndex = std::int32_t;
+
+enum class JointType { fixed, revolute, prismatic };
+
+/// A joint of the kinematic tree. The child link's frame is
+/// parent_T_child = parent_T_joint * motion(q), where motion is a rotation about
+/// (revolute) or translation along (prismatic) `axis`, a unit vector in the joint frame.
+struct Joint {
+  std::string name;
+  JointType type = JointType::fixed;
+  LinkIndex parent = -1;
+  LinkIndex child = -1;
+  Eigen::Isometry3d parent_T_joint = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  double lower = 0.0;         ///< rad or m
+  double upper = 0.0;         ///< rad or m
+  double max_velocity = 0.0;  ///< rad/s or m/s
+  bool continuous = false;    ///< a URDF continuous joint: revolute, limits [-pi, pi], wraps
+  std::int32_t variable = -1;  ///< index in a configuration vector; -1 for fixed joints
+};
+
+/// A collision primitive of a link, placed in the link frame.
+struct CollisionShape {
+  Shape shape;
+  Eigen::Isometry3d link_T_shape = Eigen::Isometry3d::Identity();
+};
+
+struct Link {
+  std::string name;
+  JointIndex parent_joint = -1;  ///< -1 for the root
+  std::vector<CollisionShape> collision;
+};
+
+/// A robot's kinematic tree as read from a URDF: links, joints, joint limits and
+/// primitive collision geometry. Poses are relative to the root link; a
+/// configuration holds one value per movable joint (rad or m), in file order.
+/// Immutable after loading; every const member is safe to call from several threads.
+class CLUTTERTAMP_API RobotModel {
+ public:
+  /// Reads a URDF file. Throws InputError naming the file and the element for a
+  /// malformed file, a mesh (only box, cylinder and sphere are supported), a planar
+  /// or floating joint (not supported; model a base as prismatic and revolute
+  /// joints), or a revolute or prismatic joint without a velocity limit.
+  static RobotModel load_urdf(const std::filesystem::path& file);
+
+  const std::string& name() const { return name_; }
+  const std::vector<Link>& links() const { return links_; }
+  const std::vector<Joint>& joints() const { return joints_; }
+  /// Links in an order where every parent precedes its children; links()[order[0]] is the root.
+  const std::vector<LinkIndex>& topological_order() const { return order_; }
+
+  std::size_t variable_count() const { return variables_.size(); }
+  /// The joint of each configuration variable.
+  const std::vector<JointIndex>& variables() const { return variables_; }
+  const Eigen::VectorXd& lower_limits() const { return lower_; }
+  const Eigen::VectorXd& upper_limits() const { return upper_; }
+  const Eigen::VectorXd& velocity_limits() const { return velocity_; }
+  bool within_limits(const Eigen::VectorXd& q, double tolerance = 1e-9) const;
+
+  std::optional<LinkIndex> find_link(std::string_view name) const;
+  std::optional<JointIndex> find_joint(std::string_view name) const;
+
+  /// Root-frame poses of every link for configuration q (size variable_count()).
+  /// `root_T_links` is resized to links().size(); pass the same vector again to
+  /// avoid allocation.
+  void link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& root_T_links) const;
+
+  /// The movable joints from `base` down to `tip`, in order. Throws
+  /// std::invalid_argument when `tip` does not descend from `base`.
+  std::vector<JointIndex> chain(LinkIndex base, LinkIndex tip) const;
+
+  /// Pairs of links (first < second) whose collision is never checked: links joined
+  /// by one movable joint (looking through links without geometry), and links
+  /// rigidly connected by fixed joints.
+  const std::vector<std::pair<LinkIndex, LinkIndex>>& adjacent_links() const { return adjacent_; }
+
+  /// parent_T_joint * motion(value): the transform a joint contributes.
+  static Eigen::Isometry3d joint_transform(const Joint& joint, double value);
+
+ private:
+  void finish();  // computes order, variables, limits and adjacency after loading
+
+  std::string name_;
+  std::vector<Link> links_;
+  std::vector<Joint> joints_;
+  std::vector<LinkIndex> order_;
+  std::vector<JointIndex> variables_;
+  Eigen::VectorXd lower_, upper_, velocity_;
+  std::vector<std::pair<LinkIndex, LinkIndex>> adjacent_;
+};
+
+}  // namespace cluttertamp::robot

@@ -1,0 +1,1 @@
+(define (domain toy) (:predicates (done)) (:action finish :parameters () :precondition () :effect (done)))

@@ -1,0 +1,1 @@
+(define (problem toy1) (:domain toy) (:init) (:goal (done)))

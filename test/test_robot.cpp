@@ -1,0 +1,285 @@
+// Robot models, forward kinematics against hand-computed poses, IK property tests.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "cluttertamp/robot/ik.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
+#include "test_support.hpp"
+
+namespace cluttertamp::robot {
+namespace {
+
+std::filesystem::path robot_file(const std::string& name) {
+  return std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots" / name;
+}
+
+// Standard DH link transform, written out independently of the library.
+Eigen::Matrix4d dh(double theta, double d, double a, double alpha) {
+  Eigen::Matrix4d m;
+  m << std::cos(theta), -std::sin(theta) * std::cos(alpha), std::sin(theta) * std::sin(alpha), a * std::cos(theta),
+      std::sin(theta), std::cos(theta) * std::cos(alpha), -std::cos(theta) * std::sin(alpha), a * std::sin(theta), 0,
+      std::sin(alpha), std::cos(alpha), d, 0, 0, 0, 1;
+  return m;
+}
+
+// Modified (Craig) DH link transform: Rx(alpha) Tx(a) Rz(theta) Tz(d).
+Eigen::Matrix4d mdh(double theta, double d, double a, double alpha) {
+  const double ct = std::cos(theta), st = std::sin(theta), ca = std::cos(alpha), sa = std::sin(alpha);
+  Eigen::Matrix4d m;
+  m << ct, -st, 0, a, st * ca, ct * ca, -sa, -sa * d, st * sa, ct * sa, ca, ca * d, 0, 0, 0, 1;
+  return m;
+}
+
+Eigen::VectorXd random_configuration(const RobotModel& model, std::mt19937_64& rng, double margin = 0.0) {
+  Eigen::VectorXd q(static_cast<Eigen::Index>(model.variable_count()));
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    const double lo = std::max(model.lower_limits()[i], -M_PI) + margin;
+    const double hi = std::min(model.upper_limits()[i], M_PI) - margin;
+    q[i] = std::uniform_real_distribution<double>(lo, hi)(rng);
+  }
+  return q;
+}
+
+double angle_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  double worst = 0;
+  for (Eigen::Index i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(std::remainder(a[i] - b[i], 2 * M_PI)));
+  return worst;
+}
+
+class Ur10 : public ::testing::Test {
+ protected:
+  RobotDescription robot_ = RobotDescription::load(robot_file("ur10_ag95.yaml"));
+  const RobotModel& model_ = *robot_.model();
+  std::vector<Eigen::Isometry3d> poses_;
+
+  Eigen::Isometry3d link(const Eigen::VectorXd& q, const std::string& name) {
+    model_.link_poses(q, poses_);
+    return poses_[*model_.find_link(name)];
+  }
+};
+
+TEST_F(Ur10, LoadsWithSixJointsAndItsLimits) {
+  EXPECT_EQ(model_.variable_count(), 6u);
+  EXPECT_DOUBLE_EQ(model_.upper_limits()[0], 2 * M_PI);
+  EXPECT_NEAR(model_.velocity_limits()[0], 2.0944, 1e-9);
+  EXPECT_NEAR(model_.velocity_limits()[5], 3.1416, 1e-9);
+  EXPECT_DOUBLE_EQ(robot_.gripper().finger_thickness, 0.012);
+  EXPECT_DOUBLE_EQ(robot_.gripper().footprint_radius(0.04), 0.052);  // r_b = r_g + r_f
+  const auto* ik = dynamic_cast<const UrAnalyticIk*>(&robot_.ik());
+  ASSERT_NE(ik, nullptr);
+  EXPECT_DOUBLE_EQ(ik->dh().d1, 0.1273);
+  EXPECT_DOUBLE_EQ(ik->dh().a2, -0.612);
+  EXPECT_DOUBLE_EQ(ik->dh().a3, -0.5723);
+  EXPECT_DOUBLE_EQ(ik->dh().d4, 0.163941);
+  EXPECT_DOUBLE_EQ(ik->dh().d5, 0.1157);
+}
+
+TEST_F(Ur10, ZeroConfigurationMatchesTheDhTable) {
+  // All joints at zero: the flange sits at (a2 + a3, -(d4 + d6), d1 - d5).
+  const Eigen::Isometry3d flange = link(Eigen::VectorXd::Zero(6), "tool0");
+  EXPECT_TRUE(flange.translation().isApprox(Eigen::Vector3d(-1.1843, -0.256141, 0.0116), 1e-9))
+      << flange.translation().transpose();
+}
+
+TEST_F(Ur10, ForwardKinematicsIsTheDhProduct) {
+  std::mt19937_64 rng(1);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::VectorXd q = random_configuration(model_, rng);
+    const double d[6] = {0.1273, 0, 0, 0.163941, 0.1157, 0.0922};
+    const double a[6] = {0, -0.612, -0.5723, 0, 0, 0};
+    const double alpha[6] = {M_PI / 2, 0, 0, M_PI / 2, -M_PI / 2, 0};
+    Eigen::Matrix4d expected = Eigen::Matrix4d::Identity();
+    for (int i = 0; i < 6; ++i) expected = expected * dh(q[i], d[i], a[i], alpha[i]);
+    EXPECT_TRUE(link(q, "tool0").matrix().isApprox(expected, 1e-12)) << q.transpose();
+    // The TCP is 0.13 m past the flange along its z axis.
+    const Eigen::Vector3d tcp = expected.block<3, 3>(0, 0) * Eigen::Vector3d(0, 0, 0.13) + expected.block<3, 1>(0, 3);
+    EXPECT_TRUE(link(q, "gripper_tcp").translation().isApprox(tcp, 1e-12));
+  }
+}
+
+TEST_F(Ur10, AnalyticIkRoundTripsOverThousandsOfPoses) {
+  std::mt19937_64 rng(7);
+  const IkSolver& ik = robot_.ik();
+  int found_original = 0;
+  const int trials = 3000;
+  for (int trial = 0; trial < trials; ++trial) {
+    const Eigen::VectorXd q = random_configuration(model_, rng);
+    const Eigen::Isometry3d pose = ik.forward(q);
+    const auto solutions = ik.solve(pose, Eigen::VectorXd::Zero(6));
+    ASSERT_FALSE(solutions.empty()) << q.transpose();
+    EXPECT_LE(solutions.size(), 8u);
+    bool original = false;
+    for (const Eigen::VectorXd& s : solutions) {
+      const auto [position, orientation] = pose_error(ik.forward(s), pose);
+      EXPECT_LT(position, 1e-6);
+      EXPECT_LT(orientation, 1e-6);
+      EXPECT_TRUE(model_.within_limits(s));
+      original = original || angle_distance(s, q) < 1e-6;
+    }
+    found_original += original;
+  }
+  // The configuration the pose came from is among the solutions (up to 2 pi), except
+  // at a wrist singularity where joints 4 and 6 trade angles.
+  EXPECT_GE(found_original, trials - 3);
+}
+
+TEST_F(Ur10, AnalyticIkFindsEverySolutionTheNumericSolverFinds) {
+  NumericIk::Options options;
+  options.restarts = 40;
+  options.max_solutions = 16;
+  const NumericIk numeric(robot_.model(), robot_.base_link(), robot_.tip_link(), options);
+  std::mt19937_64 rng(11);
+  int numeric_solutions = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const Eigen::VectorXd q = random_configuration(model_, rng, 0.2);
+    const Eigen::Isometry3d pose = numeric.forward(q);
+    const auto analytic = robot_.ik().solve(pose, Eigen::VectorXd::Zero(6));
+    for (const Eigen::VectorXd& s : numeric.solve(pose, q, static_cast<std::uint64_t>(trial))) {
+      ++numeric_solutions;
+      const auto [position, orientation] = pose_error(numeric.forward(s), pose);
+      EXPECT_LT(position, 1e-6);
+      EXPECT_LT(orientation, 1e-6);
+      double nearest = 1e9;
+      for (const Eigen::VectorXd& a : analytic) nearest = std::min(nearest, angle_distance(a, s));
+      EXPECT_LT(nearest, 1e-5) << "numeric solution " << s.transpose() << " is not among the analytic ones";
+    }
+  }
+  EXPECT_GT(numeric_solutions, 120);  // the comparison is not vacuous
+}
+
+TEST_F(Ur10, UnreachablePoseHasNoSolution) {
+  Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
+  far.translation() << 3.0, 0, 0.5;
+  EXPECT_TRUE(robot_.ik().solve(far, Eigen::VectorXd::Zero(6)).empty());
+}
+
+TEST_F(Ur10, AdjacentLinksAreDisabledPairs) {
+  auto has = [&](const std::string& a, const std::string& b) {
+    const LinkIndex i = *model_.find_link(a), j = *model_.find_link(b);
+    const std::pair<LinkIndex, LinkIndex> pair{std::min(i, j), std::max(i, j)};
+    const auto& adjacent = model_.adjacent_links();
+    return std::find(adjacent.begin(), adjacent.end(), pair) != adjacent.end();
+  };
+  EXPECT_TRUE(has("upper_arm_link", "forearm_link"));
+  EXPECT_TRUE(has("wrist_3_link", "gripper_base"));  // through tool0, which has no geometry
+  EXPECT_TRUE(has("left_finger", "right_finger"));  // rigidly connected
+  EXPECT_FALSE(has("upper_arm_link", "wrist_1_link"));
+  EXPECT_FALSE(has("base_link", "gripper_base"));
+}
+
+TEST(Panda, ForwardKinematicsIsTheModifiedDhProduct) {
+  const RobotDescription robot = RobotDescription::load(robot_file("panda.yaml"));
+  const RobotModel& model = *robot.model();
+  ASSERT_EQ(model.variable_count(), 7u);
+  std::vector<Eigen::Isometry3d> poses;
+  model.link_poses(Eigen::VectorXd::Zero(7), poses);
+  // Zero configuration: flange 0.088 m forward, 0.926 m up, pointing down.
+  EXPECT_TRUE(poses[*model.find_link("panda_link8")].translation().isApprox(Eigen::Vector3d(0.088, 0, 0.926), 1e-12));
+  EXPECT_TRUE(poses[*model.find_link("panda_hand_tcp")].translation().isApprox(Eigen::Vector3d(0.088, 0, 0.8226), 1e-12));
+  const double a[8] = {0, 0, 0, 0.0825, -0.0825, 0, 0.088, 0};
+  const double d[8] = {0.333, 0, 0.316, 0, 0.384, 0, 0, 0.107};
+  const double alpha[8] = {0, -M_PI / 2, M_PI / 2, M_PI / 2, -M_PI / 2, M_PI / 2, M_PI / 2, 0};
+  std::mt19937_64 rng(3);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::VectorXd q = random_configuration(model, rng);
+    Eigen::Matrix4d expected = Eigen::Matrix4d::Identity();
+    for (int i = 0; i < 8; ++i) expected = expected * mdh(i < 7 ? q[i] : 0.0, d[i], a[i], alpha[i]);
+    model.link_poses(q, poses);
+    EXPECT_TRUE(poses[*model.find_link("panda_link8")].matrix().isApprox(expected, 1e-12));
+  }
+}
+
+TEST(Panda, NumericIkRoundTripsOverThousandsOfPoses) {
+  const RobotDescription robot = RobotDescription::load(robot_file("panda.yaml"));
+  const RobotModel& model = *robot.model();
+  const IkSolver& ik = robot.ik();
+  std::mt19937_64 rng(5);
+  int solved = 0;
+  const int trials = 1000;
+  for (int trial = 0; trial < trials; ++trial) {
+    const Eigen::VectorXd q = random_configuration(model, rng);
+    const Eigen::Isometry3d pose = ik.forward(q);
+    const auto solutions = ik.solve(pose, robot.home(), static_cast<std::uint64_t>(trial));
+    for (const Eigen::VectorXd& s : solutions) {
+      const auto [position, orientation] = pose_error(ik.forward(s), pose);
+      EXPECT_LT(position, 1e-6);
+      EXPECT_LT(orientation, 1e-6);
+      EXPECT_TRUE(model.within_limits(s));
+    }
+    solved += !solutions.empty();
+  }
+  EXPECT_GE(solved, trials * 99 / 100);
+}
+
+TEST(Panda, NumericIkIsDeterministicForASeed) {
+  const RobotDescription robot = RobotDescription::load(robot_file("panda.yaml"));
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() << 0.5, 0.2, 0.4;
+  pose.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::VectorXd far_seed = Eigen::VectorXd::Constant(7, -0.05);  // forces random restarts
+  const auto first = robot.ik().solve(pose, far_seed, 42);
+  const auto second = robot.ik().solve(pose, far_seed, 42);
+  ASSERT_EQ(first.size(), second.size());
+  ASSERT_FALSE(first.empty());
+  EXPECT_EQ(first[0], second[0]);
+}
+
+TEST(MobileManipulator, BaseAndArmFormOneChain) {
+  const RobotDescription robot = RobotDescription::load(robot_file("pr2_mobile.yaml"));
+  const RobotModel& model = *robot.model();
+  ASSERT_EQ(model.variable_count(), 10u);
+  std::vector<Eigen::Isometry3d> poses;
+  model.link_poses(Eigen::VectorXd::Zero(10), poses);
+  // Zero: torso at (-0.05, 0, 0.839675); shoulder 0.188 left; arm straight forward.
+  EXPECT_TRUE(poses[*model.find_link("l_gripper_tool_frame")].translation().isApprox(
+      Eigen::Vector3d(-0.05 + 0.1 + 0.4 + 0.321 + 0.18, 0.188, 0.839675), 1e-12));
+  // Moving the base moves the tool by the same planar motion.
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(10);
+  q << 1.0, 2.0, M_PI / 2, 0, 0, 0, 0, 0, 0, 0;
+  model.link_poses(q, poses);
+  EXPECT_TRUE(poses[*model.find_link("l_gripper_tool_frame")].translation().isApprox(
+      Eigen::Vector3d(1.0 - 0.188, 2.0 + 0.951, 0.839675), 1e-12));
+  // IK over all ten joints reaches a pose 2 m away.
+  Eigen::Isometry3d goal = poses[*model.find_link("l_gripper_tool_frame")];
+  const auto solutions = robot.ik().solve(goal, robot.home(), 1);
+  ASSERT_FALSE(solutions.empty());
+  const auto [position, orientation] = pose_error(robot.ik().forward(solutions[0]), goal);
+  EXPECT_LT(position, 1e-6);
+  EXPECT_LT(orientation, 1e-6);
+}
+
+TEST(RobotErrors, MeshCollisionIsRefusedNamingFileAndElement) {
+  const Diagnostics d = test::expect_input_error([] { RobotModel::load_urdf(test::data("robots/mesh.urdf")); });
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_NE(d.items()[0].location.file.find("mesh.urdf"), std::string::npos);
+  EXPECT_NE(d.items()[0].message.find("link 'arm' <collision> #1 is a <mesh>"), std::string::npos) << d.str();
+}
+
+TEST(RobotErrors, MalformedUrdfSaysWhy) {
+  const Diagnostics d = test::expect_input_error([] { RobotModel::load_urdf(test::data("robots/malformed.urdf")); });
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_NE(d.items()[0].message.find("malformed URDF"), std::string::npos);
+  EXPECT_NE(d.items()[0].message.find("Joint [j1] is of type REVOLUTE but it does not specify limits"), std::string::npos)
+      << d.str();
+}
+
+TEST(RobotErrors, JointWithoutVelocityLimit) {
+  const Diagnostics d = test::expect_input_error([] { RobotModel::load_urdf(test::data("robots/no_velocity.urdf")); });
+  EXPECT_NE(d.str().find("joint 'j1' needs <limit velocity=...>"), std::string::npos) << d.str();
+}
+
+TEST(RobotErrors, DescriptionErrorsAreLocated) {
+  const Diagnostics d = test::expect_input_error([] { RobotDescription::load(test::data("robots/bad_description.yaml")); });
+  EXPECT_TRUE(test::has_error(d, 8, 1, "unknown key 'colour'"));
+  EXPECT_TRUE(test::has_error(d, 6, 53, "gripper base_half_length must not be negative"));
+}
+
+TEST(RobotErrors, UrAnalyticIkRefusesANonUrArm) {
+  const Diagnostics d = test::expect_input_error([] { RobotDescription::load(test::data("robots/panda_ur_ik.yaml")); });
+  EXPECT_TRUE(test::has_error(d, 5, 5, "ur_analytic IK needs a chain of 6 movable joints"));
+}
+
+}  // namespace
+}  // namespace cluttertamp::robot
