@@ -188,7 +188,8 @@ void RobotModel::finish() {
   // through links without geometry (e.g. tool0 between wrist and gripper), and links
   // rigidly connected by fixed joints only (their relative pose never changes).
   adjacent_.clear();
-  std::vector<LinkIndex> rigid_root(links_.size());
+  std::vector<LinkIndex>& rigid_root = rigid_root_;
+  rigid_root.assign(links_.size(), -1);
   for (LinkIndex l : order_) {
     const JointIndex j = links_[l].parent_joint;
     rigid_root[l] = (j >= 0 && joints_[j].type == JointType::fixed) ? rigid_root[joints_[j].parent] : l;

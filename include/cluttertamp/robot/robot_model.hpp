@@ -92,6 +92,10 @@ class CLUTTERTAMP_API RobotModel {
   /// rigidly connected by fixed joints.
   const std::vector<std::pair<LinkIndex, LinkIndex>>& adjacent_links() const { return adjacent_; }
 
+  /// The link that `link` is rigidly attached to through fixed joints only (itself
+  /// when its parent joint moves): links with the same rigid root move as one body.
+  LinkIndex rigid_root(LinkIndex link) const { return rigid_root_[static_cast<std::size_t>(link)]; }
+
   /// parent_T_joint * motion(value): the transform a joint contributes.
   static Eigen::Isometry3d joint_transform(const Joint& joint, double value);
 
@@ -105,6 +109,7 @@ class CLUTTERTAMP_API RobotModel {
   std::vector<JointIndex> variables_;
   Eigen::VectorXd lower_, upper_, velocity_;
   std::vector<std::pair<LinkIndex, LinkIndex>> adjacent_;
+  std::vector<LinkIndex> rigid_root_;
 };
 
 }  // namespace cluttertamp::robot

@@ -1,0 +1,398 @@
+#include "cluttertamp/collision/collision_world.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+
+#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
+
+#include "collision/footprint.hpp"
+
+namespace cluttertamp::collision {
+
+namespace {
+
+using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
+using Object = fcl::CollisionObjectd;
+using Manager = fcl::DynamicAABBTreeCollisionManagerd;
+
+// A held object is shrunk by this much on every side, so that the contact it starts
+// with (resting on a board, between the fingers) is not a collision.
+constexpr double kHeldShrink = 1e-3;  // m
+
+Geometry make_geometry(const Shape& shape, double shrink = 0.0) {
+  if (const auto* box = std::get_if<Box>(&shape)) {
+    return std::make_shared<fcl::Boxd>((box->size.array() - 2 * shrink).max(1e-4).matrix());
+  }
+  if (const auto* sphere = std::get_if<Sphere>(&shape)) {
+    return std::make_shared<fcl::Sphered>(std::max(sphere->radius - shrink, 1e-4));
+  }
+  const auto& cylinder = std::get<Cylinder>(shape);
+  return std::make_shared<fcl::Cylinderd>(std::max(cylinder.radius - shrink, 1e-4),
+                                          std::max(cylinder.height - 2 * shrink, 1e-4));
+}
+
+fcl::Transform3d to_fcl(const Eigen::Isometry3d& pose) { return fcl::Transform3d(pose.matrix()); }
+
+// User data of movable objects: their index plus one (0 marks robot and fixed objects).
+void* tag(ObjectIndex index) { return reinterpret_cast<void*>(static_cast<std::uintptr_t>(index) + 1); }
+std::optional<ObjectIndex> untag(const Object* object) {
+  const auto value = reinterpret_cast<std::uintptr_t>(object->getUserData());
+  if (value == 0) return std::nullopt;
+  return static_cast<ObjectIndex>(value - 1);
+}
+
+fcl::CollisionRequestd collision_request() {
+  fcl::CollisionRequestd request;
+  request.gjk_solver_type = fcl::GST_INDEP;  // faster than libccd for boolean queries
+  return request;
+}
+
+bool narrow_collide(const Object* a, const Object* b) {
+  static const fcl::CollisionRequestd request = collision_request();
+  fcl::CollisionResultd result;
+  return fcl::collide(a, b, request, result) > 0;
+}
+
+// Broadphase callback data for one query object against one manager.
+struct CollideData {
+  std::span<const ObjectIndex> ignored;
+  bool stop_at_first = true;
+  bool hit = false;
+  ObjectSet* hits = nullptr;  // movable manager: every object touched
+};
+
+bool on_pair(Object* o1, Object* o2, void* raw) {
+  auto* data = static_cast<CollideData*>(raw);
+  const std::optional<ObjectIndex> index = untag(o1) ? untag(o1) : untag(o2);
+  if (index) {
+    if (std::find(data->ignored.begin(), data->ignored.end(), *index) != data->ignored.end()) return false;
+    if (data->hits && std::find(data->hits->begin(), data->hits->end(), *index) != data->hits->end()) return false;
+  }
+  if (!narrow_collide(o1, o2)) return false;
+  data->hit = true;
+  if (data->hits && index) data->hits->push_back(*index);
+  return data->stop_at_first;
+}
+
+struct DistanceData {
+  std::span<const ObjectIndex> ignored;
+  double min = std::numeric_limits<double>::infinity();
+};
+
+bool on_distance(Object* o1, Object* o2, void* raw, double& current) {
+  auto* data = static_cast<DistanceData*>(raw);
+  const std::optional<ObjectIndex> index = untag(o1) ? untag(o1) : untag(o2);
+  if (index && std::find(data->ignored.begin(), data->ignored.end(), *index) != data->ignored.end()) return false;
+  fcl::DistanceRequestd request;
+  request.enable_signed_distance = true;
+  request.gjk_solver_type = fcl::GST_LIBCCD;  // signed distance: see shared/notes, pitfall 2
+  fcl::DistanceResultd result;
+  fcl::distance(o1, o2, request, result);
+  data->min = std::min(data->min, result.min_distance);
+  current = std::min(current, result.min_distance);
+  return data->min <= 0.0;
+}
+
+}  // namespace
+
+struct CollisionWorld::Context::State {
+  std::vector<Eigen::Isometry3d> root_T_links;
+  std::vector<std::unique_ptr<Object>> shapes;  // one per robot shape
+  std::unique_ptr<Object> held;
+  const fcl::CollisionGeometryd* held_geometry = nullptr;
+};
+
+CollisionWorld::Context::Context() : state_(std::make_unique<State>()) {}
+CollisionWorld::Context::~Context() = default;
+
+struct CollisionWorld::Impl {
+  struct RobotShape {
+    robot::LinkIndex link;
+    Geometry geometry;
+    Eigen::Isometry3d link_T_shape;
+    bool gripper;  // rigidly attached to the tool: may touch the held object
+  };
+  struct MovableObject {
+    Geometry geometry;
+    std::unique_ptr<Object> object;
+    bool present = true;
+    detail::Outline outline;
+  };
+
+  Scene scene;
+  std::shared_ptr<const robot::RobotDescription> robot;
+  std::vector<std::unique_ptr<Object>> fixed_objects;
+  std::vector<detail::Outline> fixed_outlines;
+  std::vector<MovableObject> movable;
+  Manager fixed_manager;
+  Manager movable_manager;
+  std::vector<RobotShape> robot_shapes;
+  std::vector<std::pair<std::size_t, std::size_t>> self_pairs;  // robot shape indices to check
+  std::optional<ObjectIndex> held;
+  Eigen::Isometry3d tool_T_held = Eigen::Isometry3d::Identity();
+  Geometry held_geometry;  // shrunk copy of the held object's shape
+
+  using State = Context::State;
+  void pose_robot(const Eigen::VectorXd& q, State& c) const;
+  bool self_collides(const State& c) const;
+  /// Collides the posed robot shapes and held object with a manager's objects.
+  bool hits(const Manager& manager, State& c, CollideData& data) const;
+};
+
+CollisionWorld::CollisionWorld(const Scene& scene, std::shared_ptr<const robot::RobotDescription> robot)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& w = *impl_;
+  w.scene = scene;
+  w.robot = std::move(robot);
+  for (const FixedBody& body : scene.fixed) {
+    auto object = std::make_unique<Object>(make_geometry(body.shape), to_fcl(body.world_T_body));
+    object->computeAABB();
+    w.fixed_manager.registerObject(object.get());
+    w.fixed_objects.push_back(std::move(object));
+    w.fixed_outlines.push_back(detail::outline(body.shape, body.world_T_body));
+  }
+  w.fixed_manager.setup();
+  w.movable.resize(scene.objects.size());
+  for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
+    Impl::MovableObject& m = w.movable[i];
+    m.geometry = make_geometry(scene.objects[i].shape);
+    m.object = std::make_unique<Object>(m.geometry, to_fcl(scene.objects[i].world_T_object));
+    m.object->setUserData(tag(i));
+    m.object->computeAABB();
+    m.outline = detail::outline(scene.objects[i].shape, scene.objects[i].world_T_object);
+    w.movable_manager.registerObject(m.object.get());
+  }
+  w.movable_manager.setup();
+  if (!w.robot) return;
+
+  const robot::RobotModel& model = *w.robot->model();
+  const robot::LinkIndex tool_root = model.rigid_root(w.robot->tip_link());
+  std::vector<std::size_t> first_shape(model.links().size(), 0), shape_count(model.links().size(), 0);
+  for (std::size_t l = 0; l < model.links().size(); ++l) {
+    first_shape[l] = w.robot_shapes.size();
+    for (const robot::CollisionShape& c : model.links()[l].collision) {
+      w.robot_shapes.push_back({static_cast<robot::LinkIndex>(l), make_geometry(c.shape), c.link_T_shape,
+                                model.rigid_root(static_cast<robot::LinkIndex>(l)) == tool_root});
+    }
+    shape_count[l] = w.robot_shapes.size() - first_shape[l];
+  }
+  const auto& adjacent = model.adjacent_links();
+  for (std::size_t a = 0; a < w.robot_shapes.size(); ++a) {
+    for (std::size_t b = a + 1; b < w.robot_shapes.size(); ++b) {
+      const auto la = w.robot_shapes[a].link, lb = w.robot_shapes[b].link;
+      if (la == lb) continue;
+      const std::pair<robot::LinkIndex, robot::LinkIndex> pair{std::min(la, lb), std::max(la, lb)};
+      if (std::binary_search(adjacent.begin(), adjacent.end(), pair)) continue;
+      w.self_pairs.emplace_back(a, b);
+    }
+  }
+}
+
+CollisionWorld::~CollisionWorld() = default;
+
+const Scene& CollisionWorld::scene() const { return impl_->scene; }
+
+void CollisionWorld::set_object_pose(ObjectIndex object, const Eigen::Isometry3d& world_T_object) {
+  Impl::MovableObject& m = impl_->movable.at(object);
+  impl_->scene.objects[object].world_T_object = world_T_object;
+  m.object->setTransform(to_fcl(world_T_object));
+  m.object->computeAABB();
+  m.outline = detail::outline(impl_->scene.objects[object].shape, world_T_object);
+  if (m.present) impl_->movable_manager.update(m.object.get());
+}
+
+const Eigen::Isometry3d& CollisionWorld::object_pose(ObjectIndex object) const {
+  return impl_->scene.objects.at(object).world_T_object;
+}
+
+void CollisionWorld::remove_object(ObjectIndex object) {
+  Impl::MovableObject& m = impl_->movable.at(object);
+  if (!m.present) return;
+  impl_->movable_manager.unregisterObject(m.object.get());
+  m.present = false;
+}
+
+void CollisionWorld::restore_object(ObjectIndex object) {
+  Impl::MovableObject& m = impl_->movable.at(object);
+  if (m.present || impl_->held == object) return;
+  impl_->movable_manager.registerObject(m.object.get());
+  m.present = true;
+}
+
+bool CollisionWorld::present(ObjectIndex object) const { return impl_->movable.at(object).present; }
+
+void CollisionWorld::attach(ObjectIndex object, const Eigen::Isometry3d& tool_T_object) {
+  if (!impl_->robot) throw std::logic_error("CollisionWorld::attach: the world has no robot");
+  if (impl_->held) throw std::logic_error("CollisionWorld::attach: already holding an object");
+  remove_object(object);
+  impl_->held = object;
+  impl_->tool_T_held = tool_T_object;
+  impl_->held_geometry = make_geometry(impl_->scene.objects[object].shape, kHeldShrink);
+}
+
+void CollisionWorld::detach(const Eigen::Isometry3d& world_T_object) {
+  if (!impl_->held) return;
+  const ObjectIndex object = *impl_->held;
+  impl_->held.reset();
+  impl_->held_geometry.reset();
+  set_object_pose(object, world_T_object);
+  restore_object(object);
+}
+
+std::optional<ObjectIndex> CollisionWorld::held() const { return impl_->held; }
+
+void CollisionWorld::sync(const WorldState& state) {
+  if (impl_->held) detach(object_pose(*impl_->held));
+  for (ObjectIndex i = 0; i < impl_->movable.size(); ++i) {
+    set_object_pose(i, state.world_T_objects.at(i));
+    if (state.removed.at(i)) remove_object(i); else restore_object(i);
+  }
+  if (state.held && impl_->robot) {
+    auto context = make_context();
+    const Eigen::Isometry3d world_T_tool = tool_pose(state.robot_configuration, *context);
+    attach(*state.held, world_T_tool.inverse() * state.world_T_objects.at(*state.held));
+  }
+}
+
+std::unique_ptr<CollisionWorld::Context> CollisionWorld::make_context() const {
+  std::unique_ptr<Context> context(new Context());
+  for (const Impl::RobotShape& shape : impl_->robot_shapes) {
+    context->state_->shapes.push_back(std::make_unique<Object>(shape.geometry));
+  }
+  return context;
+}
+
+Eigen::Isometry3d CollisionWorld::tool_pose(const Eigen::VectorXd& q, Context& context) const {
+  impl_->robot->model()->link_poses(q, context.state_->root_T_links);
+  return impl_->scene.world_T_robot_base * context.state_->root_T_links[impl_->robot->tip_link()];
+}
+
+void CollisionWorld::Impl::pose_robot(const Eigen::VectorXd& q, State& c) const {
+  if (!robot) throw std::logic_error("CollisionWorld: the world has no robot");
+  const robot::RobotModel& model = *robot->model();
+  if (static_cast<std::size_t>(q.size()) != model.variable_count()) {
+    throw std::invalid_argument("CollisionWorld: configuration has " + std::to_string(q.size()) + " values, the robot " +
+                                std::to_string(model.variable_count()));
+  }
+  model.link_poses(q, c.root_T_links);
+  for (std::size_t i = 0; i < robot_shapes.size(); ++i) {
+    const RobotShape& shape = robot_shapes[i];
+    c.shapes[i]->setTransform(to_fcl(scene.world_T_robot_base * c.root_T_links[shape.link] * shape.link_T_shape));
+    c.shapes[i]->computeAABB();
+  }
+  if (held) {
+    if (c.held_geometry != held_geometry.get()) {
+      c.held = std::make_unique<Object>(held_geometry);
+      c.held_geometry = held_geometry.get();
+    }
+    c.held->setTransform(to_fcl(scene.world_T_robot_base * c.root_T_links[robot->tip_link()] * tool_T_held));
+    c.held->computeAABB();
+  }
+}
+
+bool CollisionWorld::Impl::self_collides(const State& c) const {
+  for (const auto& [a, b] : self_pairs) {
+    if (c.shapes[a]->getAABB().overlap(c.shapes[b]->getAABB()) && narrow_collide(c.shapes[a].get(), c.shapes[b].get())) {
+      return true;
+    }
+  }
+  if (!held) return false;
+  for (std::size_t i = 0; i < robot_shapes.size(); ++i) {
+    if (!robot_shapes[i].gripper && c.held->getAABB().overlap(c.shapes[i]->getAABB()) &&
+        narrow_collide(c.held.get(), c.shapes[i].get())) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// The robot's shapes and the held object, posed in the context.
+bool CollisionWorld::Impl::hits(const Manager& manager, State& c, CollideData& data) const {
+  for (auto& shape : c.shapes) {
+    manager.collide(shape.get(), &data, on_pair);
+    if (data.hit && data.stop_at_first) return true;
+  }
+  if (held) manager.collide(c.held.get(), &data, on_pair);
+  return data.hit;
+}
+
+bool CollisionWorld::is_valid(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored) const {
+  const Impl& w = *impl_;
+  Context::State& c = *context.state_;
+  w.pose_robot(q, c);
+  if (w.self_collides(c)) return false;
+  CollideData fixed{ignored, true};
+  if (w.hits(w.fixed_manager, c, fixed)) return false;
+  CollideData movable{ignored, true};
+  return !w.hits(w.movable_manager, c, movable);
+}
+
+CollisionReport CollisionWorld::check(const Eigen::VectorXd& q, Context& context,
+                                      std::span<const ObjectIndex> ignored) const {
+  const Impl& w = *impl_;
+  Context::State& c = *context.state_;
+  w.pose_robot(q, c);
+  CollisionReport report;
+  report.self = w.self_collides(c);
+  CollideData fixed{ignored, true};
+  report.fixed = w.hits(w.fixed_manager, c, fixed);
+  CollideData movable{ignored, false, false, &report.objects};
+  w.hits(w.movable_manager, c, movable);
+  std::sort(report.objects.begin(), report.objects.end());
+  return report;
+}
+
+double CollisionWorld::min_distance(const Eigen::VectorXd& q, Context& context,
+                                    std::span<const ObjectIndex> ignored) const {
+  const Impl& w = *impl_;
+  Context::State& c = *context.state_;
+  w.pose_robot(q, c);
+  DistanceData data{ignored};
+  auto measure = [&](Object* object) {
+    w.fixed_manager.distance(object, &data, on_distance);
+    if (data.min > 0) w.movable_manager.distance(object, &data, on_distance);
+  };
+  for (auto& shape : c.shapes) {
+    measure(shape.get());
+    if (data.min <= 0) return data.min;
+  }
+  if (w.held) measure(c.held.get());
+  return data.min;
+}
+
+ObjectSet CollisionWorld::footprint_objects(const Eigen::Vector2d& centre, const Footprint& footprint,
+                                            std::span<const ObjectIndex> ignored) const {
+  return swept_objects(centre, centre, footprint, ignored);
+}
+
+ObjectSet CollisionWorld::swept_objects(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                        const Footprint& footprint, std::span<const ObjectIndex> ignored) const {
+  ObjectSet objects;
+  const auto& movable = impl_->movable;
+  for (ObjectIndex i = 0; i < movable.size(); ++i) {
+    const Impl::MovableObject& m = movable[i];
+    if (!m.present || !detail::bands_overlap(m.outline, footprint.z_min, footprint.z_max)) continue;
+    if (std::find(ignored.begin(), ignored.end(), i) != ignored.end()) continue;
+    if (detail::segment_distance(from, to, m.outline) < footprint.radius) objects.push_back(i);
+  }
+  return objects;
+}
+
+bool CollisionWorld::sweep_hits_fixed(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                      const Footprint& footprint) const {
+  for (const detail::Outline& o : impl_->fixed_outlines) {
+    if (detail::bands_overlap(o, footprint.z_min, footprint.z_max) && detail::segment_distance(from, to, o) < footprint.radius) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace cluttertamp::collision
