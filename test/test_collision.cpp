@@ -149,7 +149,7 @@ TEST_F(UrWorld, MinimumDistanceShrinksToContact) {
     previous = d;
   }
   world_->set_object_pose(3, tool);
-  EXPECT_LE(world_->min_distance(q, *context_), 0.0);
+  EXPECT_EQ(world_->min_distance(q, *context_), 0.0);
   EXPECT_FALSE(world_->is_valid(q, *context_));
 }
 

@@ -44,3 +44,38 @@ TEST(Geometry, BoxBoundsContainEveryCorner) {
 
 }  // namespace
 }  // namespace cluttertamp
+
+#include "collision/shape_distance.hpp"
+
+namespace cluttertamp {
+namespace {
+
+TEST(Overlap, UprightPrismsHaveExactDepths) {
+  const Box box{{0.2, 0.1, 0.3}};
+  // Two equal boxes turned 45 degrees, moved apart along x: their long faces meet first,
+  // when the centres are 2 * 0.05 / sin(45 deg) apart; the depth shrinks along that normal.
+  const double touching = 0.1 / std::sqrt(0.5);
+  auto yawed = [](double x) { return pose({x, 0, 0.15}, 0, 0, M_PI / 4); };
+  EXPECT_NEAR(*collision::overlap(box, yawed(0), box, yawed(touching), 1e-3).depth, 0.0, 1e-12);
+  EXPECT_NEAR(*collision::overlap(box, yawed(0), box, yawed(touching - 0.002 / std::sqrt(0.5)), 1e-3).depth, 0.002, 1e-12);
+  // A cylinder 2 mm into a box's side, and 0.5 mm: only the first is beyond 1 mm.
+  const Cylinder cylinder{0.04, 0.3};
+  const auto deep = collision::overlap(cylinder, pose({0.138, 0, 0.15}), box, pose({0, 0, 0.15}), 1e-3);
+  EXPECT_NEAR(*deep.depth, 0.002, 1e-12);
+  EXPECT_TRUE(deep.beyond_tolerance);
+  EXPECT_FALSE(collision::overlap(cylinder, pose({0.1395, 0, 0.15}), box, pose({0, 0, 0.15}), 1e-3).beyond_tolerance);
+  // Stacked: a box resting on a cylinder's top is vertical contact, depth 0.
+  EXPECT_NEAR(*collision::overlap(box, pose({0, 0, 0.45}), cylinder, pose({0, 0, 0.15}), 1e-3).depth, 0.0, 1e-12);
+}
+
+TEST(Overlap, TiltedShapesUseShrunkBooleanTests) {
+  const Cylinder lying{0.04, 0.3};
+  const Box floor{{1.0, 1.0, 0.02}};
+  const auto on_floor = pose({0, 0, 0.04}, M_PI / 2);
+  EXPECT_FALSE(collision::overlap(lying, on_floor, floor, pose({0, 0, -0.01}), 1e-3).beyond_tolerance);
+  EXPECT_TRUE(collision::overlap(lying, pose({0, 0, 0.035}, M_PI / 2), floor, pose({0, 0, -0.01}), 1e-3).beyond_tolerance);
+  EXPECT_FALSE(collision::overlap(lying, on_floor, floor, pose({0, 0, -0.01}), 1e-3).depth.has_value());
+}
+
+}  // namespace
+}  // namespace cluttertamp

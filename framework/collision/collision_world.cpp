@@ -90,14 +90,20 @@ bool on_distance(Object* o1, Object* o2, void* raw, double& current) {
   auto* data = static_cast<DistanceData*>(raw);
   const std::optional<ObjectIndex> index = untag(o1) ? untag(o1) : untag(o2);
   if (index && std::find(data->ignored.begin(), data->ignored.end(), *index) != data->ignored.end()) return false;
+  // Boolean test first: FCL's signed distance (libccd EPA) can abort on touching
+  // shapes, so overlap is reported as 0 rather than as a depth.
+  if (narrow_collide(o1, o2)) {
+    data->min = 0.0;
+    current = 0.0;
+    return true;
+  }
   fcl::DistanceRequestd request;
-  request.enable_signed_distance = true;
-  request.gjk_solver_type = fcl::GST_LIBCCD;  // signed distance: see shared/notes, pitfall 2
+  request.gjk_solver_type = fcl::GST_INDEP;
   fcl::DistanceResultd result;
   fcl::distance(o1, o2, request, result);
   data->min = std::min(data->min, result.min_distance);
   current = std::min(current, result.min_distance);
-  return data->min <= 0.0;
+  return false;
 }
 
 }  // namespace

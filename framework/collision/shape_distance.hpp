@@ -1,6 +1,12 @@
 #pragma once
-// Internal: exact distances between two primitive shapes, over FCL. Kept behind this
-// header so that FCL stays out of every other translation unit.
+// Internal: whether two placed primitive shapes interpenetrate, and by how much, for
+// scene validation. Kept behind this header so that FCL stays out of other units.
+//
+// FCL 0.7's signed distance (libccd EPA) aborts on an internal assertion for some
+// touching shapes, so depths here are exact geometry for upright prisms and a
+// boolean GJK test on shrunk shapes otherwise; EPA is never called.
+
+#include <optional>
 
 #include <Eigen/Geometry>
 
@@ -8,9 +14,15 @@
 
 namespace cluttertamp::collision {
 
-/// Signed distance in metres between two placed shapes: the gap when apart, minus
-/// the penetration depth when they overlap (0 when they touch).
-double signed_distance(const Shape& a, const Eigen::Isometry3d& world_T_a, const Shape& b,
-                       const Eigen::Isometry3d& world_T_b);
+struct Overlap {
+  bool beyond_tolerance = false;  ///< they overlap by more than the tolerance
+  std::optional<double> depth;    ///< penetration depth (m) when it is known exactly
+};
+
+/// Exact for upright cylinders and boxes rotated about z (penetration depth is the
+/// smaller of the vertical and the planar overlap). For other shapes: whether the
+/// shapes, each shrunk by tolerance / 2 on every side, still intersect.
+Overlap overlap(const Shape& a, const Eigen::Isometry3d& world_T_a, const Shape& b, const Eigen::Isometry3d& world_T_b,
+                double tolerance);
 
 }  // namespace cluttertamp::collision

@@ -356,19 +356,20 @@ void SceneReader::check_geometry() {
   auto report_overlap = [&](const Placed& a, const Placed& b) {
     // Bounding boxes that do not even touch cannot interpenetrate.
     if (!a.measurable || !b.measurable || !a.bounds.intersects(b.bounds)) return;
-    double d = 0.0;
+    collision::Overlap o;
     try {
-      d = collision::signed_distance(*a.shape, *a.pose, *b.shape, *b.pose);
+      o = collision::overlap(*a.shape, *a.pose, *b.shape, *b.pose, kPenetrationTolerance);
     } catch (const std::exception& e) {
       file_.error(a.where, "cannot measure whether " + a.what + " overlaps " + b.what + ": " + e.what());
       return;
     }
-    if (!std::isfinite(d)) {
-      file_.error(a.where, "cannot measure whether " + a.what + " overlaps " + b.what + " (degenerate geometry)");
-    } else if (d < -kPenetrationTolerance) {
+    if (!o.beyond_tolerance) return;
+    if (o.depth) {
       char depth[32];
-      std::snprintf(depth, sizeof depth, "%.1f mm", -d * 1e3);
+      std::snprintf(depth, sizeof depth, "%.1f mm", *o.depth * 1e3);
       file_.error(a.where, a.what + " interpenetrates " + b.what + " (by " + depth + ")");
+    } else {
+      file_.error(a.where, a.what + " interpenetrates " + b.what + " (by more than 1 mm)");
     }
   };
   for (std::size_t i = 0; i < objects.size(); ++i) {

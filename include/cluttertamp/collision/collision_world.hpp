@@ -95,7 +95,7 @@ class CLUTTERTAMP_API CollisionWorld {
   /// not the first one hit: the robot-obstacle feedback of the retrieval graph.
   CollisionReport check(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored = {}) const;
   /// Smallest distance (m) from the robot and held object to fixed bodies and movable
-  /// objects; 0 or negative when touching or overlapping.
+  /// objects; 0 when touching or overlapping (penetration depth is not computed).
   double min_distance(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored = {}) const;
   /// World pose of the tool link (the description's tip) at q.
   Eigen::Isometry3d tool_pose(const Eigen::VectorXd& q, Context& context) const;

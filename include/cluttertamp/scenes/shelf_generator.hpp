@@ -1,0 +1,37 @@
+#pragma once
+
+#include <cstdint>
+
+#include "cluttertamp/core/scene.hpp"
+#include "cluttertamp/export.hpp"
+
+namespace cluttertamp::scenes {
+
+/// A cabinet in front of a robot, filled with standing cylinders (Tian et al.,
+/// Section VI-B). World frame: robot base at the origin, the cabinet's open side
+/// facing it at x = front; lengths in metres.
+struct ShelfSpec {
+  int objects = 12;
+  /// Cabinet interior; zero means "from the object count": 0.9 x 0.6 x 0.5 m for 12
+  /// objects up to 1.2 x 0.7 x 0.5 m for 20, interpolated linearly and held beyond.
+  double width = 0.0;   ///< along y
+  double depth = 0.0;   ///< along x
+  double height = 0.5;  ///< along z
+  double front = 0.6;        ///< x of the cabinet's open side
+  double floor_height = 0.4; ///< z of the cabinet floor's top
+  double radius_min = 0.035, radius_max = 0.040;
+  double height_min = 0.24, height_max = 0.29;
+  double min_gap = 0.01;  ///< between neighbouring cylinders, and to the walls
+};
+
+/// The cabinet size `spec` gives for its object count.
+CLUTTERTAMP_API Eigen::Vector3d cabinet_size(const ShelfSpec& spec);
+
+/// Places the cylinders uniformly at random without overlap (same seed, same scene);
+/// the target is the object nearest the middle of the back wall. Adds the cabinet's
+/// boards, a buffer table with a placement region beside the robot, the exit pose in
+/// front of the opening, and a camera above the robot. Throws std::runtime_error when
+/// the objects do not fit after many attempts.
+CLUTTERTAMP_API Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed);
+
+}  // namespace cluttertamp::scenes
