@@ -177,6 +177,20 @@ TEST_F(UrWorld, ConcurrentQueriesAgreeWithSequentialOnes) {
   EXPECT_EQ(got[1], expected);
 }
 
+TEST_F(UrWorld, ValidityAgreesWithTheFullReport) {
+  std::mt19937_64 rng(13);
+  int invalid = 0;
+  for (int i = 0; i < 1000; ++i) {
+    Eigen::VectorXd q(6);
+    for (int j = 0; j < 6; ++j) q[j] = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng);
+    const bool valid = world_->is_valid(q, *context_);
+    EXPECT_EQ(valid, world_->check(q, *context_).valid()) << q.transpose();
+    invalid += !valid;
+  }
+  EXPECT_GT(invalid, 50);
+  EXPECT_LT(invalid, 950);
+}
+
 TEST_F(UrWorld, SyncFollowsAWorldState) {
   WorldState state = WorldState::initial(scene_);
   state.robot_configuration = ur10()->home();

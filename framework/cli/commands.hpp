@@ -36,4 +36,15 @@ struct PluginsArgs {
 };
 int plugins(const PluginsArgs& args);
 
+struct BenchArgs {
+  std::string what;  ///< "collision"
+  std::uint64_t seed = 1;
+  std::size_t samples = 5000;
+  int objects = 20;
+  std::filesystem::path json;  ///< empty: no JSON file
+  std::filesystem::path source_dir;  ///< where domains/ lives
+};
+/// Exit code 0 when every speed goal is met, 1 when one is missed.
+int bench_collision(const BenchArgs& args);
+
 }  // namespace cluttertamp::cli

@@ -81,6 +81,14 @@ int main(int argc, char** argv) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   add_verbosity(*plugins, plugins_args.verbosity, "Also print each plugin's library path");
 
+  cli::BenchArgs bench_args;
+  auto* bench = app.add_subcommand("bench", "Measure speed: 'collision' times FK, IK, collision and sweep queries");
+  bench->add_option("what", bench_args.what, "What to measure")->required()->check(CLI::IsMember({"collision"}));
+  bench->add_option("--seed", bench_args.seed, "Seed of the generated scene and samples")->capture_default_str();
+  bench->add_option("--samples", bench_args.samples, "Queries per measurement")->capture_default_str()->check(CLI::Range(500, 10000000));
+  bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf")->capture_default_str()->check(CLI::Range(1, 60));
+  bench->add_option("--json", bench_args.json, "Also write the results as JSON to this file");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -98,6 +106,10 @@ int main(int argc, char** argv) {
     if (*plan) return cli::plan(plan_args);
     if (*validate) return cli::validate(validate_args);
     if (*plugins) return cli::plugins(plugins_args);
+    if (*bench) {
+      bench_args.source_dir = CLUTTERTAMP_SOURCE_DIR;
+      return cli::bench_collision(bench_args);
+    }
   } catch (const cluttertamp::InputError& e) {
     std::cerr << e.diagnostics().str();
     return ExitCode::bad_input;

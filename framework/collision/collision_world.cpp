@@ -50,7 +50,9 @@ std::optional<ObjectIndex> untag(const Object* object) {
 
 fcl::CollisionRequestd collision_request() {
   fcl::CollisionRequestd request;
-  request.gjk_solver_type = fcl::GST_INDEP;  // faster than libccd for boolean queries
+  // libccd answers boolean queries with MPR; FCL 0.7 own GJK also runs EPA whenever the
+  // shapes overlap, even when no contact is asked for, which costs more.
+  request.gjk_solver_type = fcl::GST_LIBCCD;
   return request;
 }
 
@@ -333,11 +335,12 @@ bool CollisionWorld::is_valid(const Eigen::VectorXd& q, Context& context, std::s
   const Impl& w = *impl_;
   Context::State& c = *context.state_;
   w.pose_robot(q, c);
-  if (w.self_collides(c)) return false;
+  // Cheapest and most likely contacts first: in clutter, objects; then boards; then self.
+  CollideData movable{ignored, true};
+  if (w.hits(w.movable_manager, c, movable)) return false;
   CollideData fixed{ignored, true};
   if (w.hits(w.fixed_manager, c, fixed)) return false;
-  CollideData movable{ignored, true};
-  return !w.hits(w.movable_manager, c, movable);
+  return !w.self_collides(c);
 }
 
 CollisionReport CollisionWorld::check(const Eigen::VectorXd& q, Context& context,

@@ -70,7 +70,7 @@ Overlap overlap(const Shape& a, const Eigen::Isometry3d& world_T_a, const Shape&
   }
   const auto ga = shrunk_geometry(a, tolerance / 2), gb = shrunk_geometry(b, tolerance / 2);
   fcl::CollisionRequestd request;
-  request.gjk_solver_type = fcl::GST_INDEP;
+  request.gjk_solver_type = fcl::GST_LIBCCD;  // boolean: no EPA
   fcl::CollisionResultd out;
   fcl::collide(ga.get(), fcl::Transform3d(world_T_a.matrix()), gb.get(), fcl::Transform3d(world_T_b.matrix()), request, out);
   result.beyond_tolerance = out.isCollision();
