@@ -57,7 +57,7 @@ Eigen::Isometry3d tcp_pose(const Eigen::Vector3d& p, double yaw) {
 
 int bench_collision(const BenchArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(
-      robot::RobotDescription::load(args.source_dir / "domains/robots/ur10_ag95.yaml"));
+      robot::RobotDescription::load(args.robot));
   scenes::ShelfSpec spec;
   spec.objects = args.objects;
   const Scene scene = scenes::generate_shelf_scene(spec, args.seed);
@@ -90,10 +90,12 @@ int bench_collision(const BenchArgs& args) {
     return run::ExitCode::internal_error;
   }
   std::size_t colliding = 0, with_objects = 0;
+  std::vector<Eigen::VectorXd> free_q;  // the slowest case of a validity check: nothing to stop at
   for (const auto& q : reach_q) {
     const auto report = world.check(q, *context);
     colliding += !report.valid();
     with_objects += !report.objects.empty();
+    if (report.valid()) free_q.push_back(q);
   }
 
   const ObjectIndex target = scene.target;
@@ -119,10 +121,16 @@ int bench_collision(const BenchArgs& args) {
     model.link_poses(random_q[i], link_poses);
     sink += link_poses.size();
   }));
-  results.push_back(measure("analytic IK (all solutions)", 5.0, n, batch, [&](std::size_t i) {
+  const bool analytic = dynamic_cast<const robot::UrAnalyticIk*>(&robot->ik()) != nullptr;
+  results.push_back(measure(analytic ? "analytic IK (all solutions)" : "numeric IK", analytic ? 5.0 : 0.0, n, batch,
+                            [&](std::size_t i) {
     sink += robot->ik().solve(poses[i], robot->home()).size();
   }));
   results.push_back(measure("validity check", 10.0, m, batch, [&](std::size_t i) { sink += world.is_valid(reach_q[i], *context); }));
+  if (free_q.size() >= batch) {
+    results.push_back(measure("validity check, collision-free", 10.0, free_q.size(), batch,
+                              [&](std::size_t i) { sink += world.is_valid(free_q[i], *context); }));
+  }
   results.push_back(measure("full collision set", 30.0, m, batch, [&](std::size_t i) {
     sink += world.check(reach_q[i], *context).objects.size();
   }));
@@ -133,7 +141,7 @@ int bench_collision(const BenchArgs& args) {
     sink += world.min_distance(reach_q[i], *context) > 0;
   }));
 
-  std::cout << "UR10 + AG-95 before a " << scene.objects.size() << "-cylinder shelf (" << scene.name << "), "
+  std::cout << robot->name() << " before a " << scene.objects.size() << "-cylinder shelf (" << scene.name << "), "
             << m << " reaching configurations (" << colliding << " in collision, " << with_objects
             << " touching objects), medians over batches of " << batch << " calls\n\n";
   std::cout << std::left << std::setw(34) << "query" << std::right << std::setw(12) << "median µs" << std::setw(10)

@@ -42,7 +42,7 @@ struct BenchArgs {
   std::size_t samples = 5000;
   int objects = 20;
   std::filesystem::path json;  ///< empty: no JSON file
-  std::filesystem::path source_dir;  ///< where domains/ lives
+  std::filesystem::path robot;  ///< robot description file
 };
 /// Exit code 0 when every speed goal is met, 1 when one is missed.
 int bench_collision(const BenchArgs& args);

@@ -88,6 +88,10 @@ int main(int argc, char** argv) {
   bench->add_option("--samples", bench_args.samples, "Queries per measurement")->capture_default_str()->check(CLI::Range(500, 10000000));
   bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf")->capture_default_str()->check(CLI::Range(1, 60));
   bench->add_option("--json", bench_args.json, "Also write the results as JSON to this file");
+  bench_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
+  bench->add_option("--robot", bench_args.robot, "Robot description (a UR arm: the bench times analytic IK)")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
 
   try {
     app.parse(argc, argv);
@@ -106,10 +110,7 @@ int main(int argc, char** argv) {
     if (*plan) return cli::plan(plan_args);
     if (*validate) return cli::validate(validate_args);
     if (*plugins) return cli::plugins(plugins_args);
-    if (*bench) {
-      bench_args.source_dir = CLUTTERTAMP_SOURCE_DIR;
-      return cli::bench_collision(bench_args);
-    }
+    if (*bench) return cli::bench_collision(bench_args);
   } catch (const cluttertamp::InputError& e) {
     std::cerr << e.diagnostics().str();
     return ExitCode::bad_input;
