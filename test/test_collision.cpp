@@ -92,8 +92,8 @@ TEST_F(UrWorld, RemovingMovingAndIgnoringObjectsIsCheap) {
 TEST_F(UrWorld, FixedGeometryIsReportedApartFromObjects) {
   world_->remove_object(0);
   world_->remove_object(1);
-  Eigen::VectorXd reach = Eigen::VectorXd::Zero(6);
-  reach << M_PI, 0.0, 0.0, 0.0, 0.0, 0.0;  // arm stretched out towards +x, through the wall at x = 1.0
+  Eigen::VectorXd reach(7);
+  reach << M_PI, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0475;  // arm stretched out towards +x, through the wall at x = 1.0
   const CollisionReport report = world_->check(reach, *context_);
   EXPECT_TRUE(report.fixed);
   EXPECT_TRUE(report.objects.empty());
@@ -103,17 +103,13 @@ TEST_F(UrWorld, FixedGeometryIsReportedApartFromObjects) {
 TEST_F(UrWorld, SelfCollisionOfAFoldedArm) {
   world_->remove_object(0);
   world_->remove_object(1);
-  EXPECT_FALSE(world_->check(ur10()->home(), *context_).self);
-  // Elbow folded fully back with the wrist turned in: the gripper meets the base or upper arm.
-  int self_colliding = 0;
-  std::mt19937_64 rng(2);
-  for (int i = 0; i < 500; ++i) {
-    Eigen::VectorXd q(6);
-    for (int j = 0; j < 6; ++j) q[j] = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng);
-    self_colliding += world_->check(q, *context_).self;
-  }
-  EXPECT_GT(self_colliding, 0);
-  EXPECT_LT(self_colliding, 500);
+  Eigen::VectorXd q = ur10()->home();
+  EXPECT_FALSE(world_->check(q, *context_).self);
+  q[2] = 2.6;  // elbow bent further: still clear
+  EXPECT_FALSE(world_->check(q, *context_).self);
+  q[2] = 2.8;  // folded onto itself: the wrist meets the upper arm
+  EXPECT_TRUE(world_->check(q, *context_).self);
+  EXPECT_FALSE(world_->is_valid(q, *context_));
 }
 
 TEST_F(UrWorld, HeldObjectTravelsWithTheTool) {
@@ -133,6 +129,44 @@ TEST_F(UrWorld, HeldObjectTravelsWithTheTool) {
   world_->detach(held_pose);
   EXPECT_TRUE(world_->present(2));
   EXPECT_FALSE(world_->held().has_value());
+}
+
+TEST_F(UrWorld, HeldObjectBetweenTheFingersIsNotACollision) {
+  world_->remove_object(0);
+  world_->remove_object(1);
+  Eigen::VectorXd q = ur10()->home();
+  q[6] = 0.02;  // fingers closed on a cylinder of radius 0.02 (far_1), held at the tool centre
+  world_->attach(2, Eigen::Isometry3d(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX())));
+  EXPECT_TRUE(world_->is_valid(q, *context_));
+  // Swung down into the arm's own upper arm, the held object is a self collision.
+  Eigen::VectorXd folded = q;
+  folded[3] = M_PI / 2;
+  folded[4] = M_PI;
+  int self = 0;
+  for (double wrist = -M_PI; wrist < M_PI; wrist += 0.1) {
+    folded[3] = wrist;
+    const CollisionReport report = world_->check(folded, *context_);
+    self += report.self;
+  }
+  EXPECT_GT(self, 0);
+}
+
+TEST_F(UrWorld, SyncAttachesTheHeldObjectWhereTheStateHasIt) {
+  WorldState state = WorldState::initial(scene_);
+  state.robot_configuration = ur10()->home();
+  state.removed[0] = state.removed[1] = true;
+  const Eigen::Isometry3d tool = world_->tool_pose(state.robot_configuration, *context_);
+  state.held = 2;
+  state.world_T_objects[2] = tool * at(0, 0, 0.3);
+  world_->sync(state);
+  EXPECT_EQ(world_->held(), 2u);
+  // The held object moves with the tool: turn the base and it hits an obstacle placed there.
+  Eigen::VectorXd turned = state.robot_configuration;
+  turned[0] += M_PI / 2;
+  const Eigen::Isometry3d moved = world_->tool_pose(turned, *context_) * at(0, 0, 0.3);
+  world_->set_object_pose(3, moved);
+  EXPECT_EQ(world_->check(turned, *context_).objects, (ObjectSet{3}));
+  EXPECT_TRUE(world_->check(state.robot_configuration, *context_).objects.empty());
 }
 
 TEST_F(UrWorld, MinimumDistanceShrinksToContact) {
@@ -157,7 +191,7 @@ TEST_F(UrWorld, ConcurrentQueriesAgreeWithSequentialOnes) {
   std::vector<Eigen::VectorXd> configurations;
   std::mt19937_64 rng(9);
   for (int i = 0; i < 400; ++i) {
-    Eigen::VectorXd q(6);
+    Eigen::VectorXd q = ur10()->home();
     for (int j = 0; j < 6; ++j) q[j] = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng);
     configurations.push_back(q);
   }
@@ -181,7 +215,7 @@ TEST_F(UrWorld, ValidityAgreesWithTheFullReport) {
   std::mt19937_64 rng(13);
   int invalid = 0;
   for (int i = 0; i < 1000; ++i) {
-    Eigen::VectorXd q(6);
+    Eigen::VectorXd q = ur10()->home();
     for (int j = 0; j < 6; ++j) q[j] = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng);
     const bool valid = world_->is_valid(q, *context_);
     EXPECT_EQ(valid, world_->check(q, *context_).valid()) << q.transpose();
@@ -200,6 +234,41 @@ TEST_F(UrWorld, SyncFollowsAWorldState) {
   EXPECT_FALSE(world_->present(0));
   EXPECT_TRUE(world_->is_valid(ur10()->home(), *context_));
 }
+
+TEST_F(UrWorld, ShapeContactsAnswerPlacementQueriesWithoutChangingTheWorld) {
+  const Cylinder probe{0.05, 0.1};
+  EXPECT_TRUE(world_->shape_contacts(probe, at(0, 2, 2)).valid());
+  const CollisionReport on_two = world_->shape_contacts(Box{{0.02, 0.02, 2.0}}, world_->object_pose(0));
+  EXPECT_EQ(on_two.objects, (ObjectSet{0}));
+  EXPECT_TRUE(world_->shape_contacts(probe, at(1.0, 0, 1.0)).fixed);  // inside the wall
+  const ObjectIndex ignored[] = {0};
+  EXPECT_TRUE(world_->shape_contacts(Box{{0.02, 0.02, 0.02}}, world_->object_pose(0), ignored).valid());
+}
+
+class BundledRobots : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BundledRobots, HomeIsFreeAndMostConfigurationsAreFreeOfSelfCollision) {
+  const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(
+      std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots" / GetParam()));
+  const Scene empty;
+  const CollisionWorld world(empty, robot);
+  auto context = world.make_context();
+  EXPECT_TRUE(world.is_valid(robot->home(), *context));
+  const robot::RobotModel& model = *robot->model();
+  std::mt19937_64 rng(21);
+  int free = 0;
+  const int samples = 1000;
+  for (int i = 0; i < samples; ++i) {
+    Eigen::VectorXd q(static_cast<Eigen::Index>(model.variable_count()));
+    for (Eigen::Index j = 0; j < q.size(); ++j) {
+      q[j] = std::uniform_real_distribution<double>(model.lower_limits()[j], model.upper_limits()[j])(rng);
+    }
+    free += world.is_valid(q, *context);
+  }
+  EXPECT_GT(free, samples / 2) << "primitive shapes of links two joints apart overlap too often";
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, BundledRobots, ::testing::Values("ur10_ag95.yaml", "panda.yaml", "pr2_mobile.yaml"));
 
 // ---- footprints ---------------------------------------------------------------------
 
@@ -237,15 +306,27 @@ TEST_F(Footprints, SweepsAgreeWithDenseSampling) {
   for (int trial = 0; trial < 300; ++trial) {
     const Eigen::Vector2d from(x(rng), x(rng)), to(x(rng), x(rng));
     const ObjectSet swept = world_->swept_objects(from, to, footprint);
-    // Dense sampling of the segment with point footprints, slightly enlarged and shrunk:
-    // everything the shrunk samples hit must be swept; everything swept must be hit by
-    // the enlarged samples (sampling error is below the step).
+    // Independent oracle: dense points along the segment, each point's distance to each
+    // object's outline. Everything clearly inside must be swept; everything swept must
+    // be within the sampling step of the footprint.
     const double step = (to - from).norm() / samples;
     std::set<ObjectIndex> inner, outer;
     for (int k = 0; k <= samples; ++k) {
       const Eigen::Vector2d p = from + (to - from) * (double(k) / samples);
-      for (ObjectIndex i : world_->footprint_objects(p, {footprint.radius - step, 0.0, 0.3})) inner.insert(i);
-      for (ObjectIndex i : world_->footprint_objects(p, {footprint.radius + step, 0.0, 0.3})) outer.insert(i);
+      for (ObjectIndex i = 0; i < scene_.objects.size(); ++i) {
+        const SceneObject& o = scene_.objects[i];
+        if (o.world_T_object.translation().z() > 0.5) continue;  // above the band
+        const Eigen::Vector2d local =
+            o.world_T_object.linear().topLeftCorner<2, 2>().transpose() * (p - o.world_T_object.translation().head<2>());
+        double d;
+        if (const auto* c = std::get_if<Cylinder>(&o.shape)) {
+          d = std::max(0.0, local.norm() - c->radius);
+        } else {
+          d = (local.cwiseAbs() - std::get<Box>(o.shape).size.head<2>() / 2).cwiseMax(0.0).norm();
+        }
+        if (d < footprint.radius - step) inner.insert(i);
+        if (d < footprint.radius + step) outer.insert(i);
+      }
     }
     for (ObjectIndex i : inner) EXPECT_TRUE(std::binary_search(swept.begin(), swept.end(), i)) << trial;
     for (ObjectIndex i : swept) EXPECT_TRUE(outer.count(i)) << trial;

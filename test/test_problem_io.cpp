@@ -68,7 +68,7 @@ namespace {
 TEST(ProblemIo, MissingKeysWrongTypesAndNoTask) {
   const Diagnostics d = test::expect_input_error([] { io::load_problem(test::data("problems/bad_fields.yaml")); });
   EXPECT_EQ(d.size(), 4u) << d.str();
-  EXPECT_TRUE(test::has_error(d, 3, 77, "robot configuration must list 6 joint values"));
+  EXPECT_TRUE(test::has_error(d, 3, 77, "robot configuration must list 7 joint values (shoulder_pan_joint"));
   EXPECT_TRUE(test::has_error(d, 4, 7, "task needs 'retrieve: <target object>' or 'pddl:"));
   EXPECT_TRUE(test::has_error(d, 5, 39, "planner seed must be a decimal integer, not '010'"));
   EXPECT_TRUE(test::has_error(d, 5, 56, "planner time_limit must be a finite number, not 'soon'"));

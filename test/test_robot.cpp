@@ -60,8 +60,11 @@ class Ur10 : public ::testing::Test {
   }
 };
 
-TEST_F(Ur10, LoadsWithSixJointsAndItsLimits) {
-  EXPECT_EQ(model_.variable_count(), 6u);
+TEST_F(Ur10, LoadsWithSixArmJointsAndOneFingerJoint) {
+  EXPECT_EQ(model_.variable_count(), 7u);
+  EXPECT_EQ(model_.variable_names(), (std::vector<std::string>{"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                                                               "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
+                                                               "finger_joint"}));
   EXPECT_DOUBLE_EQ(model_.upper_limits()[0], 2 * M_PI);
   EXPECT_NEAR(model_.velocity_limits()[0], 2.0944, 1e-9);
   EXPECT_NEAR(model_.velocity_limits()[5], 3.1416, 1e-9);
@@ -78,7 +81,7 @@ TEST_F(Ur10, LoadsWithSixJointsAndItsLimits) {
 
 TEST_F(Ur10, ZeroConfigurationMatchesTheDhTable) {
   // All joints at zero: the flange sits at (a2 + a3, -(d4 + d6), d1 - d5).
-  const Eigen::Isometry3d flange = link(Eigen::VectorXd::Zero(6), "tool0");
+  const Eigen::Isometry3d flange = link(Eigen::VectorXd::Zero(7), "tool0");
   EXPECT_TRUE(flange.translation().isApprox(Eigen::Vector3d(-1.1843, -0.256141, 0.0116), 1e-9))
       << flange.translation().transpose();
 }
@@ -107,7 +110,7 @@ TEST_F(Ur10, AnalyticIkRoundTripsOverThousandsOfPoses) {
   for (int trial = 0; trial < trials; ++trial) {
     const Eigen::VectorXd q = random_configuration(model_, rng);
     const Eigen::Isometry3d pose = ik.forward(q);
-    const auto solutions = ik.solve(pose, Eigen::VectorXd::Zero(6));
+    const auto solutions = ik.solve(pose, Eigen::VectorXd::Zero(7));
     ASSERT_FALSE(solutions.empty()) << q.transpose();
     EXPECT_LE(solutions.size(), 8u);
     bool original = false;
@@ -116,7 +119,7 @@ TEST_F(Ur10, AnalyticIkRoundTripsOverThousandsOfPoses) {
       EXPECT_LT(position, 1e-6);
       EXPECT_LT(orientation, 1e-6);
       EXPECT_TRUE(model_.within_limits(s));
-      original = original || angle_distance(s, q) < 1e-6;
+      original = original || angle_distance(s.head(6), q.head(6)) < 1e-6;
     }
     found_original += original;
   }
@@ -135,14 +138,14 @@ TEST_F(Ur10, AnalyticIkFindsEverySolutionTheNumericSolverFinds) {
   for (int trial = 0; trial < 60; ++trial) {
     const Eigen::VectorXd q = random_configuration(model_, rng, 0.2);
     const Eigen::Isometry3d pose = numeric.forward(q);
-    const auto analytic = robot_.ik().solve(pose, Eigen::VectorXd::Zero(6));
+    const auto analytic = robot_.ik().solve(pose, q);
     for (const Eigen::VectorXd& s : numeric.solve(pose, q, static_cast<std::uint64_t>(trial))) {
       ++numeric_solutions;
       const auto [position, orientation] = pose_error(numeric.forward(s), pose);
       EXPECT_LT(position, 1e-6);
       EXPECT_LT(orientation, 1e-6);
       double nearest = 1e9;
-      for (const Eigen::VectorXd& a : analytic) nearest = std::min(nearest, angle_distance(a, s));
+      for (const Eigen::VectorXd& a : analytic) nearest = std::min(nearest, angle_distance(a.head(6), s.head(6)));
       EXPECT_LT(nearest, 1e-5) << "numeric solution " << s.transpose() << " is not among the analytic ones";
     }
   }
@@ -152,7 +155,37 @@ TEST_F(Ur10, AnalyticIkFindsEverySolutionTheNumericSolverFinds) {
 TEST_F(Ur10, UnreachablePoseHasNoSolution) {
   Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
   far.translation() << 3.0, 0, 0.5;
-  EXPECT_TRUE(robot_.ik().solve(far, Eigen::VectorXd::Zero(6)).empty());
+  EXPECT_TRUE(robot_.ik().solve(far, Eigen::VectorXd::Zero(7)).empty());
+  EXPECT_THROW(robot_.ik().solve(far, Eigen::VectorXd::Zero(6)), std::invalid_argument);  // seed of the wrong size
+}
+
+TEST_F(Ur10, AnalyticIkPicksTheTurnNearestTheSeed) {
+  // Base just past +pi: the same angle as -pi + 0.05, but a seed near +pi wants +pi + 0.05.
+  Eigen::VectorXd q = robot_.home();
+  q[0] = M_PI + 0.05;
+  const Eigen::Isometry3d pose = robot_.ik().forward(q);
+  const auto near_home = robot_.ik().solve(pose, robot_.home());
+  ASSERT_FALSE(near_home.empty());
+  EXPECT_NEAR(near_home.front()[0], M_PI + 0.05, 1e-6);  // nearest the seed comes first
+  EXPECT_LT((near_home.front() - q).cwiseAbs().maxCoeff(), 1e-6);
+  Eigen::VectorXd seed = robot_.home();
+  seed[0] = -M_PI;
+  EXPECT_NEAR(robot_.ik().solve(pose, seed).front()[0], -M_PI + 0.05, 1e-6);
+  // Joints outside the chain (the fingers) keep the seed's values.
+  seed[6] = 0.01;
+  EXPECT_DOUBLE_EQ(robot_.ik().solve(pose, seed).front()[6], 0.01);
+}
+
+TEST_F(Ur10, FingersMoveSymmetrically) {
+  Eigen::VectorXd q = robot_.home();
+  q[6] = 0.03;
+  const Eigen::Isometry3d base = link(q, "gripper_base");
+  const Eigen::Vector3d left = base.inverse() * link(q, "left_finger").translation();
+  const Eigen::Vector3d right = base.inverse() * link(q, "right_finger").translation();
+  EXPECT_TRUE(left.isApprox(Eigen::Vector3d(0, 0.03, 0.10), 1e-12)) << left.transpose();
+  EXPECT_TRUE(right.isApprox(Eigen::Vector3d(0, -0.03, 0.10), 1e-12)) << right.transpose();
+  // Closed on a cylinder of radius r_g, the outer faces are r_g + r_f from the centre line.
+  EXPECT_DOUBLE_EQ(robot_.gripper().footprint_radius(0.03), 0.03 + 0.012);
 }
 
 TEST_F(Ur10, AdjacentLinksAreDisabledPairs) {
@@ -164,7 +197,9 @@ TEST_F(Ur10, AdjacentLinksAreDisabledPairs) {
   };
   EXPECT_TRUE(has("upper_arm_link", "forearm_link"));
   EXPECT_TRUE(has("wrist_3_link", "gripper_base"));  // through tool0, which has no geometry
-  EXPECT_TRUE(has("left_finger", "right_finger"));  // rigidly connected
+  EXPECT_TRUE(has("left_finger", "gripper_base"));  // one joint apart
+  EXPECT_TRUE(has("wrist_2_link", "gripper_base"));  // one joint from the wrist_3 body, which holds the gripper
+  EXPECT_FALSE(has("left_finger", "right_finger"));  // two joints apart: they must not close into each other
   EXPECT_FALSE(has("upper_arm_link", "wrist_1_link"));
   EXPECT_FALSE(has("base_link", "gripper_base"));
 }
@@ -172,9 +207,9 @@ TEST_F(Ur10, AdjacentLinksAreDisabledPairs) {
 TEST(Panda, ForwardKinematicsIsTheModifiedDhProduct) {
   const RobotDescription robot = RobotDescription::load(robot_file("panda.yaml"));
   const RobotModel& model = *robot.model();
-  ASSERT_EQ(model.variable_count(), 7u);
+  ASSERT_EQ(model.variable_count(), 8u);  // seven arm joints and the fingers
   std::vector<Eigen::Isometry3d> poses;
-  model.link_poses(Eigen::VectorXd::Zero(7), poses);
+  model.link_poses(Eigen::VectorXd::Zero(8), poses);
   // Zero configuration: flange 0.088 m forward, 0.926 m up, pointing down.
   EXPECT_TRUE(poses[*model.find_link("panda_link8")].translation().isApprox(Eigen::Vector3d(0.088, 0, 0.926), 1e-12));
   EXPECT_TRUE(poses[*model.find_link("panda_hand_tcp")].translation().isApprox(Eigen::Vector3d(0.088, 0, 0.8226), 1e-12));
@@ -218,9 +253,9 @@ TEST(Panda, NumericIkIsDeterministicForASeed) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() << 0.5, 0.2, 0.4;
   pose.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const Eigen::VectorXd far_seed = Eigen::VectorXd::Constant(7, -0.05);  // forces random restarts
-  const auto first = robot.ik().solve(pose, far_seed, 42);
-  const auto second = robot.ik().solve(pose, far_seed, 42);
+  const Eigen::VectorXd seed = Eigen::VectorXd::Constant(8, -0.05);
+  const auto first = robot.ik().solve(pose, seed, 42);
+  const auto second = robot.ik().solve(pose, seed, 42);
   ASSERT_EQ(first.size(), second.size());
   ASSERT_FALSE(first.empty());
   EXPECT_EQ(first[0], second[0]);
@@ -229,19 +264,26 @@ TEST(Panda, NumericIkIsDeterministicForASeed) {
 TEST(MobileManipulator, BaseAndArmFormOneChain) {
   const RobotDescription robot = RobotDescription::load(robot_file("pr2_mobile.yaml"));
   const RobotModel& model = *robot.model();
-  ASSERT_EQ(model.variable_count(), 10u);
+  ASSERT_EQ(model.variable_count(), 11u);  // base x, y, yaw; seven arm joints; fingers
   std::vector<Eigen::Isometry3d> poses;
-  model.link_poses(Eigen::VectorXd::Zero(10), poses);
+  model.link_poses(Eigen::VectorXd::Zero(11), poses);
   // Zero: torso at (-0.05, 0, 0.839675); shoulder 0.188 left; arm straight forward.
   EXPECT_TRUE(poses[*model.find_link("l_gripper_tool_frame")].translation().isApprox(
       Eigen::Vector3d(-0.05 + 0.1 + 0.4 + 0.321 + 0.18, 0.188, 0.839675), 1e-12));
   // Moving the base moves the tool by the same planar motion.
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(10);
-  q << 1.0, 2.0, M_PI / 2, 0, 0, 0, 0, 0, 0, 0;
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(11);
+  q << 1.0, 2.0, M_PI / 2, 0, 0, 0, 0, 0, 0, 0, 0;
   model.link_poses(q, poses);
   EXPECT_TRUE(poses[*model.find_link("l_gripper_tool_frame")].translation().isApprox(
       Eigen::Vector3d(1.0 - 0.188, 2.0 + 0.951, 0.839675), 1e-12));
-  // IK over all ten joints reaches a pose 2 m away.
+  // Elbow flexed by -pi/2 about its y axis: the forearm points straight up.
+  Eigen::VectorXd bent = Eigen::VectorXd::Zero(11);
+  bent[6] = -M_PI / 2;
+  model.link_poses(bent, poses);
+  EXPECT_TRUE(poses[*model.find_link("l_gripper_tool_frame")].translation().isApprox(
+      Eigen::Vector3d(-0.05 + 0.1 + 0.4, 0.188, 0.839675 + 0.321 + 0.18), 1e-12));
+  model.link_poses(q, poses);
+  // IK over all ten chain joints reaches a pose 2 m away.
   Eigen::Isometry3d goal = poses[*model.find_link("l_gripper_tool_frame")];
   const auto solutions = robot.ik().solve(goal, robot.home(), 1);
   ASSERT_FALSE(solutions.empty());
@@ -274,6 +316,12 @@ TEST(RobotErrors, DescriptionErrorsAreLocated) {
   const Diagnostics d = test::expect_input_error([] { RobotDescription::load(test::data("robots/bad_description.yaml")); });
   EXPECT_TRUE(test::has_error(d, 8, 1, "unknown key 'colour'"));
   EXPECT_TRUE(test::has_error(d, 6, 53, "gripper base_half_length must not be negative"));
+}
+
+TEST(RobotErrors, DisabledCollisionsNameExistingLinkPairs) {
+  const Diagnostics d = test::expect_input_error([] { RobotDescription::load(test::data("robots/bad_disabled.yaml")); });
+  EXPECT_TRUE(test::has_error(d, 8, 19, "has no link 'panda_link99'"));
+  EXPECT_TRUE(test::has_error(d, 9, 5, "each disabled_collisions entry names two links"));
 }
 
 TEST(RobotErrors, UrAnalyticIkRefusesANonUrArm) {

@@ -81,6 +81,7 @@ int bench_collision(const BenchArgs& args) {
                             std::uniform_real_distribution<double>(-size.y() / 2, size.y() / 2)(rng),
                             spec.floor_height + std::uniform_real_distribution<double>(0.08, 0.2)(rng));
     pose = tcp_pose(p, std::uniform_real_distribution<double>(-M_PI / 4, M_PI / 4)(rng));
+    pose = scene.world_T_robot_base.inverse() * pose;  // IK works in the robot's base frame
     for (const auto& q : robot->ik().solve(pose, robot->home())) {
       if (reach_q.size() < n) reach_q.push_back(q);
     }

@@ -110,11 +110,13 @@ bool on_distance(Object* o1, Object* o2, void* raw, double& current) {
 
 }  // namespace
 
+// Every context owns its FCL objects *and* their geometry: FCL writes to a geometry
+// (its local AABB) when an object is made from it, so sharing one between threads races.
 struct CollisionWorld::Context::State {
   std::vector<Eigen::Isometry3d> root_T_links;
   std::vector<std::unique_ptr<Object>> shapes;  // one per robot shape
   std::unique_ptr<Object> held;
-  const fcl::CollisionGeometryd* held_geometry = nullptr;
+  std::uint64_t held_generation = 0;  // which attach() `held` was made for
 };
 
 CollisionWorld::Context::Context() : state_(std::make_unique<State>()) {}
@@ -123,9 +125,9 @@ CollisionWorld::Context::~Context() = default;
 struct CollisionWorld::Impl {
   struct RobotShape {
     robot::LinkIndex link;
-    Geometry geometry;
+    Shape shape;
     Eigen::Isometry3d link_T_shape;
-    bool gripper;  // rigidly attached to the tool: may touch the held object
+    bool gripper;  // part of the hand (below the tool's rigid body): may touch the held object
   };
   struct MovableObject {
     Geometry geometry;
@@ -145,7 +147,7 @@ struct CollisionWorld::Impl {
   std::vector<std::pair<std::size_t, std::size_t>> self_pairs;  // robot shape indices to check
   std::optional<ObjectIndex> held;
   Eigen::Isometry3d tool_T_held = Eigen::Isometry3d::Identity();
-  Geometry held_geometry;  // shrunk copy of the held object's shape
+  std::uint64_t held_generation = 0;  // counts attach() calls
 
   using State = Context::State;
   void pose_robot(const Eigen::VectorXd& q, State& c) const;
@@ -181,17 +183,15 @@ CollisionWorld::CollisionWorld(const Scene& scene, std::shared_ptr<const robot::
   if (!w.robot) return;
 
   const robot::RobotModel& model = *w.robot->model();
+  // The hand: the tool's rigid body and everything below it (fingers).
   const robot::LinkIndex tool_root = model.rigid_root(w.robot->tip_link());
-  std::vector<std::size_t> first_shape(model.links().size(), 0), shape_count(model.links().size(), 0);
   for (std::size_t l = 0; l < model.links().size(); ++l) {
-    first_shape[l] = w.robot_shapes.size();
+    const auto link = static_cast<robot::LinkIndex>(l);
     for (const robot::CollisionShape& c : model.links()[l].collision) {
-      w.robot_shapes.push_back({static_cast<robot::LinkIndex>(l), make_geometry(c.shape), c.link_T_shape,
-                                model.rigid_root(static_cast<robot::LinkIndex>(l)) == tool_root});
+      w.robot_shapes.push_back({link, c.shape, c.link_T_shape, model.descends_from(link, tool_root)});
     }
-    shape_count[l] = w.robot_shapes.size() - first_shape[l];
   }
-  const auto& adjacent = model.adjacent_links();
+  const auto& adjacent = w.robot->disabled_collisions();
   for (std::size_t a = 0; a < w.robot_shapes.size(); ++a) {
     for (std::size_t b = a + 1; b < w.robot_shapes.size(); ++b) {
       const auto la = w.robot_shapes[a].link, lb = w.robot_shapes[b].link;
@@ -242,14 +242,13 @@ void CollisionWorld::attach(ObjectIndex object, const Eigen::Isometry3d& tool_T_
   remove_object(object);
   impl_->held = object;
   impl_->tool_T_held = tool_T_object;
-  impl_->held_geometry = make_geometry(impl_->scene.objects[object].shape, kHeldShrink);
+  ++impl_->held_generation;
 }
 
 void CollisionWorld::detach(const Eigen::Isometry3d& world_T_object) {
   if (!impl_->held) return;
   const ObjectIndex object = *impl_->held;
   impl_->held.reset();
-  impl_->held_geometry.reset();
   set_object_pose(object, world_T_object);
   restore_object(object);
 }
@@ -272,7 +271,7 @@ void CollisionWorld::sync(const WorldState& state) {
 std::unique_ptr<CollisionWorld::Context> CollisionWorld::make_context() const {
   std::unique_ptr<Context> context(new Context());
   for (const Impl::RobotShape& shape : impl_->robot_shapes) {
-    context->state_->shapes.push_back(std::make_unique<Object>(shape.geometry));
+    context->state_->shapes.push_back(std::make_unique<Object>(make_geometry(shape.shape)));
   }
   return context;
 }
@@ -296,9 +295,9 @@ void CollisionWorld::Impl::pose_robot(const Eigen::VectorXd& q, State& c) const 
     c.shapes[i]->computeAABB();
   }
   if (held) {
-    if (c.held_geometry != held_geometry.get()) {
-      c.held = std::make_unique<Object>(held_geometry);
-      c.held_geometry = held_geometry.get();
+    if (!c.held || c.held_generation != held_generation) {
+      c.held = std::make_unique<Object>(make_geometry(scene.objects[*held].shape, kHeldShrink));
+      c.held_generation = held_generation;
     }
     c.held->setTransform(to_fcl(scene.world_T_robot_base * c.root_T_links[robot->tip_link()] * tool_T_held));
     c.held->computeAABB();
@@ -374,6 +373,20 @@ double CollisionWorld::min_distance(const Eigen::VectorXd& q, Context& context,
   }
   if (w.held) measure(c.held.get());
   return data.min;
+}
+
+CollisionReport CollisionWorld::shape_contacts(const Shape& shape, const Eigen::Isometry3d& world_T_shape,
+                                              std::span<const ObjectIndex> ignored) const {
+  Object probe(make_geometry(shape), to_fcl(world_T_shape));  // its own geometry: thread-safe
+  probe.computeAABB();
+  CollisionReport report;
+  CollideData fixed{ignored, true};
+  impl_->fixed_manager.collide(&probe, &fixed, on_pair);
+  report.fixed = fixed.hit;
+  CollideData movable{ignored, false, false, &report.objects};
+  impl_->movable_manager.collide(&probe, &movable, on_pair);
+  std::sort(report.objects.begin(), report.objects.end());
+  return report;
 }
 
 ObjectSet CollisionWorld::footprint_objects(const Eigen::Vector2d& centre, const Footprint& footprint,

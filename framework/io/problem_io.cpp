@@ -129,8 +129,10 @@ void ProblemReader::read_robot(const YAML::Node& node) {
     const YAML::Node q = map.optional("configuration");
     const robot::RobotModel& model = *problem_.robot.loaded->model();
     if (!q.IsSequence() || q.size() != model.variable_count()) {
-      file_.error(q, "robot configuration must list " + std::to_string(model.variable_count()) +
-                         " joint values (URDF order), not " + std::to_string(q.IsSequence() ? q.size() : 0));
+      std::string names;
+      for (const std::string& n : model.variable_names()) names += (names.empty() ? "" : ", ") + n;
+      file_.error(q, "robot configuration must list " + std::to_string(model.variable_count()) + " joint values (" +
+                         names + "), not " + std::to_string(q.IsSequence() ? q.size() : 0));
       return;
     }
     Eigen::VectorXd values(static_cast<Eigen::Index>(q.size()));

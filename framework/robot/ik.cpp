@@ -31,13 +31,42 @@ std::optional<double> safe_acos(double x) {
   return std::acos(std::clamp(x, -1.0, 1.0));
 }
 
-// Puts an angle inside a joint's limits by shifting it by multiples of 2 pi.
-std::optional<double> fit_limits(double angle, const Joint& joint) {
-  for (double shift : {0.0, 2 * kPi, -2 * kPi}) {
-    const double value = angle + shift;
-    if (value >= joint.lower - 1e-12 && value <= joint.upper + 1e-12) return std::clamp(value, joint.lower, joint.upper);
+// The angle + 2 pi k inside the joint's limits that is nearest to `near`.
+std::optional<double> fit_limits(double angle, const Joint& joint, double near) {
+  std::optional<double> best;
+  for (int k = -3; k <= 3; ++k) {
+    const double value = angle + 2 * kPi * k;
+    if (value < joint.lower - 1e-12 || value > joint.upper + 1e-12) continue;
+    if (!best || std::abs(value - near) < std::abs(*best - near)) best = std::clamp(value, joint.lower, joint.upper);
   }
-  return std::nullopt;
+  return best;
+}
+
+// Largest joint difference, with continuous joints compared modulo 2 pi.
+double joint_distance(const RobotModel& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < model.variable_count(); ++i) {
+    const Joint& joint = model.joints()[model.variables()[i]];
+    double d = a[static_cast<Eigen::Index>(i)] - b[static_cast<Eigen::Index>(i)];
+    if (joint.continuous) d = std::remainder(d, 2 * kPi);
+    worst = std::max(worst, std::abs(d));
+  }
+  return worst;
+}
+
+void check_seed(const RobotModel& model, const Eigen::VectorXd& seed) {
+  if (static_cast<std::size_t>(seed.size()) != model.variable_count()) {
+    throw std::invalid_argument("IK: the seed configuration has " + std::to_string(seed.size()) + " values, the robot " +
+                                std::to_string(model.variable_count()));
+  }
+}
+
+// Solutions nearest the seed first.
+void sort_by_seed(const RobotModel& model, const Eigen::VectorXd& seed, std::vector<Eigen::VectorXd>& solutions) {
+  std::stable_sort(solutions.begin(), solutions.end(), [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return (a - seed).squaredNorm() < (b - seed).squaredNorm();
+  });
+  (void)model;
 }
 
 bool near(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double tolerance = 1e-9) {
@@ -56,8 +85,9 @@ Eigen::Isometry3d translation(double x, double y, double z) {
   return t;
 }
 
-bool contains_close(const std::vector<Eigen::VectorXd>& set, const Eigen::VectorXd& q, double tolerance) {
-  return std::any_of(set.begin(), set.end(), [&](const Eigen::VectorXd& s) { return (s - q).cwiseAbs().maxCoeff() < tolerance; });
+bool contains_close(const RobotModel& model, const std::vector<Eigen::VectorXd>& set, const Eigen::VectorXd& q,
+                    double tolerance) {
+  return std::any_of(set.begin(), set.end(), [&](const Eigen::VectorXd& s) { return joint_distance(model, s, q) < tolerance; });
 }
 
 }  // namespace
@@ -75,6 +105,9 @@ IkSolver::IkSolver(std::shared_ptr<const RobotModel> model, LinkIndex base, Link
   chain_ = model_->chain(base, tip);
   for (LinkIndex current = tip; current != base;) {
     const JointIndex j = model_->links()[current].parent_joint;
+    if (model_->joints()[j].mimicked >= 0) {
+      throw std::invalid_argument("IK: joint '" + model_->joints()[j].name + "' on the chain mimics another joint");
+    }
     path_.push_back(j);
     current = model_->joints()[j].parent;
   }
@@ -85,7 +118,7 @@ Eigen::Isometry3d IkSolver::forward(const Eigen::VectorXd& q) const {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   for (JointIndex j : path_) {
     const Joint& joint = model_->joints()[j];
-    t = t * RobotModel::joint_transform(joint, joint.variable >= 0 ? q[joint.variable] : 0.0);
+    t = t * RobotModel::joint_transform(joint, joint.value(q, model_->joints()));
   }
   return t;
 }
@@ -110,7 +143,7 @@ UrAnalyticIk::UrAnalyticIk(std::shared_ptr<const RobotModel> model, LinkIndex ba
     const Joint& joint = joints[j];
     between[slot] = between[slot] * joint.parent_T_joint;
     if (joint.type != JointType::fixed) {
-      if (joint.type != JointType::revolute || !joint.axis.isApprox(Eigen::Vector3d::UnitZ())) {
+      if (joint.type != JointType::revolute || joint.continuous || !joint.axis.isApprox(Eigen::Vector3d::UnitZ())) {
         throw std::invalid_argument("ur_analytic IK: joint '" + joint.name + "' must be revolute about its z axis");
       }
       ++slot;
@@ -139,6 +172,7 @@ UrAnalyticIk::UrAnalyticIk(std::shared_ptr<const RobotModel> model, LinkIndex ba
 
 std::vector<Eigen::VectorXd> UrAnalyticIk::solve(const Eigen::Isometry3d& base_T_tip,
                                                  const Eigen::VectorXd& seed_configuration, std::uint64_t) const {
+  check_seed(*model_, seed_configuration);
   const auto [d1, a2, a3, d4, d5, d6_unused] = dh_;
   (void)d6_unused;
   // A virtual flange one metre along the sixth axis keeps the closed form valid for
@@ -185,10 +219,10 @@ std::vector<Eigen::VectorXd> UrAnalyticIk::solve(const Eigen::Isometry3d& base_T
         bool ok = true;
         for (int i = 0; i < 6 && ok; ++i) {
           const Joint& joint = model_->joints()[chain_[i]];
-          const auto value = fit_limits(wrap(angles[i]), joint);
+          const auto value = fit_limits(wrap(angles[i]), joint, seed_configuration[joint.variable]);
           if (value) q[joint.variable] = *value; else ok = false;
         }
-        if (ok && !contains_close(solutions, q, 1e-9)) solutions.push_back(q);
+        if (ok && !contains_close(*model_, solutions, q, 1e-9)) solutions.push_back(q);
       }
     }
   }
@@ -270,20 +304,25 @@ bool NumericIk::descend(const Eigen::Isometry3d& goal, Eigen::VectorXd& q) const
 std::vector<Eigen::VectorXd> NumericIk::solve(const Eigen::Isometry3d& base_T_tip,
                                               const Eigen::VectorXd& seed_configuration,
                                               std::uint64_t random_seed) const {
+  check_seed(*model_, seed_configuration);
   std::vector<Eigen::VectorXd> solutions;
   std::mt19937_64 rng(random_seed);
   for (int attempt = 0; attempt <= options_.restarts && solutions.size() < options_.max_solutions; ++attempt) {
     Eigen::VectorXd q = seed_configuration;
     for (JointIndex j : chain_) {
       const Joint& joint = model_->joints()[j];
+      double& value = q[joint.variable];
       if (attempt == 0) {
-        q[joint.variable] = std::clamp(q[joint.variable], joint.lower, joint.upper);
+        value = std::clamp(joint.continuous ? wrap(value) : value, joint.lower, joint.upper);
       } else {
-        q[joint.variable] = std::uniform_real_distribution<double>(joint.lower, joint.upper)(rng);
+        value = std::uniform_real_distribution<double>(joint.lower, joint.upper)(rng);
       }
     }
-    if (descend(base_T_tip, q) && !contains_close(solutions, q, options_.distinct_tolerance)) solutions.push_back(q);
+    if (descend(base_T_tip, q) && !contains_close(*model_, solutions, q, options_.distinct_tolerance)) {
+      solutions.push_back(q);
+    }
   }
+  sort_by_seed(*model_, seed_configuration, solutions);
   return solutions;
 }
 

@@ -1,5 +1,7 @@
 #include "cluttertamp/robot/robot_description.hpp"
 
+#include <algorithm>
+
 #include "io/yaml_reader.hpp"
 
 namespace cluttertamp::robot {
@@ -16,7 +18,7 @@ RobotDescription RobotDescription::load(const std::filesystem::path& file) {
   RobotDescription robot;
   robot.name_ = file.stem().string();
   MapReader top(yaml, yaml.root(), "the robot description",
-                {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home"});
+                {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home", "disabled_collisions"});
   if (!top.valid()) diagnostics.throw_if_any();
 
   if (const YAML::Node v = top.required("version"); v.IsDefined()) {
@@ -70,11 +72,30 @@ RobotDescription RobotDescription::load(const std::filesystem::path& file) {
   robot.base_link_ = link(base, *base_name);
   robot.tip_link_ = link(tip, *tip_name);
 
+  robot.disabled_ = model.adjacent_links();
+  if (top.has("disabled_collisions")) {
+    const YAML::Node pairs = top.optional("disabled_collisions");
+    if (!pairs.IsSequence()) yaml.error(pairs, "disabled_collisions must be a list of [link, link] pairs");
+    for (std::size_t i = 0; pairs.IsSequence() && i < pairs.size(); ++i) {
+      const auto names = yaml.strings(pairs[i], "disabled_collisions entry");
+      if (!names) continue;
+      if (names->size() != 2) {
+        yaml.error(pairs[i], "each disabled_collisions entry names two links");
+        continue;
+      }
+      const LinkIndex a = link(pairs[i][0], (*names)[0]), b = link(pairs[i][1], (*names)[1]);
+      if (a >= 0 && b >= 0) robot.disabled_.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::sort(robot.disabled_.begin(), robot.disabled_.end());
+    robot.disabled_.erase(std::unique(robot.disabled_.begin(), robot.disabled_.end()), robot.disabled_.end());
+  }
   robot.home_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.variable_count()));
   if (top.has("home")) {
     const YAML::Node home = top.optional("home");
     if (!home.IsSequence() || home.size() != model.variable_count()) {
-      yaml.error(home, "home must list " + std::to_string(model.variable_count()) + " joint values, in URDF order");
+      std::string names;
+      for (const std::string& n : model.variable_names()) names += (names.empty() ? "" : ", ") + n;
+      yaml.error(home, "home must list " + std::to_string(model.variable_count()) + " joint values: " + names);
     } else {
       for (std::size_t i = 0; i < home.size(); ++i) {
         if (auto v = yaml.number(home[i], "home[" + std::to_string(i) + "]")) robot.home_[static_cast<Eigen::Index>(i)] = *v;

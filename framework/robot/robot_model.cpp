@@ -147,6 +147,24 @@ RobotModel RobotModel::load_urdf(const fs::path& file) {
     model.links_[j.child].parent_joint = static_cast<JointIndex>(model.joints_.size());
     model.joints_.push_back(j);
   }
+  // Mimic joints, once every joint has its index.
+  for (const auto& [name, urdf_joint] : urdf_model->joints_) {
+    if (!urdf_joint->mimic) continue;
+    Joint& j = model.joints_[*model.find_joint(name)];
+    const auto mimicked = model.find_joint(urdf_joint->mimic->joint_name);
+    if (!mimicked || model.joints_[*mimicked].type == JointType::fixed || j.type == JointType::fixed) {
+      throw InputError({file.string(), 0, 0}, "joint '" + name + "' mimics '" + urdf_joint->mimic->joint_name +
+                                                  "', which is not a movable joint of this robot");
+    }
+    j.mimicked = *mimicked;
+    j.multiplier = urdf_joint->mimic->multiplier;
+    j.offset = urdf_joint->mimic->offset;
+  }
+  for (const Joint& j : model.joints_) {
+    if (j.mimicked >= 0 && model.joints_[j.mimicked].mimicked >= 0) {
+      throw InputError({file.string(), 0, 0}, "joint '" + j.name + "' mimics a joint that mimics another; not supported");
+    }
+  }
   model.finish();
   return model;
 }
@@ -164,7 +182,7 @@ void RobotModel::finish() {
   std::function<void(LinkIndex)> visit = [&](LinkIndex link) {
     order_.push_back(link);
     for (JointIndex j : children[link]) {
-      if (joints_[j].type != JointType::fixed) {
+      if (joints_[j].type != JointType::fixed && joints_[j].mimicked < 0) {
         joints_[j].variable = static_cast<std::int32_t>(variables_.size());
         variables_.push_back(j);
       }
@@ -184,33 +202,26 @@ void RobotModel::finish() {
     velocity_[i] = j.max_velocity;
   }
 
-  // Pairs never checked for collision: links joined by one movable joint, looking
-  // through links without geometry (e.g. tool0 between wrist and gripper), and links
-  // rigidly connected by fixed joints only (their relative pose never changes).
+  // Pairs never checked for collision: links of one rigid body (joined by fixed joints
+  // only), and links of two rigid bodies joined by one movable joint.
   adjacent_.clear();
-  std::vector<LinkIndex>& rigid_root = rigid_root_;
-  rigid_root.assign(links_.size(), -1);
+  rigid_root_.assign(links_.size(), -1);
   for (LinkIndex l : order_) {
     const JointIndex j = links_[l].parent_joint;
-    rigid_root[l] = (j >= 0 && joints_[j].type == JointType::fixed) ? rigid_root[joints_[j].parent] : l;
+    rigid_root_[l] = (j >= 0 && joints_[j].type == JointType::fixed) ? rigid_root_[joints_[j].parent] : l;
   }
+  auto parent_body = [&](LinkIndex body) -> LinkIndex {
+    const JointIndex j = links_[body].parent_joint;
+    return j < 0 ? -1 : rigid_root_[joints_[j].parent];
+  };
   for (std::size_t a = 0; a < links_.size(); ++a) {
     if (links_[a].collision.empty()) continue;
     for (std::size_t b = a + 1; b < links_.size(); ++b) {
-      if (!links_[b].collision.empty() && rigid_root[a] == rigid_root[b]) {
+      if (links_[b].collision.empty()) continue;
+      const LinkIndex ra = rigid_root_[a], rb = rigid_root_[b];
+      if (ra == rb || parent_body(ra) == rb || parent_body(rb) == ra) {
         adjacent_.emplace_back(static_cast<LinkIndex>(a), static_cast<LinkIndex>(b));
       }
-    }
-    LinkIndex current = static_cast<LinkIndex>(a);
-    int movable_joints = 0;
-    while (links_[current].parent_joint >= 0) {
-      const Joint& j = joints_[links_[current].parent_joint];
-      if (j.type != JointType::fixed && ++movable_joints > 1) break;
-      if (!links_[j.parent].collision.empty()) {
-        adjacent_.emplace_back(std::min<LinkIndex>(j.parent, a), std::max<LinkIndex>(j.parent, a));
-        break;
-      }
-      current = j.parent;
     }
   }
   std::sort(adjacent_.begin(), adjacent_.end());
@@ -220,6 +231,27 @@ void RobotModel::finish() {
 bool RobotModel::within_limits(const Eigen::VectorXd& q, double tolerance) const {
   return q.size() == lower_.size() && (q.array() >= lower_.array() - tolerance).all() &&
          (q.array() <= upper_.array() + tolerance).all();
+}
+
+double Joint::value(const Eigen::VectorXd& q, const std::vector<Joint>& joints) const {
+  if (variable >= 0) return q[variable];
+  if (mimicked >= 0) return multiplier * q[joints[mimicked].variable] + offset;
+  return 0.0;
+}
+
+std::vector<std::string> RobotModel::variable_names() const {
+  std::vector<std::string> names;
+  for (JointIndex j : variables_) names.push_back(joints_[j].name);
+  return names;
+}
+
+bool RobotModel::descends_from(LinkIndex link, LinkIndex ancestor) const {
+  while (link != ancestor) {
+    const JointIndex j = links_[link].parent_joint;
+    if (j < 0) return false;
+    link = joints_[j].parent;
+  }
+  return true;
 }
 
 std::optional<LinkIndex> RobotModel::find_link(std::string_view name) const {
@@ -269,8 +301,7 @@ void RobotModel::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometr
       continue;
     }
     const Joint& joint = joints_[j];
-    const double value = joint.variable >= 0 ? q[joint.variable] : 0.0;
-    root_T_links[link] = root_T_links[joint.parent] * joint_transform(joint, value);
+    root_T_links[link] = root_T_links[joint.parent] * joint_transform(joint, joint.value(q, joints_));
   }
 }
 
@@ -282,7 +313,7 @@ std::vector<JointIndex> RobotModel::chain(LinkIndex base, LinkIndex tip) const {
     if (j < 0) {
       throw std::invalid_argument("link '" + links_.at(tip).name + "' does not descend from '" + links_.at(base).name + "'");
     }
-    if (joints_[j].type != JointType::fixed) joints.push_back(j);
+    if (joints_[j].variable >= 0) joints.push_back(j);
     current = joints_[j].parent;
   }
   std::reverse(joints.begin(), joints.end());

@@ -11,7 +11,7 @@ cols={
  "panda_link2":[col(("cyl",(0.065,0.2)),(0,-0.1,0),(PI/2,0,0))],
  "panda_link3":[col(("cyl",(0.06,0.16)),(0.04,0,-0.07))],
  "panda_link4":[col(("cyl",(0.06,0.16)),(-0.04,0.08,0),(PI/2,0,0))],
- "panda_link5":[col(("cyl",(0.06,0.22)),(0,0.04,-0.13)),col(("sph",(0.06,)),(0,0,0))],
+ "panda_link5":[col(("cyl",(0.06,0.22)),(0,0.04,-0.13))],
  "panda_link6":[col(("cyl",(0.055,0.12)),(0.045,0,0),(0,PI/2,0))],
  "panda_link7":[col(("cyl",(0.05,0.1)),(0,0,0.05))],
 }
@@ -25,11 +25,12 @@ parts.append(joint("panda_joint8","panda_link7","panda_link8",(0,0,0.107)))
 # Franka Hand: 0.2 m wide base (r_base = 0.1), fingers modelled open (0.04 m each side).
 parts.append(link("panda_hand",0.73,[col(("box",(0.06,0.2,0.06)),(0,0,0.03))]))
 parts.append(joint("panda_hand_joint","panda_link8","panda_hand",(0,0,0),(0,0,-PI/4)))
+# Fingers: joint value = inner face to centre line (0 closed, 0.04 open); finger 2 mimics 1.
 parts.append(link("panda_leftfinger",0.015,[col(("box",(0.02,0.012,0.045)),(0,0.006,0.0225))]))
-parts.append(joint("panda_finger_joint1","panda_hand","panda_leftfinger",(0,0.04,0.0584)))
+parts.append(joint("panda_finger_joint1","panda_hand","panda_leftfinger",(0,0,0.0584),kind="prismatic",axis=(0,1,0),lim=(0,0.04),vel=0.2,eff=20))
 parts.append(link("panda_rightfinger",0.015,[col(("box",(0.02,0.012,0.045)),(0,-0.006,0.0225))]))
-parts.append(joint("panda_finger_joint2","panda_hand","panda_rightfinger",(0,-0.04,0.0584)))
+parts.append(joint("panda_finger_joint2","panda_hand","panda_rightfinger",(0,0,0.0584),kind="prismatic",axis=(0,-1,0),lim=(0,0.04),vel=0.2,eff=20,mimic=("panda_finger_joint1",1)))
 parts.append(link("panda_hand_tcp",0.001))
 parts.append(joint("panda_hand_tcp_joint","panda_hand","panda_hand_tcp",(0,0,0.1034)))
 open(__import__("os").path.join(__import__("os").path.dirname(__file__), "../../domains/robots/panda.urdf"),"w").write(robot("panda",
- "Franka Emika Panda with the Franka Hand. Kinematics: Franka's published modified-DH\n     parameters (d1 0.333, d3 0.316, a4 0.0825, a5 -0.0825, d5 0.384, a7 0.088, flange 0.107,\n     TCP 0.1034 m), joint position and velocity limits from the datasheet. Fingers are\n     modelled fully open (fixed, 0.04 m each). Collision geometry: primitives sized to\n     the links (approximate).", parts))
+ "Franka Emika Panda with the Franka Hand. Kinematics: Franka's published modified-DH\n     parameters (d1 0.333, d3 0.316, a4 0.0825, a5 -0.0825, d5 0.384, a7 0.088, flange 0.107,\n     TCP 0.1034 m), joint position and velocity limits from the datasheet. Fingers on one\n     prismatic joint (0 to 0.04 m each side; finger 2 mimics finger 1). Collision geometry: primitives sized to\n     the links (approximate).", parts))

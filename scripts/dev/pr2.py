@@ -25,11 +25,12 @@ for (jn,ln,xyz,ax,lim,v,cols) in arm:
     else:
         parts.append(joint(jn,parent,ln,xyz,kind="revolute",axis=ax,lim=lim,vel=v))
     parent=ln
-parts.append(link("l_gripper_l_finger_link",0.1,[col(("box",(0.06,0.01,0.02)),(0.03,0,0))]))
-parts.append(joint("l_gripper_l_finger_joint",parent,"l_gripper_l_finger_link",(0.13,0.045,0)))
-parts.append(link("l_gripper_r_finger_link",0.1,[col(("box",(0.06,0.01,0.02)),(0.03,0,0))]))
-parts.append(joint("l_gripper_r_finger_joint",parent,"l_gripper_r_finger_link",(0.13,-0.045,0)))
+# Fingers: joint value = inner face to centre line (0 closed, 0.045 open); right mimics left.
+parts.append(link("l_gripper_l_finger_link",0.1,[col(("box",(0.06,0.01,0.02)),(0.03,0.005,0))]))
+parts.append(joint("l_gripper_finger_joint",parent,"l_gripper_l_finger_link",(0.13,0,0),kind="prismatic",axis=(0,1,0),lim=(0,0.045),vel=0.1,eff=100))
+parts.append(link("l_gripper_r_finger_link",0.1,[col(("box",(0.06,0.01,0.02)),(0.03,-0.005,0))]))
+parts.append(joint("l_gripper_r_finger_joint",parent,"l_gripper_r_finger_link",(0.13,0,0),kind="prismatic",axis=(0,1,0),lim=(-0.045,0),vel=0.1,eff=100,mimic=("l_gripper_finger_joint",-1)))
 parts.append(link("l_gripper_tool_frame",0.001))
 parts.append(joint("l_gripper_tool_joint",parent,"l_gripper_tool_frame",(0.18,0,0),(0,PI/2,0)))
 open(__import__("os").path.join(__import__("os").path.dirname(__file__), "../../domains/robots/pr2_mobile.urdf"),"w").write(robot("pr2_mobile",
- "A PR2-like mobile manipulator (Tian et al., Section V-B): a planar base as prismatic x,\n     prismatic y and continuous yaw joints, a fixed torso (lift 0.1 m) and the left 7-DOF arm\n     with the published PR2 joint origins (shoulder offset 0.188 m, upper arm 0.4 m, forearm\n     0.321 m, tool frame 0.18 m past the wrist), axes and limits. Fingers modelled open and\n     fixed. The tool frame's z axis is the approach direction, as for the other robots.\n     Collision geometry: primitives sized to the links (approximate).", parts))
+ "A PR2-like mobile manipulator (Tian et al., Section V-B): a planar base as prismatic x,\n     prismatic y and continuous yaw joints, a fixed torso (lift 0.1 m) and the left 7-DOF arm\n     with the published PR2 joint origins (shoulder offset 0.188 m, upper arm 0.4 m, forearm\n     0.321 m, tool frame 0.18 m past the wrist), axes and limits. Fingers on one prismatic\n     joint (0 to 0.045 m each side; the right finger mimics the left). The tool frame's z axis is the approach direction, as for the other robots.\n     Collision geometry: primitives sized to the links (approximate).", parts))

@@ -100,6 +100,12 @@ class CLUTTERTAMP_API CollisionWorld {
   /// World pose of the tool link (the description's tip) at q.
   Eigen::Isometry3d tool_pose(const Eigen::VectorXd& q, Context& context) const;
 
+  /// What a shape placed at `world_T_shape` would touch, without changing the world:
+  /// fixed geometry, and the full set of present movable objects (a placement check).
+  /// Thread-safe.
+  CollisionReport shape_contacts(const Shape& shape, const Eigen::Isometry3d& world_T_shape,
+                                 std::span<const ObjectIndex> ignored = {}) const;
+
   // ---- footprint queries (analytic, in the shelf plane) --------------------------------
   /// Col(x): movable objects a footprint centred at `centre` overlaps.
   ObjectSet footprint_objects(const Eigen::Vector2d& centre, const Footprint& footprint,

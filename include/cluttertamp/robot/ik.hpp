@@ -20,8 +20,9 @@ class CLUTTERTAMP_API IkSolver {
  public:
   virtual ~IkSolver();
 
-  /// Every solution the solver finds, without duplicates; empty when none is found.
-  /// `random_seed` drives any random choice (same seed, same answer).
+  /// Every solution the solver finds, without duplicates, nearest the seed first;
+  /// empty when none is found. `random_seed` drives any random choice (same seed,
+  /// same answer). Throws std::invalid_argument for a seed of the wrong size.
   virtual std::vector<Eigen::VectorXd> solve(const Eigen::Isometry3d& base_T_tip,
                                              const Eigen::VectorXd& seed_configuration,
                                              std::uint64_t random_seed = 0) const = 0;
@@ -48,8 +49,8 @@ class CLUTTERTAMP_API IkSolver {
 /// Closed-form IK of the UR family (UR3/5/10/16, e-series): up to 8 solutions per
 /// pose. The chain must be six revolute joints whose frames follow the standard DH
 /// layout of a UR arm (alpha = pi/2, 0, 0, pi/2, -pi/2, 0), with any fixed transform
-/// after the sixth joint (flange, gripper, TCP). Each angle is returned in (-pi, pi],
-/// or shifted by 2 pi where that is needed to respect the joint limits.
+/// after the sixth joint (flange, gripper, TCP). Of the angles 2 pi apart that respect
+/// a joint's limits, each solution takes the one nearest the seed.
 class CLUTTERTAMP_API UrAnalyticIk final : public IkSolver {
  public:
   /// Throws std::invalid_argument, saying which joint breaks the UR layout.

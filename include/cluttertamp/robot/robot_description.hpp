@@ -45,6 +45,9 @@ class CLUTTERTAMP_API RobotDescription {
   const Eigen::VectorXd& home() const { return home_; }
   /// The IK solver of the arm chain (base_link to tip_link).
   const IkSolver& ik() const { return *ik_; }
+  /// Link pairs (first < second) never checked against each other: the model's
+  /// adjacent links plus the description's `disabled_collisions`, sorted.
+  const std::vector<std::pair<LinkIndex, LinkIndex>>& disabled_collisions() const { return disabled_; }
 
  private:
   std::string name_;
@@ -55,6 +58,7 @@ class CLUTTERTAMP_API RobotDescription {
   GripperParameters gripper_;
   Eigen::VectorXd home_;
   std::shared_ptr<const IkSolver> ik_;
+  std::vector<std::pair<LinkIndex, LinkIndex>> disabled_;
 };
 
 }  // namespace cluttertamp::robot

@@ -34,7 +34,14 @@ struct Joint {
   double upper = 0.0;         ///< rad or m
   double max_velocity = 0.0;  ///< rad/s or m/s
   bool continuous = false;    ///< a URDF continuous joint: revolute, limits [-pi, pi], wraps
-  std::int32_t variable = -1;  ///< index in a configuration vector; -1 for fixed joints
+  std::int32_t variable = -1;  ///< index in a configuration vector; -1 for fixed and mimic joints
+  /// A URDF <mimic> joint follows another: value = multiplier * value(mimicked) + offset.
+  JointIndex mimicked = -1;
+  double multiplier = 1.0;
+  double offset = 0.0;
+
+  /// This joint's value in configuration q.
+  double value(const Eigen::VectorXd& q, const std::vector<Joint>& joints) const;
 };
 
 /// A collision primitive of a link, placed in the link frame.
@@ -50,8 +57,10 @@ struct Link {
 };
 
 /// A robot's kinematic tree as read from a URDF: links, joints, joint limits and
-/// primitive collision geometry. Poses are relative to the root link; a
-/// configuration holds one value per movable joint (rad or m), in file order.
+/// primitive collision geometry. Poses are relative to the root link. A configuration
+/// holds one value (rad or m) per movable joint that does not mimic another, in
+/// depth-first order from the root, the children of a link in joint-name order
+/// (variable_names() lists them).
 /// Immutable after loading; every const member is safe to call from several threads.
 class CLUTTERTAMP_API RobotModel {
  public:
@@ -70,6 +79,8 @@ class CLUTTERTAMP_API RobotModel {
   std::size_t variable_count() const { return variables_.size(); }
   /// The joint of each configuration variable.
   const std::vector<JointIndex>& variables() const { return variables_; }
+  /// The joint name of each configuration variable, in configuration order.
+  std::vector<std::string> variable_names() const;
   const Eigen::VectorXd& lower_limits() const { return lower_; }
   const Eigen::VectorXd& upper_limits() const { return upper_; }
   const Eigen::VectorXd& velocity_limits() const { return velocity_; }
@@ -83,18 +94,21 @@ class CLUTTERTAMP_API RobotModel {
   /// avoid allocation.
   void link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& root_T_links) const;
 
-  /// The movable joints from `base` down to `tip`, in order. Throws
+  /// The joints with a configuration variable from `base` down to `tip`, in order
+  /// (mimic joints on the way follow their variables). Throws
   /// std::invalid_argument when `tip` does not descend from `base`.
   std::vector<JointIndex> chain(LinkIndex base, LinkIndex tip) const;
 
-  /// Pairs of links (first < second) whose collision is never checked: links joined
-  /// by one movable joint (looking through links without geometry), and links
-  /// rigidly connected by fixed joints.
+  /// Pairs of links (first < second) whose collision is never checked: links of the
+  /// same rigid body (joined by fixed joints only) and links of two rigid bodies
+  /// joined by one movable joint.
   const std::vector<std::pair<LinkIndex, LinkIndex>>& adjacent_links() const { return adjacent_; }
 
   /// The link that `link` is rigidly attached to through fixed joints only (itself
   /// when its parent joint moves): links with the same rigid root move as one body.
   LinkIndex rigid_root(LinkIndex link) const { return rigid_root_[static_cast<std::size_t>(link)]; }
+  /// True when `link` is `ancestor` or lies below it in the tree.
+  bool descends_from(LinkIndex link, LinkIndex ancestor) const;
 
   /// parent_T_joint * motion(value): the transform a joint contributes.
   static Eigen::Isometry3d joint_transform(const Joint& joint, double value);
