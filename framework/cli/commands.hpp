@@ -36,6 +36,25 @@ struct PluginsArgs {
 };
 int plugins(const PluginsArgs& args);
 
+struct PddlArgs {
+  std::filesystem::path domain, problem;
+  std::string search = "lazy-gbfs-ff";
+  double time_limit = 300;
+  std::uint64_t max_expansions = ~0ull;
+  double weight = 5;
+  std::filesystem::path plan_file;  ///< also write the plan here
+  Verbosity verbosity = Verbosity::normal;
+};
+/// Prints the plan (IPC format, then "; cost = N") on stdout, statistics on stderr.
+int pddl(const PddlArgs& args);
+
+struct ValidatePlanArgs {
+  std::filesystem::path domain, problem, plan;
+  Verbosity verbosity = Verbosity::normal;
+};
+/// Exit code 0 for a valid plan, 1 for an invalid one (with the reason), 2 bad input.
+int validate_plan(const ValidatePlanArgs& args);
+
 struct BenchArgs {
   std::string what;  ///< "collision"
   std::uint64_t seed = 1;

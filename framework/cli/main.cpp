@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/search/planner.hpp"
 #include "cluttertamp/version.hpp"
 
 namespace cli = cluttertamp::cli;
@@ -81,6 +82,26 @@ int main(int argc, char** argv) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   add_verbosity(*plugins, plugins_args.verbosity, "Also print each plugin's library path");
 
+  cli::PddlArgs pddl_args;
+  auto* pddl = app.add_subcommand("pddl", "Plan a PDDL domain and problem; print the plan in IPC format");
+  pddl->add_option("domain", pddl_args.domain, "PDDL domain file")->required();
+  pddl->add_option("problem", pddl_args.problem, "PDDL problem file")->required();
+  pddl->add_option("--search", pddl_args.search, "Search algorithm")
+      ->capture_default_str()
+      ->check(CLI::IsMember(cluttertamp::search::search_names()));
+  pddl->add_option("--time-limit", pddl_args.time_limit, "Seconds")->capture_default_str()->check(CLI::PositiveNumber);
+  pddl->add_option("--max-expansions", pddl_args.max_expansions, "Stop after this many expansions");
+  pddl->add_option("--weight", pddl_args.weight, "Weight of h in wastar-ff")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  pddl->add_option("--plan", pddl_args.plan_file, "Also write the plan to this file");
+  add_verbosity(*pddl, pddl_args.verbosity, "Same output as the default");
+
+  cli::ValidatePlanArgs validate_plan_args;
+  auto* validate_plan = app.add_subcommand("validate-plan", "Check a plan against a PDDL domain and problem");
+  validate_plan->add_option("domain", validate_plan_args.domain, "PDDL domain file")->required();
+  validate_plan->add_option("problem", validate_plan_args.problem, "PDDL problem file")->required();
+  validate_plan->add_option("plan", validate_plan_args.plan, "Plan file: (action arg ...) per line")->required();
+  add_verbosity(*validate_plan, validate_plan_args.verbosity, "Same output as the default");
+
   cli::BenchArgs bench_args;
   auto* bench = app.add_subcommand("bench", "Measure speed: 'collision' times FK, IK, collision and sweep queries");
   bench->add_option("what", bench_args.what, "What to measure")->required()->check(CLI::IsMember({"collision"}));
@@ -111,6 +132,8 @@ int main(int argc, char** argv) {
     if (*validate) return cli::validate(validate_args);
     if (*plugins) return cli::plugins(plugins_args);
     if (*bench) return cli::bench_collision(bench_args);
+    if (*pddl) return cli::pddl(pddl_args);
+    if (*validate_plan) return cli::validate_plan(validate_plan_args);
   } catch (const cluttertamp::InputError& e) {
     std::cerr << e.diagnostics().str();
     return ExitCode::bad_input;

@@ -1,0 +1,76 @@
+// `cluttertamp pddl` and `cluttertamp validate-plan`.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/pddl/validator.hpp"
+#include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/search/grounding.hpp"
+#include "cluttertamp/search/planner.hpp"
+
+namespace cluttertamp::cli {
+
+namespace {
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", v);
+  return text;
+}
+}  // namespace
+
+int pddl(const PddlArgs& args) {
+  const pddl::Domain domain = pddl::load_domain(args.domain);
+  const pddl::Problem problem = pddl::load_problem(args.problem, domain);
+  search::GroundingStats grounding;
+  const search::Task task = search::ground(domain, problem, &grounding);
+  if (args.verbosity != Verbosity::quiet) {
+    std::cerr << "grounding: " << grounding.reachable_facts << " reachable atoms (" << grounding.static_facts
+              << " static), " << task.fact_count() << " state facts, " << grounding.operators << " operators, "
+              << grounding.axioms << " axioms in " << number(grounding.seconds) << " s\n";
+  }
+  search::SearchOptions options;
+  options.algorithm = args.search;
+  options.time_limit = args.time_limit;
+  options.max_expansions = args.max_expansions;
+  options.weight = args.weight;
+  const search::SearchResult result = search::plan(task, options);
+  if (args.verbosity != Verbosity::quiet) {
+    std::cerr << "search: " << args.search << ", " << result.statistics.expanded << " expanded, "
+              << result.statistics.generated << " generated, " << result.statistics.evaluated << " evaluated in "
+              << number(result.statistics.seconds) << " s\n";
+  }
+  if (!result.solved) {
+    std::cerr << "no plan: " << result.reason << "\n";
+    return run::ExitCode::no_plan;
+  }
+  std::string text;
+  for (search::OperatorId op : result.plan) text += task.operators[op].name + "\n";
+  text += "; cost = " + number(result.cost) + (task.unit_cost ? " (unit cost)" : " (general cost)") + "\n";
+  std::cout << text;
+  if (!args.plan_file.empty()) {
+    std::ofstream out(args.plan_file);
+    out << text;
+    if (!out) throw InputError({args.plan_file.string(), 0, 0}, "cannot write the plan file");
+  }
+  if (args.verbosity != Verbosity::quiet) std::cerr << "plan: " << result.plan.size() << " steps, cost " << number(result.cost) << "\n";
+  return run::ExitCode::solved;
+}
+
+int validate_plan(const ValidatePlanArgs& args) {
+  const pddl::Domain domain = pddl::load_domain(args.domain);
+  const pddl::Problem problem = pddl::load_problem(args.problem, domain);
+  const auto plan = pddl::load_plan(args.plan, domain, problem);
+  const pddl::PlanValidation v = pddl::validate_plan(domain, problem, plan);
+  if (!v.valid) {
+    std::cout << "plan invalid: " << v.reason << "\n";
+    return run::ExitCode::no_plan;
+  }
+  if (args.verbosity != Verbosity::quiet) {
+    std::cout << "plan valid: " << plan.size() << " steps, cost " << number(v.cost) << "\n";
+  }
+  return run::ExitCode::solved;
+}
+
+}  // namespace cluttertamp::cli

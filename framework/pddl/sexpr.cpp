@@ -1,0 +1,99 @@
+#include "cluttertamp/pddl/sexpr.hpp"
+
+#include <cctype>
+
+namespace cluttertamp::pddl {
+
+namespace {
+constexpr std::size_t kMaxDepth = 200;
+
+bool symbol_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '?' || c == ':' || c == '.' ||
+         c == '=' || c == '<' || c == '>' || c == '+' || c == '*' || c == '/' || c == '@' || c == '!' || c == '#' ||
+         c == '$' || c == '%' || c == '&' || c == '^' || c == '~' || c == '[' || c == ']' || c == '{' || c == '}' ||
+         c == '|' || c == '\'';
+}
+}  // namespace
+
+std::string SourceText::excerpt(const SourceLocation& where) const {
+  if (where.line == 0) return {};
+  std::size_t start = 0;
+  for (std::size_t line = 1; line < where.line; ++line) {
+    start = text.find('\n', start);
+    if (start == std::string::npos) return {};
+    ++start;
+  }
+  std::size_t end = text.find('\n', start);
+  std::string line = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line.size() > 160) line = line.substr(0, 160) + "...";
+  for (char& c : line) {
+    if (c == '\t') c = ' ';
+  }
+  const std::size_t column = where.column > 0 ? std::min(where.column - 1, line.size()) : 0;
+  return "  " + line + "\n  " + std::string(column, ' ') + "^";
+}
+
+std::string SourceText::with_excerpt(const SourceLocation& where, const std::string& message) const {
+  const std::string quote = excerpt(where);
+  return quote.empty() ? message : message + "\n" + quote;
+}
+
+void SourceText::fail(const SourceLocation& where, const std::string& message) const {
+  throw InputError(where, with_excerpt(where, message));
+}
+
+std::vector<SExpr> read_sexprs(const SourceText& source) {
+  const std::string& s = source.text;
+  std::size_t i = 0, line = 1, column = 1;
+  auto here = [&] { return SourceLocation{source.file, line, column}; };
+  auto advance = [&] {
+    if (s[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+    ++i;
+  };
+  std::vector<SExpr> top;
+  std::vector<SExpr> stack;  // open lists, innermost last
+  while (i < s.size()) {
+    const char c = s[i];
+    if (c == ';') {
+      while (i < s.size() && s[i] != '\n') advance();
+    } else if (std::isspace(static_cast<unsigned char>(c))) {
+      advance();
+    } else if (c == '(') {
+      if (stack.size() >= kMaxDepth) source.fail(here(), "expressions nested deeper than 200 levels");
+      SExpr list;
+      list.is_list = true;
+      list.where = here();
+      stack.push_back(std::move(list));
+      advance();
+    } else if (c == ')') {
+      if (stack.empty()) source.fail(here(), "unmatched ')'");
+      SExpr done = std::move(stack.back());
+      stack.pop_back();
+      (stack.empty() ? top : stack.back().items).push_back(std::move(done));
+      advance();
+    } else if (symbol_char(c)) {
+      SExpr atom;
+      atom.where = here();
+      while (i < s.size() && symbol_char(s[i])) {
+        atom.text += static_cast<char>(std::tolower(static_cast<unsigned char>(s[i])));
+        advance();
+      }
+      if (stack.empty()) source.fail(atom.where, "'" + atom.text + "' outside any parenthesised expression");
+      stack.back().items.push_back(std::move(atom));
+    } else {
+      const unsigned char u = static_cast<unsigned char>(c);
+      source.fail(here(), u >= 0x20 && u < 0x7f ? std::string("unexpected character '") + c + "'"
+                                                 : "unexpected byte " + std::to_string(u) + " (PDDL is ASCII)");
+    }
+  }
+  if (!stack.empty()) source.fail(stack.back().where, "this '(' is never closed");
+  return top;
+}
+
+}  // namespace cluttertamp::pddl

@@ -1,0 +1,765 @@
+#include "cluttertamp/search/grounding.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/pddl/parser.hpp"
+
+namespace cluttertamp::search {
+
+namespace {
+
+using pddl::Effect;
+using pddl::Formula;
+
+constexpr std::size_t kMaxDisjuncts = 10000;
+
+// ---- compiled (variable-slot) form of the lifted domain ----------------------------------
+
+struct CTerm {
+  bool variable = false;
+  int value = 0;  // slot or object
+};
+
+struct CAtom {
+  int predicate = -1;  // -1: equality
+  std::vector<CTerm> args;
+};
+
+struct CFormula {
+  Formula::Kind kind = Formula::Kind::truth;
+  CAtom atom;
+  std::vector<CFormula> children;
+  std::vector<int> slots;                  // quantified variables
+  std::vector<const std::vector<int>*> domains;  // their objects
+};
+
+struct CEffect {
+  Effect::Kind kind = Effect::Kind::conjunction;
+  CAtom atom;
+  std::vector<CEffect> children;
+  std::vector<int> slots;
+  std::vector<const std::vector<int>*> domains;
+  CFormula condition;
+  std::optional<double> cost_number;
+  CAtom cost_function;  // predicate indexes the function table
+  bool has_cost = false;
+};
+
+struct Schema {
+  std::string name;
+  bool axiom = false;
+  int slot_count = 0;
+  std::vector<int> parameters;  // slots
+  std::vector<const std::vector<int>*> parameter_domains;
+  CFormula precondition;
+  CEffect effect;
+  CAtom head;  // axioms
+  std::vector<CAtom> core;  // positive top-level atoms, to enumerate bindings
+};
+
+class Grounder {
+ public:
+  Grounder(const pddl::Domain& domain, const pddl::Problem& problem) : domain_(domain), problem_(problem) {}
+
+  Task run(GroundingStats* stats);
+
+ private:
+  // -- objects and types
+  int object_index(const std::string& name) const { return object_ids_.at(name); }
+  const std::vector<int>* objects_of(const std::vector<std::string>& types);
+
+  // -- atoms
+  int atom_id(int predicate, const std::vector<int>& args);
+  std::vector<int> ground_args(const CAtom& a, const std::vector<int>& binding) const;
+
+  // -- compilation
+  CTerm term(const pddl::Term& t, const std::map<std::string, int>& scope) const;
+  CAtom atom(const pddl::Atom& a, const std::map<std::string, int>& scope) const;
+  CFormula formula(const Formula& f, std::map<std::string, int> scope, int& slots);
+  CEffect effect(const Effect& e, std::map<std::string, int> scope, int& slots);
+  void collect_core(const CFormula& f, std::vector<CAtom>& core) const;
+  void mark_fluents(const Effect& e);
+
+  // -- relaxed exploration
+  bool relaxed(const CFormula& f, std::vector<int>& binding) const;
+  void relaxed_effects(const CEffect& e, std::vector<int>& binding, std::vector<int>& out) const;
+  void enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
+                 const std::function<void()>& visit);
+  void explore();
+
+  // -- ground output
+  struct Lit {
+    int atom;
+    bool positive;
+  };
+  using Dnf = std::vector<std::vector<Lit>>;  // disjunction of conjunctions; {} = false; {{}} = true
+  Dnf dnf(const CFormula& f, std::vector<int>& binding, bool negated) const;
+  static Dnf conjoin(const Dnf& a, const Dnf& b);
+  void ground_effect(const CEffect& e, std::vector<int>& binding, const Dnf& condition, Operator& op,
+                     std::vector<std::pair<Dnf, std::pair<std::vector<Lit>, bool>>>& conditional, double& cost);
+  FactId fact(int atom);
+  Condition condition(const std::vector<Lit>& conjunction);
+  std::vector<int> stratify();
+
+  const pddl::Domain& domain_;
+  const pddl::Problem& problem_;
+  std::vector<std::string> object_names_;
+  std::unordered_map<std::string, int> object_ids_;
+  std::vector<std::vector<std::string>> object_types_;
+  std::map<std::vector<std::string>, std::vector<int>> type_objects_;
+  std::vector<std::string> predicate_names_;
+  std::map<std::string, int> predicate_ids_;
+  std::vector<bool> fluent_;   // per predicate: changed by an action or derived
+  std::vector<bool> derived_;  // per predicate
+  std::map<std::string, int> function_ids_;
+  std::map<std::vector<int>, double> function_values_;  // (function, args...) -> value
+
+  std::unordered_map<std::string, int> atom_ids_;
+  std::vector<std::pair<int, std::vector<int>>> atoms_;  // predicate, args
+  std::vector<bool> reached_;
+  std::vector<bool> initially_;  // atoms true in the initial state (static or not)
+  std::vector<std::vector<std::vector<int>>> reached_by_predicate_;
+
+  std::vector<Schema> schemas_;
+  std::vector<std::set<std::vector<int>>> instances_;  // per schema: parameter bindings found
+  std::map<int, FactId> fact_ids_;
+  std::vector<int> axiom_predicates_;  // head predicate of each ground axiom
+  Task task_;
+};
+
+const std::vector<int>* Grounder::objects_of(const std::vector<std::string>& types) {
+  auto it = type_objects_.find(types);
+  if (it != type_objects_.end()) return &it->second;
+  std::vector<int>& objects = type_objects_[types];
+  for (std::size_t o = 0; o < object_names_.size(); ++o) {
+    bool fits = false;
+    for (const std::string& own : object_types_[o]) {
+      for (const std::string& t : types) fits = fits || domain_.is_subtype(own, t);
+    }
+    if (fits) objects.push_back(static_cast<int>(o));
+  }
+  return &objects;
+}
+
+int Grounder::atom_id(int predicate, const std::vector<int>& args) {
+  std::string key = std::to_string(predicate);
+  for (int a : args) key += "," + std::to_string(a);
+  auto [it, inserted] = atom_ids_.emplace(key, static_cast<int>(atoms_.size()));
+  if (inserted) {
+    atoms_.emplace_back(predicate, args);
+    reached_.push_back(false);
+    initially_.push_back(false);
+  }
+  return it->second;
+}
+
+std::vector<int> Grounder::ground_args(const CAtom& a, const std::vector<int>& binding) const {
+  std::vector<int> args(a.args.size());
+  for (std::size_t i = 0; i < a.args.size(); ++i) args[i] = a.args[i].variable ? binding[a.args[i].value] : a.args[i].value;
+  return args;
+}
+
+CTerm Grounder::term(const pddl::Term& t, const std::map<std::string, int>& scope) const {
+  if (t.variable) return {true, scope.at(t.name)};
+  return {false, object_index(t.name)};
+}
+
+CAtom Grounder::atom(const pddl::Atom& a, const std::map<std::string, int>& scope) const {
+  CAtom out;
+  out.predicate = a.predicate == "=" ? -1 : predicate_ids_.at(a.predicate);
+  for (const pddl::Term& t : a.args) out.args.push_back(term(t, scope));
+  return out;
+}
+
+CFormula Grounder::formula(const Formula& f, std::map<std::string, int> scope, int& slots) {
+  CFormula out;
+  out.kind = f.kind;
+  if (f.kind == Formula::Kind::atom) out.atom = atom(f.atom, scope);
+  for (const pddl::TypedName& v : f.variables) {
+    scope[v.name] = slots;
+    out.slots.push_back(slots++);
+    out.domains.push_back(objects_of(v.types));
+  }
+  for (const Formula& c : f.children) out.children.push_back(formula(c, scope, slots));
+  return out;
+}
+
+CEffect Grounder::effect(const Effect& e, std::map<std::string, int> scope, int& slots) {
+  CEffect out;
+  out.kind = e.kind;
+  if (e.kind == Effect::Kind::add || e.kind == Effect::Kind::remove) out.atom = atom(e.atom, scope);
+  for (const pddl::TypedName& v : e.variables) {
+    scope[v.name] = slots;
+    out.slots.push_back(slots++);
+    out.domains.push_back(objects_of(v.types));
+  }
+  if (e.kind == Effect::Kind::when) out.condition = formula(e.condition, scope, slots);
+  if (e.kind == Effect::Kind::increase) {
+    out.has_cost = true;
+    out.cost_number = e.cost.number;
+    if (!e.cost.number) {
+      out.cost_function.predicate = function_ids_.at(e.cost.function.predicate);
+      for (const pddl::Term& t : e.cost.function.args) out.cost_function.args.push_back(term(t, scope));
+    }
+  }
+  for (const Effect& c : e.children) out.children.push_back(effect(c, scope, slots));
+  return out;
+}
+
+void Grounder::collect_core(const CFormula& f, std::vector<CAtom>& core) const {
+  if (f.kind == Formula::Kind::conjunction) {
+    for (const CFormula& c : f.children) collect_core(c, core);
+  } else if (f.kind == Formula::Kind::atom && f.atom.predicate >= 0) {
+    core.push_back(f.atom);
+  }
+}
+
+void Grounder::mark_fluents(const Effect& e) {
+  if (e.kind == Effect::Kind::add || e.kind == Effect::Kind::remove) fluent_[predicate_ids_.at(e.atom.predicate)] = true;
+  for (const Effect& c : e.children) mark_fluents(c);
+}
+
+// Delete relaxation, optimistic about everything it cannot decide: negated fluents hold.
+bool Grounder::relaxed(const CFormula& f, std::vector<int>& b) const {
+  switch (f.kind) {
+    case Formula::Kind::truth: return true;
+    case Formula::Kind::atom: {
+      if (f.atom.predicate < 0) return ground_args(f.atom, b)[0] == ground_args(f.atom, b)[1];
+      std::string key = std::to_string(f.atom.predicate);
+      for (int a : ground_args(f.atom, b)) key += "," + std::to_string(a);
+      auto it = atom_ids_.find(key);
+      return it != atom_ids_.end() && reached_[it->second];
+    }
+    case Formula::Kind::negation: {
+      const CFormula& c = f.children[0];
+      if (c.kind != Formula::Kind::atom) return true;
+      if (c.atom.predicate < 0) return ground_args(c.atom, b)[0] != ground_args(c.atom, b)[1];
+      if (fluent_[c.atom.predicate]) return true;
+      std::string key = std::to_string(c.atom.predicate);
+      for (int a : ground_args(c.atom, b)) key += "," + std::to_string(a);
+      auto it = atom_ids_.find(key);
+      return it == atom_ids_.end() || !initially_[it->second];
+    }
+    case Formula::Kind::conjunction:
+      return std::all_of(f.children.begin(), f.children.end(), [&](const CFormula& c) { return relaxed(c, b); });
+    case Formula::Kind::disjunction:
+      return std::any_of(f.children.begin(), f.children.end(), [&](const CFormula& c) { return relaxed(c, b); });
+    case Formula::Kind::implication: return true;  // (not IF) may hold
+    case Formula::Kind::exists:
+    case Formula::Kind::forall: {
+      const bool all = f.kind == Formula::Kind::forall;
+      std::function<bool(std::size_t)> quantify = [&](std::size_t k) -> bool {
+        if (k == f.slots.size()) return relaxed(f.children[0], b);
+        for (int o : *f.domains[k]) {
+          b[f.slots[k]] = o;
+          const bool holds = quantify(k + 1);
+          if (holds != all) return holds;
+        }
+        return all;
+      };
+      return quantify(0);
+    }
+  }
+  return true;
+}
+
+void Grounder::relaxed_effects(const CEffect& e, std::vector<int>& b, std::vector<int>& out) const {
+  switch (e.kind) {
+    case Effect::Kind::add: {
+      // Interning an atom changes only the atom table, not what the domain means.
+      auto& self = const_cast<Grounder&>(*this);
+      out.push_back(self.atom_id(e.atom.predicate, ground_args(e.atom, b)));
+      break;
+    }
+    case Effect::Kind::when:
+      if (relaxed(e.condition, b)) relaxed_effects(e.children[0], b, out);
+      break;
+    case Effect::Kind::forall: {
+      std::function<void(std::size_t)> each = [&](std::size_t k) {
+        if (k == e.slots.size()) {
+          relaxed_effects(e.children[0], b, out);
+          return;
+        }
+        for (int o : *e.domains[k]) {
+          b[e.slots[k]] = o;
+          each(k + 1);
+        }
+      };
+      each(0);
+      break;
+    }
+    case Effect::Kind::conjunction:
+      for (const CEffect& c : e.children) relaxed_effects(c, b, out);
+      break;
+    default: break;
+  }
+}
+
+// Binds the schema's parameters by joining its positive precondition atoms with the
+// facts reached so far, then the rest from their types.
+void Grounder::enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
+                         const std::function<void()>& visit) {
+  if (k < s.core.size()) {
+    const CAtom& a = s.core[k];
+    const auto& tuples = reached_by_predicate_[a.predicate];
+    for (std::size_t t = 0; t < tuples.size(); ++t) {
+      const std::vector<int>& tuple = tuples[t];
+      std::vector<int> newly;
+      bool ok = true;
+      for (std::size_t i = 0; i < a.args.size() && ok; ++i) {
+        const CTerm& term = a.args[i];
+        if (!term.variable) {
+          ok = term.value == tuple[i];
+        } else if (bound[term.value]) {
+          ok = binding[term.value] == tuple[i];
+        } else {
+          // The parameter's type must admit the object.
+          const auto param = std::find(s.parameters.begin(), s.parameters.end(), term.value);
+          if (param != s.parameters.end()) {
+            const auto* domain = s.parameter_domains[param - s.parameters.begin()];
+            ok = std::binary_search(domain->begin(), domain->end(), tuple[i]);
+          }
+          if (ok) {
+            binding[term.value] = tuple[i];
+            bound[term.value] = true;
+            newly.push_back(term.value);
+          }
+        }
+      }
+      if (ok) enumerate(s, k + 1, binding, bound, visit);
+      for (int slot : newly) bound[slot] = false;
+    }
+    return;
+  }
+  // Parameters no atom bound: every object of their type.
+  for (std::size_t p = 0; p < s.parameters.size(); ++p) {
+    const int slot = s.parameters[p];
+    if (bound[slot]) continue;
+    bound[slot] = true;
+    for (int o : *s.parameter_domains[p]) {
+      binding[slot] = o;
+      enumerate(s, k, binding, bound, visit);
+    }
+    bound[slot] = false;
+    return;
+  }
+  visit();
+}
+
+void Grounder::explore() {
+  std::vector<int> frontier;
+  auto reach = [&](int a) {
+    if (reached_[a]) return;
+    reached_[a] = true;
+    reached_by_predicate_[atoms_[a].first].push_back(atoms_[a].second);
+  };
+  for (const pddl::Atom& a : problem_.init) {
+    std::vector<int> args;
+    for (const pddl::Term& t : a.args) args.push_back(object_index(t.name));
+    const int id = atom_id(predicate_ids_.at(a.predicate), args);
+    initially_[id] = true;
+    reach(id);
+  }
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (std::size_t i = 0; i < schemas_.size(); ++i) {
+      const Schema& s = schemas_[i];
+      std::vector<int> binding(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
+      std::vector<bool> bound(binding.size(), false);
+      std::vector<int> added;
+      enumerate(s, 0, binding, bound, [&] {
+        std::vector<int> parameters;
+        for (int slot : s.parameters) parameters.push_back(binding[slot]);
+        if (instances_[i].count(parameters)) return;
+        std::vector<int> b = binding;
+        if (!relaxed(s.precondition, b)) return;
+        instances_[i].insert(parameters);
+        if (s.axiom) {
+          added.push_back(atom_id(s.head.predicate, ground_args(s.head, b)));
+        } else {
+          relaxed_effects(s.effect, b, added);
+        }
+      });
+      for (int a : added) {
+        if (!reached_[a]) {
+          reach(a);
+          changed = true;
+        }
+      }
+    }
+  }
+}
+
+Grounder::Dnf Grounder::conjoin(const Dnf& a, const Dnf& b) {
+  Dnf out;
+  for (const auto& x : a) {
+    for (const auto& y : b) {
+      std::vector<Lit> c = x;
+      bool contradiction = false;
+      for (const Lit& l : y) {
+        bool present = false;
+        for (const Lit& m : c) {
+          if (m.atom == l.atom) {
+            present = true;
+            contradiction = contradiction || m.positive != l.positive;
+          }
+        }
+        if (!present) c.push_back(l);
+      }
+      if (!contradiction) out.push_back(std::move(c));
+      if (out.size() > kMaxDisjuncts) throw InputError({}, "a precondition or goal has more than 10000 disjuncts in normal form");
+    }
+  }
+  return out;
+}
+
+Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated) const {
+  const Dnf truth{{}}, falsity{};
+  switch (f.kind) {
+    case Formula::Kind::truth: return negated ? falsity : truth;
+    case Formula::Kind::atom: {
+      bool value_known = false, value = false;
+      int id = -1;
+      const std::vector<int> args = ground_args(f.atom, b);
+      if (f.atom.predicate < 0) {
+        value_known = true;
+        value = args[0] == args[1];
+      } else {
+        std::string key = std::to_string(f.atom.predicate);
+        for (int a : args) key += "," + std::to_string(a);
+        auto it = atom_ids_.find(key);
+        if (it == atom_ids_.end() || !reached_[it->second]) {
+          value_known = true;  // unreachable: false in every reachable state
+        } else if (!fluent_[f.atom.predicate]) {
+          value_known = true;
+          value = initially_[it->second];
+        } else {
+          id = it->second;
+        }
+      }
+      if (value_known) return (value != negated) ? truth : falsity;
+      return Dnf{{Lit{id, !negated}}};
+    }
+    case Formula::Kind::negation: return dnf(f.children[0], b, !negated);
+    case Formula::Kind::conjunction:
+    case Formula::Kind::disjunction: {
+      const bool conjunction = (f.kind == Formula::Kind::conjunction) != negated;
+      Dnf out = conjunction ? truth : falsity;
+      for (const CFormula& c : f.children) {
+        Dnf part = dnf(c, b, negated);
+        if (conjunction) {
+          out = conjoin(out, part);
+          if (out.empty()) return out;
+        } else {
+          out.insert(out.end(), part.begin(), part.end());
+          if (out.size() > kMaxDisjuncts) throw InputError({}, "a precondition or goal has more than 10000 disjuncts in normal form");
+        }
+      }
+      return out;
+    }
+    case Formula::Kind::implication: {
+      // (imply A B) = (or (not A) B); negated: (and A (not B)).
+      if (negated) return conjoin(dnf(f.children[0], b, false), dnf(f.children[1], b, true));
+      Dnf out = dnf(f.children[0], b, true);
+      Dnf then = dnf(f.children[1], b, false);
+      out.insert(out.end(), then.begin(), then.end());
+      return out;
+    }
+    case Formula::Kind::exists:
+    case Formula::Kind::forall: {
+      const bool conjunction = (f.kind == Formula::Kind::forall) != negated;
+      Dnf out = conjunction ? truth : falsity;
+      std::function<void(std::size_t)> each = [&](std::size_t k) {
+        if (k == f.slots.size()) {
+          Dnf part = dnf(f.children[0], b, negated);
+          if (conjunction) out = conjoin(out, part);
+          else out.insert(out.end(), part.begin(), part.end());
+          return;
+        }
+        for (int o : *f.domains[k]) {
+          b[f.slots[k]] = o;
+          each(k + 1);
+        }
+      };
+      each(0);
+      return out;
+    }
+  }
+  return truth;
+}
+
+FactId Grounder::fact(int atom) {
+  auto [it, inserted] = fact_ids_.emplace(atom, static_cast<FactId>(task_.fact_names.size()));
+  if (inserted) {
+    std::string name = "(" + predicate_names_[atoms_[atom].first];
+    for (int o : atoms_[atom].second) name += " " + object_names_[o];
+    task_.fact_names.push_back(name + ")");
+    task_.derived.push_back(derived_[atoms_[atom].first]);
+  }
+  return it->second;
+}
+
+Condition Grounder::condition(const std::vector<Lit>& conjunction) {
+  Condition c;
+  for (const Lit& l : conjunction) (l.positive ? c.positive : c.negative).push_back(fact(l.atom));
+  std::sort(c.positive.begin(), c.positive.end());
+  std::sort(c.negative.begin(), c.negative.end());
+  return c;
+}
+
+void Grounder::ground_effect(const CEffect& e, std::vector<int>& b, const Dnf& cond, Operator& op,
+                             std::vector<std::pair<Dnf, std::pair<std::vector<Lit>, bool>>>& conditional, double& cost) {
+  switch (e.kind) {
+    case Effect::Kind::add:
+    case Effect::Kind::remove: {
+      const int a = atom_id(e.atom.predicate, ground_args(e.atom, b));
+      const bool add = e.kind == Effect::Kind::add;
+      if (!add && !reached_[a]) return;  // deleting what never holds changes nothing
+      if (cond.size() == 1 && cond[0].empty()) {
+        (add ? op.add : op.del).push_back(fact(a));
+      } else if (!cond.empty()) {
+        conditional.push_back({cond, {{Lit{a, true}}, add}});
+      }
+      return;
+    }
+    case Effect::Kind::when:
+      ground_effect(e.children[0], b, conjoin(cond, dnf(e.condition, b, false)), op, conditional, cost);
+      return;
+    case Effect::Kind::forall: {
+      std::function<void(std::size_t)> each = [&](std::size_t k) {
+        if (k == e.slots.size()) {
+          ground_effect(e.children[0], b, cond, op, conditional, cost);
+          return;
+        }
+        for (int o : *e.domains[k]) {
+          b[e.slots[k]] = o;
+          each(k + 1);
+        }
+      };
+      each(0);
+      return;
+    }
+    case Effect::Kind::increase: {
+      if (e.cost_number) {
+        cost += *e.cost_number;
+      } else {
+        std::vector<int> key{e.cost_function.predicate};
+        for (int a : ground_args(e.cost_function, b)) key.push_back(a);
+        auto it = function_values_.find(key);
+        if (it == function_values_.end()) {
+          std::string name = "(";
+          for (const auto& [fn, id] : function_ids_) {
+            if (id == key[0]) name += fn;
+          }
+          for (std::size_t i = 1; i < key.size(); ++i) name += " " + object_names_[key[i]];
+          throw InputError({problem_.file, 0, 0}, "the initial state gives no value for the cost " + name + ")");
+        }
+        cost += it->second;
+      }
+      return;
+    }
+    case Effect::Kind::conjunction:
+      for (const CEffect& c : e.children) ground_effect(c, b, cond, op, conditional, cost);
+      return;
+  }
+}
+
+// Strata of derived predicates: a rule's head lies above every derived predicate its
+// body negates, and no lower than those it uses positively.
+std::vector<int> Grounder::stratify() {
+  const std::size_t n = predicate_names_.size();
+  std::vector<int> stratum(n, 0);
+  std::function<void(const Formula&, bool, std::vector<std::pair<int, bool>>&)> uses =
+      [&](const Formula& f, bool negated, std::vector<std::pair<int, bool>>& out) {
+        if (f.kind == Formula::Kind::atom && f.atom.predicate != "=") {
+          const int p = predicate_ids_.at(f.atom.predicate);
+          if (derived_[p]) out.push_back({p, negated});
+        }
+        const bool flips = f.kind == Formula::Kind::negation || f.kind == Formula::Kind::forall;
+        for (std::size_t i = 0; i < f.children.size(); ++i) {
+          const bool antecedent = f.kind == Formula::Kind::implication && i == 0;
+          uses(f.children[i], negated != (flips || antecedent), out);
+        }
+      };
+  std::vector<std::pair<int, std::vector<std::pair<int, bool>>>> rules;
+  for (const pddl::DerivedRule& r : domain_.derived) {
+    rules.push_back({predicate_ids_.at(r.head.name), {}});
+    uses(r.body, false, rules.back().second);
+  }
+  for (std::size_t round = 0; round <= n + 1; ++round) {
+    bool changed = false;
+    for (const auto& [head, body] : rules) {
+      for (const auto& [p, negated] : body) {
+        const int need = stratum[p] + (negated ? 1 : 0);
+        if (stratum[head] < need) {
+          stratum[head] = need;
+          changed = true;
+        }
+      }
+    }
+    if (!changed) return stratum;
+    if (round == n + 1) break;
+  }
+  throw InputError({domain_.file, 0, 0}, "derived predicates are not stratified (a predicate depends on its own negation)");
+}
+
+Task Grounder::run(GroundingStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  for (const pddl::TypedName& c : domain_.constants) {
+    object_ids_[c.name] = static_cast<int>(object_names_.size());
+    object_names_.push_back(c.name);
+    object_types_.push_back(c.types);
+  }
+  for (const pddl::TypedName& o : problem_.objects) {
+    object_ids_[o.name] = static_cast<int>(object_names_.size());
+    object_names_.push_back(o.name);
+    object_types_.push_back(o.types);
+  }
+  for (const auto& [name, decl] : domain_.predicates) {
+    predicate_ids_[name] = static_cast<int>(predicate_names_.size());
+    predicate_names_.push_back(name);
+  }
+  fluent_.assign(predicate_names_.size(), false);
+  derived_.assign(predicate_names_.size(), false);
+  reached_by_predicate_.resize(predicate_names_.size());
+  for (const pddl::Action& a : domain_.actions) mark_fluents(a.effect);
+  for (const pddl::DerivedRule& r : domain_.derived) {
+    fluent_[predicate_ids_.at(r.head.name)] = true;
+    derived_[predicate_ids_.at(r.head.name)] = true;
+  }
+  for (const auto& [name, decl] : domain_.functions) function_ids_[name] = static_cast<int>(function_ids_.size());
+  for (const pddl::NumericFact& f : problem_.numeric_init) {
+    std::vector<int> key{function_ids_.at(f.function.predicate)};
+    for (const pddl::Term& t : f.function.args) key.push_back(object_index(t.name));
+    function_values_[key] = f.value;
+  }
+
+  for (const pddl::DerivedRule& r : domain_.derived) {
+    Schema s;
+    s.name = r.head.name;
+    s.axiom = true;
+    std::map<std::string, int> scope;
+    for (const pddl::TypedName& p : r.head.parameters) {
+      scope[p.name] = s.slot_count;
+      s.parameters.push_back(s.slot_count++);
+      s.parameter_domains.push_back(objects_of(p.types));
+    }
+    pddl::Atom head{r.head.name, {}, r.head.where};
+    for (const pddl::TypedName& p : r.head.parameters) head.args.push_back({p.name, true, p.where});
+    s.head = atom(head, scope);
+    s.precondition = formula(r.body, scope, s.slot_count);
+    collect_core(s.precondition, s.core);
+    schemas_.push_back(std::move(s));
+  }
+  for (const pddl::Action& a : domain_.actions) {
+    Schema s;
+    s.name = a.name;
+    std::map<std::string, int> scope;
+    for (const pddl::TypedName& p : a.parameters) {
+      scope[p.name] = s.slot_count;
+      s.parameters.push_back(s.slot_count++);
+      s.parameter_domains.push_back(objects_of(p.types));
+    }
+    s.precondition = formula(a.precondition, scope, s.slot_count);
+    s.effect = effect(a.effect, scope, s.slot_count);
+    collect_core(s.precondition, s.core);
+    // Join static atoms first: they are complete from the start and most selective.
+    std::stable_sort(s.core.begin(), s.core.end(), [&](const CAtom& x, const CAtom& y) {
+      return !fluent_[x.predicate] && fluent_[y.predicate];
+    });
+    schemas_.push_back(std::move(s));
+  }
+  instances_.resize(schemas_.size());
+  explore();
+
+  task_.unit_cost = !problem_.minimize_total_cost;
+  for (std::size_t i = 0; i < schemas_.size(); ++i) {
+    const Schema& s = schemas_[i];
+    for (const std::vector<int>& parameters : instances_[i]) {
+      std::vector<int> b(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
+      for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
+      const Dnf pre = dnf(s.precondition, b, false);
+      if (s.axiom) {
+        const int head = atom_id(s.head.predicate, ground_args(s.head, b));
+        for (const auto& conjunction : pre) {
+          task_.axioms.push_back({fact(head), condition(conjunction), 0});
+          axiom_predicates_.push_back(s.head.predicate);
+        }
+        continue;
+      }
+      if (pre.empty()) continue;
+      Operator op;
+      op.name = "(" + s.name;
+      for (int o : parameters) op.name += " " + object_names_[o];
+      op.name += ")";
+      std::vector<std::pair<Dnf, std::pair<std::vector<Lit>, bool>>> conditional;
+      double cost = 0;
+      ground_effect(s.effect, b, Dnf{{}}, op, conditional, cost);
+      op.cost = task_.unit_cost ? 1.0 : cost;
+      // Add after delete: an atom both added and deleted ends up true.
+      std::sort(op.add.begin(), op.add.end());
+      op.add.erase(std::unique(op.add.begin(), op.add.end()), op.add.end());
+      std::sort(op.del.begin(), op.del.end());
+      op.del.erase(std::unique(op.del.begin(), op.del.end()), op.del.end());
+      std::erase_if(op.del, [&](FactId f) { return std::binary_search(op.add.begin(), op.add.end(), f); });
+      for (const auto& [cond, lit] : conditional) {
+        for (const auto& conjunction : cond) {
+          ConditionalEffect ce;
+          ce.condition = condition(conjunction);
+          (lit.second ? ce.add : ce.del).push_back(fact(lit.first[0].atom));
+          op.conditional.push_back(std::move(ce));
+        }
+      }
+      for (const auto& conjunction : pre) {
+        Operator copy = op;
+        copy.precondition = condition(conjunction);
+        task_.operators.push_back(std::move(copy));
+      }
+    }
+  }
+  if (!domain_.derived.empty()) {
+    const std::vector<int> stratum = stratify();
+    for (std::size_t k = 0; k < task_.axioms.size(); ++k) task_.axioms[k].stratum = stratum[axiom_predicates_[k]];
+    std::stable_sort(task_.axioms.begin(), task_.axioms.end(),
+                     [](const Axiom& a, const Axiom& b) { return a.stratum < b.stratum; });
+  }
+  for (const pddl::Atom& a : problem_.init) {
+    std::vector<int> args;
+    for (const pddl::Term& t : a.args) args.push_back(object_index(t.name));
+    const int id = atom_id(predicate_ids_.at(a.predicate), args);
+    if (fluent_[atoms_[id].first]) task_.initial.push_back(fact(id));
+  }
+  std::sort(task_.initial.begin(), task_.initial.end());
+  task_.initial.erase(std::unique(task_.initial.begin(), task_.initial.end()), task_.initial.end());
+  std::vector<int> goal_binding(1, -1);
+  int goal_slots = 0;
+  const CFormula goal = formula(problem_.goal, {}, goal_slots);
+  goal_binding.assign(static_cast<std::size_t>(std::max(1, goal_slots)), -1);
+  for (const auto& conjunction : dnf(goal, goal_binding, false)) task_.goal.push_back(condition(conjunction));
+
+  if (stats) {
+    stats->reachable_facts = static_cast<std::size_t>(std::count(reached_.begin(), reached_.end(), true));
+    stats->operators = task_.operators.size();
+    stats->axioms = task_.axioms.size();
+    std::size_t statics = 0;
+    for (std::size_t a = 0; a < atoms_.size(); ++a) statics += reached_[a] && !fluent_[atoms_[a].first];
+    stats->static_facts = statics;
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return task_;
+}
+
+}  // namespace
+
+Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats) {
+  return Grounder(domain, problem).run(stats);
+}
+
+}  // namespace cluttertamp::search

@@ -1,0 +1,196 @@
+#include "search/heuristics.hpp"
+
+#include <algorithm>
+#include <queue>
+
+namespace cluttertamp::search::detail {
+
+RelaxedTask::RelaxedTask(const Task& task) : facts_(task.fact_count() + 1), goal_(static_cast<FactId>(task.fact_count())) {
+  for (OperatorId id = 0; id < static_cast<OperatorId>(task.operators.size()); ++id) {
+    const Operator& op = task.operators[id];
+    if (!op.add.empty()) ops_.push_back({op.precondition.positive, op.add, op.cost, id});
+    for (const ConditionalEffect& c : op.conditional) {
+      if (c.add.empty()) continue;
+      std::vector<FactId> pre = op.precondition.positive;
+      pre.insert(pre.end(), c.condition.positive.begin(), c.condition.positive.end());
+      std::sort(pre.begin(), pre.end());
+      pre.erase(std::unique(pre.begin(), pre.end()), pre.end());
+      ops_.push_back({pre, c.add, op.cost, id});
+    }
+  }
+  for (const Axiom& a : task.axioms) ops_.push_back({a.body.positive, {a.head}, 0.0, -1});
+  for (const Condition& c : task.goal) ops_.push_back({c.positive, {goal_}, 0.0, -1});
+  precondition_of_.resize(facts_);
+  for (int i = 0; i < static_cast<int>(ops_.size()); ++i) {
+    if (ops_[i].pre.empty()) no_precondition_.push_back(i);
+    for (FactId f : ops_[i].pre) precondition_of_[f].push_back(i);
+  }
+  fact_cost_.resize(facts_);
+  supporter_.resize(facts_);
+  unsatisfied_.resize(ops_.size());
+  op_value_.resize(ops_.size());
+  base_cost_.resize(ops_.size());
+  for (std::size_t i = 0; i < ops_.size(); ++i) base_cost_[i] = ops_[i].cost;
+}
+
+// Generalized Dijkstra: an operator fires when its last precondition is reached; its
+// value is the max (h_max) or sum (h_add) of its preconditions' costs.
+void RelaxedTask::exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal) {
+  using Entry = std::pair<double, FactId>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  std::fill(fact_cost_.begin(), fact_cost_.end(), kInfinity);
+  std::fill(supporter_.begin(), supporter_.end(), -1);
+  for (std::size_t i = 0; i < ops_.size(); ++i) {
+    unsatisfied_[i] = static_cast<int>(ops_[i].pre.size());
+    op_value_[i] = 0.0;
+  }
+  for (FactId f = 0; f + 1 < static_cast<FactId>(facts_); ++f) {
+    if (holds(s, f)) {
+      fact_cost_[f] = 0.0;
+      queue.push({0.0, f});
+    }
+  }
+  auto fire = [&](int i) {
+    const double value = op_value_[i] + op_cost[i];
+    for (FactId e : ops_[i].eff) {
+      if (value < fact_cost_[e]) {
+        fact_cost_[e] = value;
+        supporter_[e] = i;
+        queue.push({value, e});
+      }
+    }
+  };
+  for (int i : no_precondition_) fire(i);
+  while (!queue.empty()) {
+    const auto [cost, f] = queue.top();
+    queue.pop();
+    if (cost > fact_cost_[f]) continue;
+    if (f == goal_ && stop_at_goal) break;
+    for (int i : precondition_of_[f]) {
+      op_value_[i] = max ? std::max(op_value_[i], cost) : op_value_[i] + cost;
+      if (--unsatisfied_[i] == 0) fire(i);
+    }
+  }
+}
+
+double RelaxedTask::cost_to_goal(const State& s, bool max) {
+  exploration(s, max, base_cost_, true);
+  return fact_cost_[goal_];
+}
+
+double RelaxedTask::ff(const State& s, const StateSpace& space, std::vector<OperatorId>* preferred) {
+  exploration(s, false, base_cost_, true);
+  if (fact_cost_[goal_] == kInfinity) return kInfinity;
+  std::vector<bool> marked_fact(facts_, false), used_origin(space.task().operators.size(), false);
+  std::vector<FactId> open{goal_};
+  marked_fact[goal_] = true;
+  double h = 0.0;
+  while (!open.empty()) {
+    const FactId f = open.back();
+    open.pop_back();
+    const int op = supporter_[f];
+    if (op < 0) continue;  // true in s
+    const Op& o = ops_[op];
+    if (o.origin >= 0 && !used_origin[o.origin]) {
+      used_origin[o.origin] = true;
+      h += o.cost;
+      if (preferred && space.applicable(s, o.origin)) preferred->push_back(o.origin);
+    }
+    for (FactId p : o.pre) {
+      if (!marked_fact[p]) {
+        marked_fact[p] = true;
+        open.push_back(p);
+      }
+    }
+  }
+  return h;
+}
+
+double RelaxedTask::lmcut(const State& s) {
+  std::vector<double> cost = base_cost_;
+  double h = 0.0;
+  const FactId none = -1;
+  std::vector<FactId> pcf(ops_.size(), none);
+  std::vector<char> in_goal_zone(facts_), reached(facts_);
+  for (int round = 0; round < 100000; ++round) {
+    exploration(s, true, cost, false);  // the cut needs every operator's h_max
+    if (fact_cost_[goal_] == kInfinity) return kInfinity;
+    if (fact_cost_[goal_] <= 0.0) return h;
+    // Precondition choice function: the precondition with the largest h_max.
+    for (std::size_t i = 0; i < ops_.size(); ++i) {
+      pcf[i] = none;
+      double best = -1.0;
+      for (FactId p : ops_[i].pre) {
+        if (fact_cost_[p] > best) {
+          best = fact_cost_[p];
+          pcf[i] = p;
+        }
+      }
+    }
+    // Goal zone: facts from which the goal is reached through zero-cost operators.
+    std::fill(in_goal_zone.begin(), in_goal_zone.end(), 0);
+    in_goal_zone[goal_] = 1;
+    std::vector<FactId> open{goal_};
+    std::vector<std::vector<int>> achievers(facts_);
+    for (std::size_t i = 0; i < ops_.size(); ++i) {
+      if (op_value_[i] == kInfinity || unsatisfied_[i] > 0) continue;
+      for (FactId e : ops_[i].eff) achievers[e].push_back(static_cast<int>(i));
+    }
+    while (!open.empty()) {
+      const FactId f = open.back();
+      open.pop_back();
+      for (int i : achievers[f]) {
+        if (cost[i] == 0.0 && pcf[i] != none && !in_goal_zone[pcf[i]]) {
+          in_goal_zone[pcf[i]] = 1;
+          open.push_back(pcf[i]);
+        }
+      }
+    }
+    // Forward from the state through the justification graph, stopping at the zone;
+    // operators crossing into the zone form the cut.
+    std::fill(reached.begin(), reached.end(), 0);
+    open.clear();
+    for (FactId f = 0; f + 1 < static_cast<FactId>(facts_); ++f) {
+      if (holds(s, f) && !in_goal_zone[f]) {
+        reached[f] = 1;
+        open.push_back(f);
+      }
+    }
+    std::vector<int> cut;
+    std::vector<char> in_cut(ops_.size(), 0);
+    auto visit = [&](int i) {
+      if (unsatisfied_[i] > 0) return;
+      bool crosses = false;
+      for (FactId e : ops_[i].eff) crosses = crosses || in_goal_zone[e];
+      if (crosses) {
+        if (!in_cut[i]) {
+          in_cut[i] = 1;
+          cut.push_back(i);
+        }
+        return;
+      }
+      for (FactId e : ops_[i].eff) {
+        if (!reached[e]) {
+          reached[e] = 1;
+          open.push_back(e);
+        }
+      }
+    };
+    for (int i : no_precondition_) visit(i);
+    while (!open.empty()) {
+      const FactId f = open.back();
+      open.pop_back();
+      for (int i : precondition_of_[f]) {
+        if (pcf[i] == f) visit(i);
+      }
+    }
+    if (cut.empty()) return h;  // cannot happen with finite h_max > 0; stay safe
+    double m = kInfinity;
+    for (int i : cut) m = std::min(m, cost[i]);
+    h += m;
+    for (int i : cut) cost[i] -= m;
+  }
+  return h;
+}
+
+}  // namespace cluttertamp::search::detail

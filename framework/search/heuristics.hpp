@@ -1,0 +1,50 @@
+#pragma once
+// Internal: delete-relaxation heuristics over a grounded task.
+
+#include <limits>
+#include <vector>
+
+#include "search/state_space.hpp"
+
+namespace cluttertamp::search::detail {
+
+inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// The delete relaxation: operators with their positive preconditions and adds (each
+/// conditional effect a relaxed operator of its own), axioms at cost 0, and one
+/// operator per goal disjunct reaching an artificial goal fact.
+class RelaxedTask {
+ public:
+  explicit RelaxedTask(const Task& task);
+
+  struct Op {
+    std::vector<FactId> pre;
+    std::vector<FactId> eff;
+    double cost;
+    OperatorId origin;  ///< the task operator; -1 for axioms and goal operators
+  };
+
+  /// h_max (max = true) or h_add of state s; fills cost and supporter per fact.
+  double cost_to_goal(const State& s, bool max);
+  /// h_FF; `preferred` receives the relaxed plan's operators applicable in s.
+  double ff(const State& s, const StateSpace& space, std::vector<OperatorId>* preferred);
+  /// LM-cut (admissible).
+  double lmcut(const State& s);
+
+ private:
+  void exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
+
+  std::size_t facts_;
+  FactId goal_;
+  std::vector<Op> ops_;
+  std::vector<std::vector<int>> precondition_of_;
+  std::vector<int> no_precondition_;
+  // Scratch, reused between calls.
+  std::vector<double> fact_cost_;
+  std::vector<int> supporter_;
+  std::vector<int> unsatisfied_;
+  std::vector<double> op_value_;
+  std::vector<double> base_cost_;
+};
+
+}  // namespace cluttertamp::search::detail

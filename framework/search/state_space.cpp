@@ -1,0 +1,109 @@
+#include "search/state_space.hpp"
+
+namespace cluttertamp::search::detail {
+
+StateSpace::StateSpace(const Task& task) : task_(task), words_((task.fact_count() + 63) / 64 + 1) {
+  triggered_by_.resize(task.fact_count());
+  for (OperatorId op = 0; op < static_cast<OperatorId>(task.operators.size()); ++op) {
+    const auto& positive = task.operators[op].precondition.positive;
+    if (positive.empty()) always_.push_back(op);
+    else triggered_by_[positive.front()].push_back(op);
+  }
+  for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
+    if (task.derived[f]) derived_facts_.push_back(f);
+  }
+}
+
+State StateSpace::initial() const {
+  State s(words_, 0);
+  for (FactId f : task_.initial) set(s, f);
+  evaluate_axioms(s);
+  return s;
+}
+
+bool StateSpace::satisfied(const State& s, const Condition& c) const {
+  for (FactId f : c.positive) {
+    if (!holds(s, f)) return false;
+  }
+  for (FactId f : c.negative) {
+    if (holds(s, f)) return false;
+  }
+  return true;
+}
+
+bool StateSpace::is_goal(const State& s) const {
+  for (const Condition& c : task_.goal) {
+    if (satisfied(s, c)) return true;
+  }
+  return false;
+}
+
+State StateSpace::apply(const State& s, OperatorId id) const {
+  const Operator& op = task_.operators[id];
+  State next = s;
+  // Conditions of conditional effects are read in the state before the action.
+  std::vector<const ConditionalEffect*> firing;
+  for (const ConditionalEffect& c : op.conditional) {
+    if (satisfied(s, c.condition)) firing.push_back(&c);
+  }
+  for (FactId f : op.del) clear(next, f);
+  for (const ConditionalEffect* c : firing) {
+    for (FactId f : c->del) clear(next, f);
+  }
+  for (FactId f : op.add) set(next, f);
+  for (const ConditionalEffect* c : firing) {
+    for (FactId f : c->add) set(next, f);
+  }
+  evaluate_axioms(next);
+  return next;
+}
+
+void StateSpace::evaluate_axioms(State& s) const {
+  if (task_.axioms.empty()) return;
+  for (FactId f : derived_facts_) clear(s, f);
+  std::size_t begin = 0;
+  while (begin < task_.axioms.size()) {
+    std::size_t end = begin;
+    while (end < task_.axioms.size() && task_.axioms[end].stratum == task_.axioms[begin].stratum) ++end;
+    bool changed = true;
+    while (changed) {
+      changed = false;
+      for (std::size_t i = begin; i < end; ++i) {
+        const Axiom& a = task_.axioms[i];
+        if (!holds(s, a.head) && satisfied(s, a.body)) {
+          set(s, a.head);
+          changed = true;
+        }
+      }
+    }
+    begin = end;
+  }
+}
+
+void StateSpace::applicable_operators(const State& s, const std::function<void(OperatorId)>& f) const {
+  for (OperatorId op : always_) {
+    if (applicable(s, op)) f(op);
+  }
+  for (std::size_t w = 0; w < s.size(); ++w) {
+    std::uint64_t bits = s[w];
+    while (bits) {
+      const int bit = __builtin_ctzll(bits);
+      bits &= bits - 1;
+      const FactId fact = static_cast<FactId>(w * 64 + static_cast<std::size_t>(bit));
+      if (fact >= static_cast<FactId>(triggered_by_.size())) break;
+      for (OperatorId op : triggered_by_[fact]) {
+        if (applicable(s, op)) f(op);
+      }
+    }
+  }
+}
+
+std::vector<FactId> StateSpace::facts(const State& s) const {
+  std::vector<FactId> out;
+  for (FactId f = 0; f < static_cast<FactId>(task_.fact_count()); ++f) {
+    if (holds(s, f)) out.push_back(f);
+  }
+  return out;
+}
+
+}  // namespace cluttertamp::search::detail

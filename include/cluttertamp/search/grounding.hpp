@@ -1,0 +1,28 @@
+#pragma once
+
+#include <cstddef>
+
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/pddl/ast.hpp"
+#include "cluttertamp/search/task.hpp"
+
+namespace cluttertamp::search {
+
+struct GroundingStats {
+  std::size_t reachable_facts = 0;  ///< relaxed-reachable atoms, static ones included
+  std::size_t operators = 0;
+  std::size_t axioms = 0;
+  std::size_t static_facts = 0;
+  double seconds = 0;
+};
+
+/// Grounds a checked domain and problem by relaxed reachability: only action and
+/// axiom instances whose preconditions can hold in the delete relaxation are made
+/// (never the cross product of all objects). Static facts are folded away, quantifiers
+/// expanded over the objects of their types, preconditions and goals put in
+/// disjunctive normal form (a disjunctive precondition splits an operator).
+/// Throws InputError for a cost function without a value, derived predicates that are
+/// not stratified, or a formula whose normal form exceeds 10000 disjuncts.
+CLUTTERTAMP_API Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats = nullptr);
+
+}  // namespace cluttertamp::search
