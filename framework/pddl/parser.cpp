@@ -1,5 +1,6 @@
 #include "cluttertamp/pddl/parser.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -470,10 +471,18 @@ class DomainReader : public Reader {
       domain_.types[t.name] = t.types;
       type_where_[t.name] = t.where;
     }
+    // A type named only as a parent is declared by that use, below object (as in IPC domains).
+    std::vector<std::pair<std::string, SourceLocation>> implicit;
     for (const auto& [name, parents] : domain_.types) {
       for (const std::string& p : parents) {
-        if (p != "object" && !domain_.types.count(p)) error(type_where_[name], "undeclared type '" + p + "' (parent of '" + name + "')");
+        if (p != "object" && !domain_.types.count(p)) implicit.emplace_back(p, type_where_[name]);
       }
+    }
+    for (const auto& [name, where] : implicit) {
+      domain_.types[name] = {"object"};
+      type_where_.emplace(name, where);
+    }
+    for (const auto& [name, parents] : domain_.types) {
       // A cycle makes a type its own ancestor.
       std::set<std::string> visited;
       std::vector<std::string> open = parents;
@@ -648,7 +657,9 @@ class ProblemReader : public Reader {
     Checker checker(domain_, *this);
     checker.check_types_exist(problem_.objects);
     for (const TypedName& o : problem_.objects) {
-      if (objects_.count(o.name)) error(o.where, "object '" + o.name + "' is already a constant of the domain");
+      const bool constant = std::any_of(domain_.constants.begin(), domain_.constants.end(),
+                                        [&](const TypedName& c) { return c.name == o.name; });
+      if (constant) error(o.where, "object '" + o.name + "' is already a constant of the domain");
       objects_[o.name] = o.types;
     }
     if (init) read_init(*init, checker);

@@ -1,0 +1,5 @@
+(define (problem blocks-14-6)
+  (:domain blocks)
+  (:objects b1 b2 b3 b4 b5 b6 b7 b8 b9 b10 b11 b12 b13 b14)
+  (:init (handempty) (ontable b11) (on b7 b11) (on b14 b7) (on b8 b14) (clear b8) (ontable b3) (on b4 b3) (on b2 b4) (clear b2) (ontable b6) (clear b6) (ontable b12) (clear b12) (ontable b9) (on b1 b9) (on b10 b1) (on b13 b10) (clear b13) (ontable b5) (clear b5))
+  (:goal (and (on b11 b6) (on b4 b11) (on b8 b4) (on b3 b9) (on b10 b3) (on b7 b1) (on b14 b5) (on b12 b13))))

@@ -1,0 +1,5 @@
+(define (problem blocks-4-1)
+  (:domain blocks)
+  (:objects b1 b2 b3 b4)
+  (:init (handempty) (ontable b4) (on b1 b4) (clear b1) (ontable b3) (on b2 b3) (clear b2))
+  (:goal (and (on b2 b1) (on b4 b2))))

@@ -1,0 +1,5 @@
+(define (problem blocks-5-2)
+  (:domain blocks)
+  (:objects b1 b2 b3 b4 b5)
+  (:init (handempty) (ontable b3) (clear b3) (ontable b2) (on b4 b2) (on b1 b4) (clear b1) (ontable b5) (clear b5))
+  (:goal (and (on b1 b3))))

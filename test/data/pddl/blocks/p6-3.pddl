@@ -1,0 +1,5 @@
+(define (problem blocks-6-3)
+  (:domain blocks)
+  (:objects b1 b2 b3 b4 b5 b6)
+  (:init (handempty) (ontable b1) (on b3 b1) (clear b3) (ontable b4) (on b6 b4) (on b2 b6) (clear b2) (ontable b5) (clear b5))
+  (:goal (and (on b1 b3) (on b4 b1) (on b2 b4))))

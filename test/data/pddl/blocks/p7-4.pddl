@@ -1,0 +1,5 @@
+(define (problem blocks-7-4)
+  (:domain blocks)
+  (:objects b1 b2 b3 b4 b5 b6 b7)
+  (:init (handempty) (ontable b6) (on b5 b6) (on b7 b5) (on b2 b7) (clear b2) (ontable b4) (clear b4) (ontable b1) (on b3 b1) (clear b3))
+  (:goal (and (on b7 b4) (on b3 b7) (on b5 b6) (on b2 b5))))

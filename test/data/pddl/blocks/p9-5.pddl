@@ -1,0 +1,5 @@
+(define (problem blocks-9-5)
+  (:domain blocks)
+  (:objects b1 b2 b3 b4 b5 b6 b7 b8 b9)
+  (:init (handempty) (ontable b3) (on b4 b3) (on b2 b4) (on b8 b2) (on b5 b8) (clear b5) (ontable b1) (on b9 b1) (on b7 b9) (clear b7) (ontable b6) (clear b6))
+  (:goal (and (on b7 b5) (on b8 b7) (on b9 b8) (on b2 b9) (on b6 b2) (on b1 b6) (on b4 b1))))

@@ -1,0 +1,5 @@
+(define (problem depot-3-2)
+  (:domain depot)
+  (:objects depot0 - depot distributor0 distributor1 - distributor truck0 truck1 - truck pallet0 pallet1 pallet2 - pallet crate0 crate1 crate2 - crate hoist0 hoist1 hoist2 - hoist)
+  (:init (at pallet0 depot0) (at hoist0 depot0) (available hoist0) (at pallet1 distributor0) (at hoist1 distributor0) (available hoist1) (at pallet2 distributor1) (at hoist2 distributor1) (available hoist2) (at truck0 depot0) (at truck1 depot0) (at crate0 depot0) (on crate0 pallet0) (at crate1 distributor0) (on crate1 pallet1) (at crate2 depot0) (on crate2 crate0) (clear crate2) (clear crate1) (clear pallet2))
+  (:goal (and (on crate0 pallet1) (on crate1 pallet2))))

@@ -1,0 +1,5 @@
+(define (problem depot-8-6)
+  (:domain depot)
+  (:objects depot0 - depot distributor0 distributor1 - distributor truck0 truck1 - truck pallet0 pallet1 pallet2 - pallet crate0 crate1 crate2 crate3 crate4 crate5 crate6 crate7 - crate hoist0 hoist1 hoist2 - hoist)
+  (:init (at pallet0 depot0) (at hoist0 depot0) (available hoist0) (at pallet1 distributor0) (at hoist1 distributor0) (available hoist1) (at pallet2 distributor1) (at hoist2 distributor1) (available hoist2) (at truck0 distributor1) (at truck1 depot0) (at crate0 distributor0) (on crate0 pallet1) (at crate1 distributor0) (on crate1 crate0) (at crate2 depot0) (on crate2 pallet0) (at crate3 depot0) (on crate3 crate2) (at crate4 depot0) (on crate4 crate3) (at crate5 distributor1) (on crate5 pallet2) (at crate6 distributor1) (on crate6 crate5) (at crate7 distributor0) (on crate7 crate1) (clear crate4) (clear crate7) (clear crate6))
+  (:goal (and (on crate4 pallet2) (on crate1 crate4) (on crate7 crate1) (on crate3 pallet0) (on crate6 crate3) (on crate0 crate7) (on crate2 crate0))))

@@ -1,0 +1,5 @@
+(define (problem logistics-2-2-1)
+  (:domain logistics)
+  (:objects c0 c1 - city apt0 apt1 - airport pos0 pos1 - location tru0 tru1 - truck apn0 - airplane obj0 obj1 - package)
+  (:init (in-city apt0 c0) (in-city pos0 c0) (at tru0 pos0) (in-city apt1 c1) (in-city pos1 c1) (at tru1 pos1) (at apn0 apt0) (at obj0 apt0) (at obj1 apt0))
+  (:goal (and (at obj0 pos0) (at obj1 pos0))))

@@ -1,0 +1,5 @@
+(define (problem logistics-3-4-3)
+  (:domain logistics)
+  (:objects c0 c1 c2 - city apt0 apt1 apt2 - airport pos0 pos1 pos2 - location tru0 tru1 tru2 - truck apn0 - airplane obj0 obj1 obj2 obj3 - package)
+  (:init (in-city apt0 c0) (in-city pos0 c0) (at tru0 pos0) (in-city apt1 c1) (in-city pos1 c1) (at tru1 pos1) (in-city apt2 c2) (in-city pos2 c2) (at tru2 pos2) (at apn0 apt0) (at obj0 pos1) (at obj1 apt1) (at obj2 pos1) (at obj3 pos2))
+  (:goal (and (at obj0 pos2) (at obj1 pos0) (at obj2 pos0) (at obj3 pos1))))

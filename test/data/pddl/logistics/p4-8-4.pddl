@@ -1,0 +1,5 @@
+(define (problem logistics-4-8-4)
+  (:domain logistics)
+  (:objects c0 c1 c2 c3 - city apt0 apt1 apt2 apt3 - airport pos0 pos1 pos2 pos3 - location tru0 tru1 tru2 tru3 - truck apn0 apn1 - airplane obj0 obj1 obj2 obj3 obj4 obj5 obj6 obj7 - package)
+  (:init (in-city apt0 c0) (in-city pos0 c0) (at tru0 pos0) (in-city apt1 c1) (in-city pos1 c1) (at tru1 pos1) (in-city apt2 c2) (in-city pos2 c2) (at tru2 pos2) (in-city apt3 c3) (in-city pos3 c3) (at tru3 pos3) (at apn0 apt1) (at apn1 apt2) (at obj0 apt1) (at obj1 pos2) (at obj2 apt2) (at obj3 apt1) (at obj4 pos2) (at obj5 pos0) (at obj6 apt0) (at obj7 pos1))
+  (:goal (and (at obj0 pos2) (at obj1 apt3) (at obj2 apt0) (at obj3 apt0) (at obj4 pos0) (at obj5 pos3) (at obj6 apt2) (at obj7 apt2))))

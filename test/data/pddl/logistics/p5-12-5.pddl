@@ -1,0 +1,5 @@
+(define (problem logistics-5-12-5)
+  (:domain logistics)
+  (:objects c0 c1 c2 c3 c4 - city apt0 apt1 apt2 apt3 apt4 - airport pos0 pos1 pos2 pos3 pos4 - location tru0 tru1 tru2 tru3 tru4 - truck apn0 apn1 - airplane obj0 obj1 obj2 obj3 obj4 obj5 obj6 obj7 obj8 obj9 obj10 obj11 - package)
+  (:init (in-city apt0 c0) (in-city pos0 c0) (at tru0 pos0) (in-city apt1 c1) (in-city pos1 c1) (at tru1 pos1) (in-city apt2 c2) (in-city pos2 c2) (at tru2 pos2) (in-city apt3 c3) (in-city pos3 c3) (at tru3 pos3) (in-city apt4 c4) (in-city pos4 c4) (at tru4 pos4) (at apn0 apt4) (at apn1 apt2) (at obj0 pos0) (at obj1 apt0) (at obj2 apt3) (at obj3 apt2) (at obj4 pos0) (at obj5 apt3) (at obj6 pos3) (at obj7 pos4) (at obj8 apt0) (at obj9 pos1) (at obj10 apt2) (at obj11 apt2))
+  (:goal (and (at obj0 pos4) (at obj1 pos3) (at obj2 apt0) (at obj3 apt1) (at obj4 pos3) (at obj5 pos2) (at obj6 apt1) (at obj7 apt3) (at obj8 apt4) (at obj9 apt4) (at obj10 pos2) (at obj11 apt1))))

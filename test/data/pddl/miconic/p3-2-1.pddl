@@ -1,0 +1,5 @@
+(define (problem miconic-3-2-1)
+  (:domain miconic)
+  (:objects f0 f1 f2 p0 p1)
+  (:init (floor f0) (floor f1) (floor f2) (passenger p0) (passenger p1) (above f0 f1) (above f0 f2) (above f1 f2) (origin p0 f0) (destin p0 f2) (origin p1 f1) (destin p1 f0) (lift-at f0))
+  (:goal (and (served p0) (served p1))))

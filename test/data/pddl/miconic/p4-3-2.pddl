@@ -1,0 +1,5 @@
+(define (problem miconic-4-3-2)
+  (:domain miconic)
+  (:objects f0 f1 f2 f3 p0 p1 p2)
+  (:init (floor f0) (floor f1) (floor f2) (floor f3) (passenger p0) (passenger p1) (passenger p2) (above f0 f1) (above f0 f2) (above f0 f3) (above f1 f2) (above f1 f3) (above f2 f3) (origin p0 f0) (destin p0 f3) (origin p1 f0) (destin p1 f1) (origin p2 f1) (destin p2 f2) (lift-at f0))
+  (:goal (and (served p0) (served p1) (served p2))))

@@ -1,0 +1,5 @@
+(define (problem miconic-5-4-3)
+  (:domain miconic)
+  (:objects f0 f1 f2 f3 f4 p0 p1 p2 p3)
+  (:init (floor f0) (floor f1) (floor f2) (floor f3) (floor f4) (passenger p0) (passenger p1) (passenger p2) (passenger p3) (above f0 f1) (above f0 f2) (above f0 f3) (above f0 f4) (above f1 f2) (above f1 f3) (above f1 f4) (above f2 f3) (above f2 f4) (above f3 f4) (origin p0 f1) (destin p0 f4) (origin p1 f2) (destin p1 f3) (origin p2 f4) (destin p2 f0) (origin p3 f4) (destin p3 f0) (lift-at f0))
+  (:goal (and (served p0) (served p1) (served p2) (served p3))))

@@ -1,0 +1,5 @@
+(define (problem miconic-8-8-4)
+  (:domain miconic)
+  (:objects f0 f1 f2 f3 f4 f5 f6 f7 p0 p1 p2 p3 p4 p5 p6 p7)
+  (:init (floor f0) (floor f1) (floor f2) (floor f3) (floor f4) (floor f5) (floor f6) (floor f7) (passenger p0) (passenger p1) (passenger p2) (passenger p3) (passenger p4) (passenger p5) (passenger p6) (passenger p7) (above f0 f1) (above f0 f2) (above f0 f3) (above f0 f4) (above f0 f5) (above f0 f6) (above f0 f7) (above f1 f2) (above f1 f3) (above f1 f4) (above f1 f5) (above f1 f6) (above f1 f7) (above f2 f3) (above f2 f4) (above f2 f5) (above f2 f6) (above f2 f7) (above f3 f4) (above f3 f5) (above f3 f6) (above f3 f7) (above f4 f5) (above f4 f6) (above f4 f7) (above f5 f6) (above f5 f7) (above f6 f7) (origin p0 f3) (destin p0 f2) (origin p1 f1) (destin p1 f5) (origin p2 f6) (destin p2 f3) (origin p3 f2) (destin p3 f0) (origin p4 f1) (destin p4 f0) (origin p5 f6) (destin p5 f4) (origin p6 f4) (destin p6 f6) (origin p7 f0) (destin p7 f1) (lift-at f0))
+  (:goal (and (served p0) (served p1) (served p2) (served p3) (served p4) (served p5) (served p6) (served p7))))

@@ -1,0 +1,309 @@
+// PDDL: parser errors by class, grounding and search on IPC-domain instances (optimal
+// costs matched, every plan checked by the lifted validator), costs, derived
+// predicates, quantifiers, limits.
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/pddl/validator.hpp"
+#include "cluttertamp/search/grounding.hpp"
+#include "cluttertamp/search/planner.hpp"
+#include "test_support.hpp"
+
+namespace cluttertamp::pddl {
+namespace {
+
+const char* kDomain = R"((define (domain d)
+  (:requirements :strips :typing :negative-preconditions :equality)
+  (:types block table - surface)
+  (:constants t1 - table)
+  (:predicates (on ?b - block ?s - surface) (clear ?s - surface) (held ?b - block))
+  (:action take
+    :parameters (?b - block ?s - surface)
+    :precondition (and (on ?b ?s) (clear ?b) (not (held ?b)) (not (= ?b ?s)))
+    :effect (and (held ?b) (not (on ?b ?s)) (clear ?s))))
+)";
+
+Diagnostics domain_errors(const std::string& text) {
+  return test::expect_input_error([&] { parse_domain(text, "bad.pddl"); });
+}
+
+std::string with(const std::string& from, const std::string& to) {
+  std::string text = kDomain;
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(PddlParser, ParsesATypedDomain) {
+  const Domain d = parse_domain(kDomain, "d.pddl");
+  EXPECT_EQ(d.name, "d");
+  EXPECT_EQ(d.actions.size(), 1u);
+  EXPECT_TRUE(d.is_subtype("block", "surface"));
+  EXPECT_FALSE(d.is_subtype("surface", "block"));
+  EXPECT_EQ(d.constants.at(0).name, "t1");
+}
+
+TEST(PddlParser, SyntaxErrorsAreLocatedWithACaret) {
+  const Diagnostics unclosed = domain_errors("(define (domain d)\n  (:predicates (p ?x)\n");
+  EXPECT_TRUE(test::has_error(unclosed, 2, 3, "this '(' is never closed"));
+  EXPECT_NE(unclosed.items()[0].message.find("    (:predicates (p ?x)\n    ^"), std::string::npos) << unclosed.str();
+  EXPECT_TRUE(test::has_error(domain_errors("(define (domain d)))"), 1, 20, "unmatched ')'"));
+  EXPECT_TRUE(test::has_error(domain_errors("(define (domain d) \"x\")"), 1, 20, "unexpected character '\"'"));
+  EXPECT_TRUE(test::has_error(domain_errors(""), 1, 1, "empty file"));
+  EXPECT_TRUE(test::has_error(domain_errors("(define (problem p))"), 1, 1, "expected (define (domain NAME) ...)"));
+  // Nesting deep enough to exhaust a recursive parser is refused, not followed.
+  EXPECT_TRUE(test::has_error(domain_errors(std::string(5000, '(')), 1, 201, "nested deeper than 200 levels"));
+}
+
+TEST(PddlParser, UndeclaredNames) {
+  EXPECT_TRUE(test::has_error(domain_errors(with("(held ?b))", "(hold ?b))")), 8, 51, "undeclared predicate 'hold'"));
+  EXPECT_TRUE(test::has_error(domain_errors(with("?b - block ?s", "?b - brick ?s")), 5, 20, "undeclared type 'brick'"));
+  EXPECT_TRUE(test::has_error(domain_errors(with("(clear ?s))))", "(clear t2))))")), 9, 52, "undeclared constant or object 't2'"));
+  EXPECT_TRUE(test::has_error(domain_errors(with("(clear ?b)", "(clear ?x)")), 8, 42, "undeclared variable '?x'"));
+}
+
+TEST(PddlParser, WrongArity) {
+  EXPECT_TRUE(test::has_error(domain_errors(with("(on ?b ?s) (clear ?b)", "(on ?b) (clear ?b)")), 8, 24, "'on' takes 2 arguments, not 1"));
+}
+
+TEST(PddlParser, TypeMismatch) {
+  // A table where a block is needed: the types are unrelated.
+  EXPECT_TRUE(test::has_error(domain_errors(with("(not (held ?b))", "(not (held t1))")), 8, 57,
+                              "type mismatch: 't1' is table, but argument 1 of 'held' is block"));
+}
+
+TEST(PddlParser, DuplicateNames) {
+  EXPECT_TRUE(test::has_error(domain_errors(with("(held ?b - block))", "(held ?b - block) (held ?c))")), 5, 84,
+                              "predicate 'held' is declared twice"));
+  EXPECT_TRUE(test::has_error(domain_errors(with(":parameters (?b - block ?s - surface)", ":parameters (?b - block ?b - surface)")),
+                              7, 29, "'?b' appears twice"));
+  const Domain d = parse_domain(kDomain, "d.pddl");
+  const Diagnostics p = test::expect_input_error([&] {
+    parse_problem("(define (problem p) (:domain d) (:objects a a - block t1 - table) (:init) (:goal (and)))", "p.pddl", d);
+  });
+  EXPECT_TRUE(test::has_error(p, 1, 45, "'a' appears twice"));
+  EXPECT_TRUE(test::has_error(p, 1, 55, "object 't1' is already a constant of the domain"));
+}
+
+TEST(PddlParser, UnsupportedRequirementsAndConstructs) {
+  EXPECT_TRUE(test::has_error(domain_errors(with(":equality)", ":equality :durative-actions)")), 2, 68,
+                              "unsupported requirement :durative-actions: temporal planning is not supported"));
+  EXPECT_TRUE(test::has_error(domain_errors(with(":equality)", ":equality :teleportation)")), 2, 68, "unknown requirement :teleportation"));
+  EXPECT_TRUE(test::has_error(domain_errors(with("(not (= ?b ?s))", "(> (fuel) 3)")), 8, 62, "numeric comparisons are not supported"));
+  EXPECT_TRUE(test::has_error(domain_errors(with("(clear ?s))))", "(clear ?s) (decrease (fuel) 1))))")), 9, 56,
+                              "numeric effect (decrease ...) is not supported"));
+}
+
+TEST(PddlParser, ProblemErrors) {
+  const Domain d = parse_domain(kDomain, "d.pddl");
+  auto problem_errors = [&](const std::string& text) {
+    return test::expect_input_error([&] { parse_problem(text, "p.pddl", d); });
+  };
+  EXPECT_TRUE(test::has_error(problem_errors("(define (problem p) (:domain e) (:objects a - block) (:init) (:goal (held a)))"),
+                              1, 30, "the problem is for domain 'e', but the domain is 'd'"));
+  EXPECT_TRUE(test::has_error(problem_errors("(define (problem p) (:domain d) (:objects a - block) (:init (on t1 a)) (:goal (held a)))"),
+                              1, 65, "type mismatch: 't1' is table, but argument 1 of 'on' is block"));
+  EXPECT_TRUE(test::has_error(problem_errors("(define (problem p) (:domain d) (:objects a - block) (:init (on ?x a)) (:goal (held a)))"),
+                              1, 65, "initial facts cannot contain variables"));
+  EXPECT_TRUE(test::has_error(problem_errors("(define (problem p) (:domain d) (:objects a - block) (:init))"), 1, 1,
+                              "the problem has no (:goal ...)"));
+}
+
+TEST(PddlParser, PaperSchemasAsPrintedAreRefusedNamingTheTypos) {
+  const Diagnostics d = test::expect_input_error([] { load_domain(test::data("pddl/clutter/paper-verbatim.pddl")); });
+  EXPECT_TRUE(test::has_error(d, 9, 35, "undeclared predicate 'at-pose' (did you mean 'atpose'?)"));
+  EXPECT_TRUE(test::has_error(d, 19, 39, "undeclared predicate 'at-grasp' (did you mean 'atgrasp'?)"));
+}
+
+// ---- grounding, search and validation ---------------------------------------------------
+
+struct Loaded {
+  Domain domain;
+  Problem problem;
+};
+
+Loaded load(const std::string& domain, const std::string& problem) {
+  Loaded l{load_domain(test::data("pddl/" + domain)), {}};
+  l.problem = load_problem(test::data("pddl/" + problem), l.domain);
+  return l;
+}
+
+std::vector<PlanStep> steps(const search::Task& task, const search::SearchResult& r, const Loaded& l) {
+  std::string text;
+  for (search::OperatorId op : r.plan) text += task.operators[op].name + "\n";
+  return parse_plan(text, "plan", l.domain, l.problem);
+}
+
+struct Instance {
+  std::string domain, problem;
+  double optimal;
+};
+
+std::vector<Instance> manifest() {
+  std::ifstream in(test::data("pddl/instances.txt"));
+  std::vector<Instance> out;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    Instance i;
+    fields >> i.domain >> i.problem >> i.optimal;
+    out.push_back(i);
+  }
+  return out;
+}
+
+TEST(PddlSearch, OptimalSearchesMatchTheKnownOptimaAndEveryPlanValidates) {
+  const auto instances = manifest();
+  ASSERT_GE(instances.size(), 15u);
+  for (const Instance& instance : instances) {
+    const Loaded l = load(instance.domain, instance.problem);
+    const search::Task task = search::ground(l.domain, l.problem);
+    for (const char* algorithm : {"astar-lmcut", "astar-hmax", "astar-blind", "lazy-gbfs-ff", "eager-gbfs-ff",
+                                  "gbfs-add", "wastar-ff"}) {
+      search::SearchOptions options;
+      options.algorithm = algorithm;
+      options.time_limit = 20;
+      const search::SearchResult r = search::plan(task, options);
+      ASSERT_TRUE(r.solved) << instance.problem << " " << algorithm << ": " << r.reason;
+      const PlanValidation v = validate_plan(l.domain, l.problem, steps(task, r, l));
+      EXPECT_TRUE(v.valid) << instance.problem << " " << algorithm << ": " << v.reason;
+      EXPECT_DOUBLE_EQ(v.cost, r.cost);
+      if (std::string(algorithm).rfind("astar", 0) == 0) {
+        EXPECT_DOUBLE_EQ(r.cost, instance.optimal) << instance.problem << " " << algorithm;
+      } else {
+        EXPECT_GE(r.cost, instance.optimal) << instance.problem << " " << algorithm;
+      }
+    }
+  }
+}
+
+TEST(PddlSearch, AdmissibleHeuristicsNeverOverestimate) {
+  for (const Instance& instance : manifest()) {
+    const Loaded l = load(instance.domain, instance.problem);
+    const search::Task task = search::ground(l.domain, l.problem);
+    const double hmax = search::initial_heuristic(task, "hmax");
+    const double lmcut = search::initial_heuristic(task, "lmcut");
+    EXPECT_LE(hmax, lmcut + 1e-9) << instance.problem;  // LM-cut dominates h_max
+    EXPECT_LE(lmcut, instance.optimal + 1e-9) << instance.problem;
+  }
+}
+
+TEST(PddlSearch, ActionCostsPickTheCheaperLongerPlan) {
+  const Domain d = parse_domain(R"((define (domain roads)
+    (:requirements :strips :typing :action-costs)
+    (:types city)
+    (:predicates (at ?c - city) (road ?a ?b - city))
+    (:functions (total-cost) - number (length ?a ?b - city) - number)
+    (:action drive :parameters (?a ?b - city)
+      :precondition (and (at ?a) (road ?a ?b))
+      :effect (and (not (at ?a)) (at ?b) (increase (total-cost) (length ?a ?b))))))",
+                                "roads.pddl");
+  const Problem p = parse_problem(R"((define (problem trip) (:domain roads)
+    (:objects a b c d - city)
+    (:init (at a) (road a d) (road a b) (road b c) (road c d)
+           (= (length a d) 10) (= (length a b) 2) (= (length b c) 2) (= (length c d) 2) (= (total-cost) 0))
+    (:goal (at d)) (:metric minimize (total-cost))))",
+                                  "trip.pddl", d);
+  const search::Task task = search::ground(d, p);
+  EXPECT_FALSE(task.unit_cost);
+  search::SearchOptions options;
+  options.algorithm = "astar-lmcut";
+  const search::SearchResult r = search::plan(task, options);
+  ASSERT_TRUE(r.solved);
+  EXPECT_EQ(r.plan.size(), 3u);
+  EXPECT_DOUBLE_EQ(r.cost, 6.0);
+  const Loaded l{d, p};
+  const PlanValidation v = validate_plan(d, p, steps(task, r, l));
+  EXPECT_TRUE(v.valid) << v.reason;
+  EXPECT_DOUBLE_EQ(v.cost, 6.0);
+  // A cost function without a value is an input error.
+  const Problem missing = parse_problem(R"((define (problem trip) (:domain roads) (:objects a d - city)
+    (:init (at a) (road a d)) (:goal (at d)) (:metric minimize (total-cost))))", "trip.pddl", d);
+  EXPECT_THROW(search::ground(d, missing), InputError);
+}
+
+TEST(PddlSearch, DerivedPredicatesQuantifiersAndConditionalEffects) {
+  const Loaded l{load_domain(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/pddl/clutter/domain.pddl"), {}};
+  const Loaded full{l.domain, load_problem(test::data("pddl/clutter/stacked4.pddl"), l.domain)};
+  search::GroundingStats stats;
+  const search::Task task = search::ground(full.domain, full.problem, &stats);
+  EXPECT_GT(stats.axioms, 0u);
+  EXPECT_GT(stats.static_facts, 0u);
+  for (const std::string& algorithm : search::search_names()) {
+    search::SearchOptions options;
+    options.algorithm = algorithm;
+    const search::SearchResult r = search::plan(task, options);
+    ASSERT_TRUE(r.solved) << algorithm << ": " << r.reason;
+    const auto plan = steps(task, r, full);
+    EXPECT_TRUE(validate_plan(full.domain, full.problem, plan).valid) << algorithm;
+    if (algorithm.rfind("astar", 0) == 0) {
+      ASSERT_EQ(plan.size(), 3u);  // remove the top object, then front1 is clear to pick
+      EXPECT_EQ(plan[0].action, "pick");
+      EXPECT_EQ(plan[0].args[0], "top");
+      EXPECT_EQ(plan[1].action, "place");
+      EXPECT_EQ(plan[2].args[0], "front1");
+    }
+  }
+}
+
+TEST(PddlValidator, ReportsTheFirstFailingStepAndLiteral) {
+  const Loaded l = load("gripper/domain-untyped.pddl", "gripper/p4.pddl");
+  auto check = [&](const std::string& text) { return validate_plan(l.domain, l.problem, parse_plan(text, "p", l.domain, l.problem)); };
+  const PlanValidation wrong_room = check("(pick ball1 rooma left)\n(drop ball1 roomb left)\n");
+  EXPECT_FALSE(wrong_room.valid);
+  EXPECT_EQ(wrong_room.step, 2u);
+  EXPECT_NE(wrong_room.reason.find("precondition not satisfied: (at-robby roomb) is false"), std::string::npos) << wrong_room.reason;
+  const PlanValidation short_plan = check("(pick ball1 rooma left)\n(move rooma roomb)\n(drop ball1 roomb left)\n");
+  EXPECT_FALSE(short_plan.valid);
+  EXPECT_EQ(short_plan.step, 0u);
+  EXPECT_NE(short_plan.reason.find("the goal does not hold after the plan: (at ball2 roomb) is false"), std::string::npos);
+  const Diagnostics bad = test::expect_input_error([&] { parse_plan("(pick ball1 rooma)\n(fly rooma)\n(drop ball9 rooma left)", "p.plan", l.domain, l.problem); });
+  EXPECT_TRUE(test::has_error(bad, 1, 1, "'pick' takes 3 arguments, not 2"));
+  EXPECT_TRUE(test::has_error(bad, 2, 1, "unknown action 'fly'"));
+  EXPECT_TRUE(test::has_error(bad, 3, 7, "unknown object 'ball9'"));
+}
+
+TEST(PddlSearch, LimitsAndUnsolvableProblemsAreResultsWithReasons) {
+  const Loaded l = load("blocks/domain.pddl", "blocks/p9-5.pddl");
+  const search::Task task = search::ground(l.domain, l.problem);
+  search::SearchOptions options;
+  options.algorithm = "astar-blind";
+  options.max_expansions = 100;
+  search::SearchResult r = search::plan(task, options);
+  EXPECT_FALSE(r.solved);
+  EXPECT_EQ(r.reason, "expansion limit");
+  EXPECT_LE(r.statistics.expanded, 100u);
+  options.max_expansions = ~0ull;
+  options.time_limit = 0.05;
+  r = search::plan(task, options);
+  EXPECT_FALSE(r.solved);
+  EXPECT_EQ(r.reason, "time limit");
+  EXPECT_LT(r.statistics.seconds, 1.0);
+
+  const Problem impossible = parse_problem(R"((define (problem x) (:domain blocks) (:objects a b)
+      (:init (ontable a) (ontable b) (clear a) (clear b) (handempty)) (:goal (and (on a b) (on b a)))))", "x.pddl", l.domain);
+  for (const std::string& algorithm : search::search_names()) {
+    search::SearchOptions o;
+    o.algorithm = algorithm;
+    const search::SearchResult none = search::plan(search::ground(l.domain, impossible), o);
+    EXPECT_FALSE(none.solved) << algorithm;
+    EXPECT_NE(none.reason.find("no plan exists"), std::string::npos) << algorithm << ": " << none.reason;
+  }
+  EXPECT_THROW(search::plan(task, {"teleport"}), std::invalid_argument);
+}
+
+TEST(PddlSearch, SamePlanEveryTime) {
+  const Loaded l = load("logistics/domain.pddl", "logistics/p3-4-3.pddl");
+  const search::Task task = search::ground(l.domain, l.problem);
+  const auto first = search::plan(task, {});
+  const auto second = search::plan(search::ground(l.domain, l.problem), {});
+  ASSERT_TRUE(first.solved);
+  EXPECT_EQ(first.plan, second.plan);
+}
+
+}  // namespace
+}  // namespace cluttertamp::pddl
