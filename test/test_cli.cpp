@@ -217,3 +217,45 @@ TEST_F(Cli, PluginsListsKindsAndVersions) {
 
 }  // namespace
 }  // namespace cluttertamp
+
+namespace cluttertamp {
+namespace {
+
+std::string pddl_file(const std::string& relative) { return test::data("pddl/" + relative).string(); }
+
+TEST(CliPddl, PrintsAnIpcPlanThatValidatePlanAccepts) {
+  const auto plan_file = std::filesystem::temp_directory_path() / "cluttertamp_cli_gripper.plan";
+  const CliRun r = run("pddl " + pddl_file("gripper/domain-untyped.pddl") + " " + pddl_file("gripper/p4.pddl") +
+                       " --search astar-lmcut --plan " + plan_file.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(pick ball"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("; cost = 11 (unit cost)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("grounding: "), std::string::npos);  // statistics on stderr
+  EXPECT_NE(r.output.find(" expanded, "), std::string::npos);
+  const CliRun valid = run("validate-plan " + pddl_file("gripper/domain-untyped.pddl") + " " +
+                           pddl_file("gripper/p4.pddl") + " " + plan_file.string());
+  EXPECT_EQ(valid.exit_code, 0) << valid.output;
+  EXPECT_NE(valid.output.find("plan valid: 11 steps, cost 11"), std::string::npos) << valid.output;
+  std::ofstream(plan_file) << "(pick ball1 rooma left)\n(drop ball1 roomb left)\n";
+  const CliRun invalid = run("validate-plan " + pddl_file("gripper/domain-untyped.pddl") + " " +
+                             pddl_file("gripper/p4.pddl") + " " + plan_file.string());
+  EXPECT_EQ(invalid.exit_code, 1) << invalid.output;
+  EXPECT_NE(invalid.output.find("plan invalid: step 2 (drop ball1 roomb left): precondition not satisfied"), std::string::npos);
+  std::filesystem::remove(plan_file);
+}
+
+TEST(CliPddl, ExitCodesForBadInputAndNoPlan) {
+  const CliRun bad = run("pddl " + pddl_file("clutter/paper-verbatim.pddl") + " " + pddl_file("clutter/stacked4.pddl"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("paper-verbatim.pddl:9:35: error: undeclared predicate 'at-pose'"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("^"), std::string::npos);
+  const CliRun limited = run("pddl " + pddl_file("blocks/domain.pddl") + " " + pddl_file("blocks/p9-5.pddl") +
+                             " --search astar-blind --max-expansions 50");
+  EXPECT_EQ(limited.exit_code, 1) << limited.output;
+  EXPECT_NE(limited.output.find("no plan: expansion limit"), std::string::npos) << limited.output;
+  EXPECT_EQ(run("pddl " + pddl_file("blocks/domain.pddl") + " " + pddl_file("blocks/p4-1.pddl") + " --search magic").exit_code, 2);
+  EXPECT_EQ(run("pddl " + pddl_file("blocks/domain.pddl") + " /no/such/problem.pddl").exit_code, 2);
+}
+
+}  // namespace
+}  // namespace cluttertamp

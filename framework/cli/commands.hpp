@@ -56,14 +56,20 @@ struct ValidatePlanArgs {
 int validate_plan(const ValidatePlanArgs& args);
 
 struct BenchArgs {
-  std::string what;  ///< "collision"
+  std::string what;  ///< "collision" or "pddl"
   std::uint64_t seed = 1;
   std::size_t samples = 5000;
   int objects = 20;
   std::filesystem::path json;  ///< empty: no JSON file
   std::filesystem::path robot;  ///< robot description file
+  std::filesystem::path pddl_instances;  ///< bench pddl: <dir>/<family>/{domain*,p*}.pddl
+  std::vector<std::string> searches;     ///< bench pddl
+  double time_limit = 60;                ///< bench pddl, per search
+  int runs = 3;                          ///< bench pddl
 };
 /// Exit code 0 when every speed goal is met, 1 when one is missed.
 int bench_collision(const BenchArgs& args);
+/// Prints a table per instance and search; exit code 0.
+int bench_pddl(const BenchArgs& args);
 
 }  // namespace cluttertamp::cli

@@ -103,12 +103,24 @@ int main(int argc, char** argv) {
   add_verbosity(*validate_plan, validate_plan_args.verbosity, "Same output as the default");
 
   cli::BenchArgs bench_args;
-  auto* bench = app.add_subcommand("bench", "Measure speed: 'collision' times FK, IK, collision and sweep queries");
-  bench->add_option("what", bench_args.what, "What to measure")->required()->check(CLI::IsMember({"collision"}));
+  auto* bench = app.add_subcommand(
+      "bench", "Measure speed: 'collision' times FK, IK, collision and sweep queries; 'pddl' times searches on PDDL instances");
+  bench->add_option("what", bench_args.what, "What to measure")->required()->check(CLI::IsMember({"collision", "pddl"}));
   bench->add_option("--seed", bench_args.seed, "Seed of the generated scene and samples")->capture_default_str();
   bench->add_option("--samples", bench_args.samples, "Queries per measurement")->capture_default_str()->check(CLI::Range(500, 10000000));
   bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf")->capture_default_str()->check(CLI::Range(1, 60));
   bench->add_option("--json", bench_args.json, "Also write the results as JSON to this file");
+  bench_args.pddl_instances = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "test/data/pddl";
+  bench->add_option("--instances", bench_args.pddl_instances, "pddl: directory of <family>/{domain,p*}.pddl")
+      ->capture_default_str()
+      ->check(CLI::ExistingDirectory);
+  bench->add_option("--search", bench_args.searches, "pddl: searches to run (repeatable; default lazy-gbfs-ff, astar-lmcut)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->check(CLI::IsMember(cluttertamp::search::search_names()));
+  bench->add_option("--time-limit", bench_args.time_limit, "pddl: seconds per search")->capture_default_str()->check(CLI::PositiveNumber);
+  bench->add_option("--runs", bench_args.runs, "pddl: runs per instance and search (median reported)")->capture_default_str()->check(CLI::Range(1, 100));
   bench_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
   bench->add_option("--robot", bench_args.robot, "Robot description (a UR arm: the bench times analytic IK)")
       ->capture_default_str()
@@ -131,7 +143,7 @@ int main(int argc, char** argv) {
     if (*plan) return cli::plan(plan_args);
     if (*validate) return cli::validate(validate_args);
     if (*plugins) return cli::plugins(plugins_args);
-    if (*bench) return cli::bench_collision(bench_args);
+    if (*bench) return bench_args.what == "pddl" ? cli::bench_pddl(bench_args) : cli::bench_collision(bench_args);
     if (*pddl) return cli::pddl(pddl_args);
     if (*validate_plan) return cli::validate_plan(validate_plan_args);
   } catch (const cluttertamp::InputError& e) {

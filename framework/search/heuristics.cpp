@@ -21,10 +21,16 @@ RelaxedTask::RelaxedTask(const Task& task) : facts_(task.fact_count() + 1), goal
   for (const Axiom& a : task.axioms) ops_.push_back({a.body.positive, {a.head}, 0.0, -1});
   for (const Condition& c : task.goal) ops_.push_back({c.positive, {goal_}, 0.0, -1});
   precondition_of_.resize(facts_);
+  achievers_.resize(facts_);
   for (int i = 0; i < static_cast<int>(ops_.size()); ++i) {
     if (ops_[i].pre.empty()) no_precondition_.push_back(i);
     for (FactId f : ops_[i].pre) precondition_of_[f].push_back(i);
+    for (FactId f : ops_[i].eff) achievers_[f].push_back(i);
   }
+  pcf_.resize(ops_.size());
+  in_cut_.resize(ops_.size());
+  in_goal_zone_.resize(facts_);
+  reached_.resize(facts_);
   fact_cost_.resize(facts_);
   supporter_.resize(facts_);
   unsatisfied_.resize(ops_.size());
@@ -109,86 +115,80 @@ double RelaxedTask::ff(const State& s, const StateSpace& space, std::vector<Oper
 double RelaxedTask::lmcut(const State& s) {
   std::vector<double> cost = base_cost_;
   double h = 0.0;
-  const FactId none = -1;
-  std::vector<FactId> pcf(ops_.size(), none);
-  std::vector<char> in_goal_zone(facts_), reached(facts_);
+  constexpr FactId none = -1;
   for (int round = 0; round < 100000; ++round) {
     exploration(s, true, cost, false);  // the cut needs every operator's h_max
     if (fact_cost_[goal_] == kInfinity) return kInfinity;
     if (fact_cost_[goal_] <= 0.0) return h;
     // Precondition choice function: the precondition with the largest h_max.
     for (std::size_t i = 0; i < ops_.size(); ++i) {
-      pcf[i] = none;
+      pcf_[i] = none;
       double best = -1.0;
       for (FactId p : ops_[i].pre) {
         if (fact_cost_[p] > best) {
           best = fact_cost_[p];
-          pcf[i] = p;
+          pcf_[i] = p;
         }
       }
     }
     // Goal zone: facts from which the goal is reached through zero-cost operators.
-    std::fill(in_goal_zone.begin(), in_goal_zone.end(), 0);
-    in_goal_zone[goal_] = 1;
-    std::vector<FactId> open{goal_};
-    std::vector<std::vector<int>> achievers(facts_);
-    for (std::size_t i = 0; i < ops_.size(); ++i) {
-      if (op_value_[i] == kInfinity || unsatisfied_[i] > 0) continue;
-      for (FactId e : ops_[i].eff) achievers[e].push_back(static_cast<int>(i));
-    }
-    while (!open.empty()) {
-      const FactId f = open.back();
-      open.pop_back();
-      for (int i : achievers[f]) {
-        if (cost[i] == 0.0 && pcf[i] != none && !in_goal_zone[pcf[i]]) {
-          in_goal_zone[pcf[i]] = 1;
-          open.push_back(pcf[i]);
-        }
+    std::fill(in_goal_zone_.begin(), in_goal_zone_.end(), 0);
+    in_goal_zone_[goal_] = 1;
+    open_.assign(1, goal_);
+    while (!open_.empty()) {
+      const FactId f = open_.back();
+      open_.pop_back();
+      for (int i : achievers_[f]) {
+        if (unsatisfied_[i] > 0 || cost[i] != 0.0 || pcf_[i] == none || in_goal_zone_[pcf_[i]]) continue;
+        in_goal_zone_[pcf_[i]] = 1;
+        open_.push_back(pcf_[i]);
       }
     }
     // Forward from the state through the justification graph, stopping at the zone;
     // operators crossing into the zone form the cut.
-    std::fill(reached.begin(), reached.end(), 0);
-    open.clear();
+    std::fill(reached_.begin(), reached_.end(), 0);
+    open_.clear();
     for (FactId f = 0; f + 1 < static_cast<FactId>(facts_); ++f) {
-      if (holds(s, f) && !in_goal_zone[f]) {
-        reached[f] = 1;
-        open.push_back(f);
+      if (holds(s, f) && !in_goal_zone_[f]) {
+        reached_[f] = 1;
+        open_.push_back(f);
       }
     }
-    std::vector<int> cut;
-    std::vector<char> in_cut(ops_.size(), 0);
+    cut_.clear();
     auto visit = [&](int i) {
       if (unsatisfied_[i] > 0) return;
       bool crosses = false;
-      for (FactId e : ops_[i].eff) crosses = crosses || in_goal_zone[e];
+      for (FactId e : ops_[i].eff) crosses = crosses || in_goal_zone_[e];
       if (crosses) {
-        if (!in_cut[i]) {
-          in_cut[i] = 1;
-          cut.push_back(i);
+        if (!in_cut_[i]) {
+          in_cut_[i] = 1;
+          cut_.push_back(i);
         }
         return;
       }
       for (FactId e : ops_[i].eff) {
-        if (!reached[e]) {
-          reached[e] = 1;
-          open.push_back(e);
+        if (!reached_[e]) {
+          reached_[e] = 1;
+          open_.push_back(e);
         }
       }
     };
     for (int i : no_precondition_) visit(i);
-    while (!open.empty()) {
-      const FactId f = open.back();
-      open.pop_back();
+    while (!open_.empty()) {
+      const FactId f = open_.back();
+      open_.pop_back();
       for (int i : precondition_of_[f]) {
-        if (pcf[i] == f) visit(i);
+        if (pcf_[i] == f) visit(i);
       }
     }
-    if (cut.empty()) return h;  // cannot happen with finite h_max > 0; stay safe
+    if (cut_.empty()) return h;  // cannot happen with finite h_max > 0; stay safe
     double m = kInfinity;
-    for (int i : cut) m = std::min(m, cost[i]);
+    for (int i : cut_) m = std::min(m, cost[i]);
     h += m;
-    for (int i : cut) cost[i] -= m;
+    for (int i : cut_) {
+      cost[i] -= m;
+      in_cut_[i] = 0;
+    }
   }
   return h;
 }

@@ -38,6 +38,7 @@ class RelaxedTask {
   FactId goal_;
   std::vector<Op> ops_;
   std::vector<std::vector<int>> precondition_of_;
+  std::vector<std::vector<int>> achievers_;  // per fact: operators adding it
   std::vector<int> no_precondition_;
   // Scratch, reused between calls.
   std::vector<double> fact_cost_;
@@ -45,6 +46,11 @@ class RelaxedTask {
   std::vector<int> unsatisfied_;
   std::vector<double> op_value_;
   std::vector<double> base_cost_;
+  // LM-cut scratch.
+  std::vector<FactId> pcf_;
+  std::vector<char> in_goal_zone_, reached_, in_cut_;
+  std::vector<int> cut_;
+  std::vector<FactId> open_;
 };
 
 }  // namespace cluttertamp::search::detail

@@ -1,0 +1,119 @@
+// `cluttertamp bench pddl`: time, expansions and plan cost per instance and search, so
+// runs can be compared with other planners.
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/search/grounding.hpp"
+#include "cluttertamp/search/planner.hpp"
+
+namespace cluttertamp::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Pair {
+  fs::path domain, problem;
+};
+
+// Every <dir>/<family>/p*.pddl with that family's domain*.pddl (typed-p* with domain-typed).
+std::vector<Pair> instances(const fs::path& root) {
+  std::vector<Pair> out;
+  std::vector<fs::path> families;
+  for (const auto& e : fs::directory_iterator(root)) {
+    if (e.is_directory()) families.push_back(e.path());
+  }
+  std::sort(families.begin(), families.end());
+  for (const fs::path& family : families) {
+    std::vector<fs::path> problems;
+    for (const auto& e : fs::directory_iterator(family)) {
+      const std::string name = e.path().filename().string();
+      if (e.is_regular_file() && name.ends_with(".pddl") && name.rfind("domain", 0) != 0) problems.push_back(e.path());
+    }
+    std::sort(problems.begin(), problems.end(), [](const fs::path& a, const fs::path& b) {
+      // p4 before p10: by length, then by name.
+      const std::string x = a.filename().string(), y = b.filename().string();
+      return x.size() != y.size() ? x.size() < y.size() : x < y;
+    });
+    for (const fs::path& p : problems) {
+      const std::string name = p.filename().string();
+      fs::path domain = family / "domain.pddl";
+      if (!fs::exists(domain)) domain = family / (name.rfind("typed-", 0) == 0 ? "domain-typed.pddl" : "domain-untyped.pddl");
+      if (fs::exists(domain)) out.push_back({domain, p});
+    }
+  }
+  return out;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+int bench_pddl(const BenchArgs& args) {
+  const std::vector<Pair> pairs = instances(args.pddl_instances);
+  if (pairs.empty()) throw InputError({args.pddl_instances.string(), 0, 0}, "no PDDL instances found here");
+  const std::vector<std::string> searches = args.searches.empty() ? std::vector<std::string>{"lazy-gbfs-ff", "astar-lmcut"} : args.searches;
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  std::cout << std::left << std::setw(26) << "instance" << std::setw(14) << "search" << std::right << std::setw(8)
+            << "solved" << std::setw(8) << "cost" << std::setw(11) << "expanded" << std::setw(12) << "ground s"
+            << std::setw(12) << "search s" << std::setw(12) << "total s" << "\n";
+  for (const Pair& pair : pairs) {
+    const pddl::Domain domain = pddl::load_domain(pair.domain);
+    const pddl::Problem problem = pddl::load_problem(pair.problem, domain);
+    const std::string name = pair.problem.parent_path().filename().string() + "/" + pair.problem.stem().string();
+    for (const std::string& algorithm : searches) {
+      std::vector<double> ground_s, search_s, total_s;
+      search::SearchResult last;
+      for (int run = 0; run < args.runs; ++run) {
+        const auto t0 = std::chrono::steady_clock::now();
+        search::GroundingStats stats;
+        const search::Task task = search::ground(domain, problem, &stats);
+        search::SearchOptions options;
+        options.algorithm = algorithm;
+        options.time_limit = args.time_limit;
+        last = search::plan(task, options);
+        ground_s.push_back(stats.seconds);
+        search_s.push_back(last.statistics.seconds);
+        total_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        if (!last.solved) break;  // a time-out does not get faster
+      }
+      std::cout << std::left << std::setw(26) << name << std::setw(14) << algorithm << std::right << std::setw(8)
+                << (last.solved ? "yes" : "no") << std::setw(8) << (last.solved ? std::to_string(static_cast<long>(last.cost)) : "-")
+                << std::setw(11) << last.statistics.expanded << std::fixed << std::setprecision(4) << std::setw(12)
+                << median(ground_s) << std::setw(12) << median(search_s) << std::setw(12) << median(total_s) << "\n";
+      std::cout.unsetf(std::ios::floatfield);
+      rows.push_back({{"instance", name},
+                      {"domain", pair.domain.string()},
+                      {"problem", pair.problem.string()},
+                      {"search", algorithm},
+                      {"solved", last.solved},
+                      {"reason", last.solved ? "" : last.reason},
+                      {"cost", last.cost},
+                      {"plan_length", last.plan.size()},
+                      {"expanded", last.statistics.expanded},
+                      {"evaluated", last.statistics.evaluated},
+                      {"grounding_seconds_median", median(ground_s)},
+                      {"search_seconds_median", median(search_s)},
+                      {"total_seconds_median", median(total_s)},
+                      {"runs", ground_s.size()}});
+    }
+  }
+  if (!args.json.empty()) {
+    std::ofstream(args.json) << rows.dump(2) << "\n";
+    std::cout << "\nwrote " << args.json.string() << "\n";
+  }
+  return run::ExitCode::solved;
+}
+
+}  // namespace cluttertamp::cli
