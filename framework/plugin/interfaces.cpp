@@ -69,7 +69,7 @@ double Deadline::remaining() const {
 const BlockedGrasp* GraspAnswer::least_blocked() const {
   const BlockedGrasp* best = nullptr;
   for (const BlockedGrasp& b : blocked) {
-    if (!best || b.blocking_objects.size() < best->blocking_objects.size()) best = &b;
+    if (b.freeable && (!best || b.blocking_objects.size() < best->blocking_objects.size())) best = &b;
   }
   return best;
 }

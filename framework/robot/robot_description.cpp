@@ -115,6 +115,15 @@ RobotDescription RobotDescription::load(const std::filesystem::path& file) {
     yaml.error(ik, e.what());
   }
   diagnostics.throw_if_any();
+  const LinkIndex hand = model.rigid_root(robot.tip_link_);
+  const auto& chain = robot.ik_->chain();
+  for (std::size_t v = 0; v < model.variable_count(); ++v) {
+    const JointIndex j = model.variables()[v];
+    if (model.descends_from(model.joints()[j].child, hand) && std::find(chain.begin(), chain.end(), j) == chain.end()) {
+      robot.finger_variable_ = static_cast<int>(v);
+      break;
+    }
+  }
   return robot;
 }
 

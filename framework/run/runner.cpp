@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
@@ -66,10 +67,14 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   const auto& planner = plugins.planner;
 
   std::map<std::string, std::uint64_t> counters;
+  std::unique_ptr<collision::CollisionWorld> world;
+  if (problem.robot.loaded) world = std::make_unique<collision::CollisionWorld>(problem.scene, problem.robot.loaded);
   plugin::PlanningContext context{problem, plugin::Deadline::after(outcome.info.time_limit), outcome.info.seed,
-                                  counters, samplers};
+                                  counters, samplers, world.get()};
+  WorldState initial = WorldState::initial(problem.scene);
+  initial.robot_configuration = problem.robot.initial_configuration();
   try {
-    outcome.result = planner->solve(context, WorldState::initial(problem.scene));
+    outcome.result = planner->solve(context, initial);
     outcome.info.exit_code = outcome.result.solved ? ExitCode::solved : ExitCode::no_plan;
   } catch (const InputError&) {
     throw;

@@ -10,6 +10,13 @@
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/export.hpp"
 
+namespace cluttertamp::collision {
+class CollisionWorld;
+}
+namespace cluttertamp::robot {
+class RobotDescription;
+}
+
 namespace cluttertamp::plugin {
 
 class GraspSampler;
@@ -49,16 +56,22 @@ struct Samplers {
 };
 
 /// What every plugin call sees: the problem, the time it has, the run's seed, where
-/// to count work, and the other plugins it may call. Owned by the caller; valid for
-/// the duration of the call.
+/// to count work, the other plugins it may call and the geometry of the scene and
+/// robot. Owned by the caller; valid for the duration of the call.
 struct PlanningContext {
   const Problem& problem;
   Deadline deadline;
   std::uint64_t seed;  ///< derive every random generator of the call from it
   std::map<std::string, std::uint64_t>& counters;  ///< see cluttertamp::counter
   const Samplers& samplers;
+  /// The scene and robot over FCL, shared by every plugin of the run. A sampler syncs
+  /// it to its query's WorldState before checking (CollisionWorld::sync) and may leave
+  /// it in any state. Null when the problem has no robot (e.g. pure PDDL tasks).
+  collision::CollisionWorld* world = nullptr;
 
   const Scene& scene() const { return problem.scene; }
+  /// The problem's robot; precondition: problem.robot.loaded is set.
+  const robot::RobotDescription& robot() const { return *problem.robot.loaded; }
   void count(const std::string& name, std::uint64_t n = 1) { counters[name] += n; }
 };
 

@@ -10,11 +10,24 @@
 
 namespace cluttertamp::plugin {
 
-/// A way to hold an object. Poses in the world frame.
+/// Robot configurations of one IK branch through a grasp: before the approach, at the
+/// grasp (fingers open) and lifted (fingers closed, object held).
+struct GraspMotion {
+  Eigen::VectorXd pregrasp;
+  Eigen::VectorXd grasp;
+  Eigen::VectorXd lift;
+};
+
+/// A way to hold an object. Poses of the robot's tool (TCP) in the world frame.
 struct Grasp {
   Eigen::Isometry3d world_T_gripper = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d world_T_pregrasp = Eigen::Isometry3d::Identity();  ///< approach pose
+  Eigen::Isometry3d world_T_lift = Eigen::Isometry3d::Identity();      ///< after lifting
+  Eigen::Isometry3d gripper_T_object = Eigen::Isometry3d::Identity();  ///< the held object in the tool frame
+  double finger_open = 0.0;    ///< finger variable while approaching (m)
+  double finger_closed = 0.0;  ///< finger variable while holding (m)
   std::vector<Eigen::VectorXd> ik_solutions;  ///< robot configurations reaching world_T_gripper
+  std::vector<GraspMotion> motions;  ///< branches whose approach, grasp and lift are collision-free
 };
 
 /// A grasp that cannot be used, with the objects that make it unusable.
@@ -22,6 +35,9 @@ struct BlockedGrasp {
   Grasp grasp;
   std::vector<ObjectIndex> blocking_objects;
   std::string reason;
+  /// True when removing `blocking_objects` would free the grasp; false when it is
+  /// unreachable or blocked by fixed geometry or the arm itself.
+  bool freeable = true;
 };
 
 struct GraspQuery {
@@ -34,7 +50,7 @@ struct GraspAnswer {
   std::vector<BlockedGrasp> blocked;  ///< every rejected grasp and why
   std::optional<Failure> failure;     ///< set when `usable` is empty
 
-  /// The blocked grasp with the fewest blocking objects, or null.
+  /// The freeable blocked grasp with the fewest blocking objects, or null.
   const BlockedGrasp* least_blocked() const;
 };
 

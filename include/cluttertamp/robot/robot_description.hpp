@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,9 @@ class CLUTTERTAMP_API RobotDescription {
   const Eigen::VectorXd& home() const { return home_; }
   /// The IK solver of the arm chain (base_link to tip_link).
   const IkSolver& ik() const { return *ik_; }
+  /// The configuration variable that opens and closes the fingers (a movable joint
+  /// below the tool that is not on the IK chain), if the gripper has one.
+  std::optional<int> finger_variable() const { return finger_variable_; }
   /// Link pairs (first < second) never checked against each other: the model's
   /// adjacent links plus the description's `disabled_collisions`, sorted.
   const std::vector<std::pair<LinkIndex, LinkIndex>>& disabled_collisions() const { return disabled_; }
@@ -59,6 +63,7 @@ class CLUTTERTAMP_API RobotDescription {
   Eigen::VectorXd home_;
   std::shared_ptr<const IkSolver> ik_;
   std::vector<std::pair<LinkIndex, LinkIndex>> disabled_;
+  std::optional<int> finger_variable_;
 };
 
 }  // namespace cluttertamp::robot

@@ -1,0 +1,255 @@
+// grasp_side: side grasps of standing cylinders and boxes (no overhand grasps inside
+// shelves: Tian et al.'s assumption 2). A preset ring of approach directions facing
+// the robot times a few heights, plus seeded random ones. A grasp is usable when the
+// approach (pre-grasp to grasp, fingers open), the grasp and the lift (object held)
+// are collision-free; otherwise the answer names the movable objects in the way.
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <span>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+
+namespace {
+
+using namespace cluttertamp;
+using plugin::BlockedGrasp;
+using plugin::Grasp;
+using plugin::GraspAnswer;
+using plugin::GraspMotion;
+
+constexpr double kPi = M_PI;
+
+class SideGrasps final : public plugin::GraspSampler {
+ public:
+  void configure(const Parameters& p) override {
+    directions_ = p.get_int("directions", directions_);
+    spread_ = p.get_double("spread", spread_);
+    heights_ = p.get_vector("heights", heights_);
+    random_ = p.get_int("random", random_);
+    approach_ = p.get_double("approach", approach_);
+    lift_ = p.get_double("lift", lift_);
+    clearance_ = p.get_double("clearance", clearance_);
+    steps_ = p.get_int("approach_steps", steps_);
+    max_usable_ = p.get_int("max_usable", max_usable_);
+    p.require(directions_ >= 1 && directions_ <= 64, "directions", "must be 1 to 64");
+    p.require(spread_ >= 0 && spread_ <= 180, "spread", "must be 0 to 180 (degrees either side)");
+    p.require(!heights_.empty() && std::all_of(heights_.begin(), heights_.end(), [](double h) { return h > 0 && h < 1; }),
+              "heights", "must list fractions of the object's height in (0, 1)");
+    p.require(random_ >= 0 && random_ <= 1000, "random", "must be 0 to 1000");
+    p.require(approach_ > 0 && approach_ < 1, "approach", "must be in (0, 1) m");
+    p.require(lift_ >= 0 && lift_ < 1, "lift", "must be in [0, 1) m");
+    p.require(clearance_ >= 0 && clearance_ < 0.05, "clearance", "must be in [0, 0.05) m");
+    p.require(steps_ >= 1 && steps_ <= 100, "approach_steps", "must be 1 to 100");
+    p.require(max_usable_ >= 1, "max_usable", "must be at least 1");
+  }
+
+  GraspAnswer sample(plugin::PlanningContext& context, const plugin::GraspQuery& query) override {
+    GraspAnswer answer;
+    if (!context.world || !context.problem.robot.loaded) {
+      answer.failure = Failure{"grasp", "the problem has no robot to grasp with", {}};
+      return answer;
+    }
+    collision::CollisionWorld& world = *context.world;
+    world.sync(*query.state);
+    if (world.held()) world.detach(query.state->world_T_objects.at(*world.held()));
+    const robot::RobotDescription& robot = context.robot();
+    const SceneObject& object = context.scene().objects.at(query.object);
+    const Eigen::Isometry3d& world_T_object = query.state->world_T_objects.at(query.object);
+    const auto half_width = graspable_half_width(object, world_T_object);
+    if (!half_width) {
+      answer.failure = Failure{"grasp", "'" + object.id + "' is not a standing cylinder or box the gripper can span", {}};
+      return answer;
+    }
+    const robot::GripperParameters& gripper = robot.gripper();
+    if (2 * *half_width > gripper.stroke) {
+      answer.failure = Failure{"grasp", "'" + object.id + "' is wider than the gripper's stroke", {}};
+      return answer;
+    }
+    auto checker = world.make_context();
+    const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
+    const Eigen::VectorXd seed = query.state->robot_configuration.size() ? query.state->robot_configuration : robot.home();
+    std::mt19937_64 rng(context.seed ^ (0x9e3779b97f4a7c15ull * (query.object + 1)));
+
+    for (const Candidate& c : candidates(object, world_T_object, context.scene().world_T_robot_base, rng)) {
+      context.count(counter::samples);
+      Grasp grasp = make_grasp(c, *half_width, object_height(object), world_T_object, gripper);
+      evaluate(context, world, *checker, robot, base_T_world, seed, query.object, grasp, answer);
+      if (static_cast<std::int64_t>(answer.usable.size()) >= max_usable_) break;
+    }
+    world.sync(*query.state);
+    if (answer.usable.empty()) {
+      const BlockedGrasp* best = answer.least_blocked();
+      Failure failure{"grasp", "no usable grasp of '" + object.id + "'", {}};
+      if (best) {
+        failure.blocking_objects = best->blocking_objects;
+        failure.reason += "; the least blocked grasp is blocked by " + std::to_string(best->blocking_objects.size()) +
+                          " object(s) (" + best->reason + ")";
+      }
+      answer.failure = failure;
+    }
+    return answer;
+  }
+
+ private:
+  struct Candidate {
+    double yaw;     // approach direction, world frame
+    double height;  // fraction of the object's height
+    bool flipped;   // tool x up instead of down
+  };
+
+  static double object_height(const SceneObject& o) {
+    if (const auto* c = std::get_if<Cylinder>(&o.shape)) return c->height;
+    if (const auto* b = std::get_if<Box>(&o.shape)) return b->size.z();
+    return 0.0;
+  }
+
+  // Half the width the fingers must span, for objects standing upright.
+  static std::optional<double> graspable_half_width(const SceneObject& o, const Eigen::Isometry3d& pose) {
+    if (std::abs(pose.linear()(2, 2)) < 1 - 1e-6) return std::nullopt;
+    if (const auto* c = std::get_if<Cylinder>(&o.shape)) return c->radius;
+    if (const auto* b = std::get_if<Box>(&o.shape)) return std::min(b->size.x(), b->size.y()) / 2;
+    return std::nullopt;
+  }
+
+  std::vector<Candidate> candidates(const SceneObject& object, const Eigen::Isometry3d& world_T_object,
+                                    const Eigen::Isometry3d& world_T_base, std::mt19937_64& rng) const {
+    // Face the robot: approach along the direction from the robot base to the object.
+    const Eigen::Vector2d d = (world_T_object.translation() - world_T_base.translation()).head<2>();
+    const double facing = std::atan2(d.y(), d.x());
+    const double spread = spread_ * kPi / 180.0;
+    std::vector<double> yaws;
+    for (std::int64_t i = 0; i < directions_; ++i) {
+      yaws.push_back(directions_ == 1 ? facing : facing - spread + 2 * spread * double(i) / double(directions_ - 1));
+    }
+    // Straight-on first: it is the most likely to be free.
+    std::stable_sort(yaws.begin(), yaws.end(), [&](double a, double b) { return std::abs(a - facing) < std::abs(b - facing); });
+    if (const auto* box = std::get_if<Box>(&object.shape)) {
+      // Boxes are held across their narrow side: approach along the long axis' normal.
+      const Eigen::Vector3d x = world_T_object.linear().col(0);
+      const double axis = std::atan2(x.y(), x.x()) + (box->size.x() <= box->size.y() ? kPi / 2 : 0.0);
+      yaws.clear();
+      for (double k : {0.0, 1.0}) {
+        const double yaw = axis + k * kPi;
+        if (std::abs(std::remainder(yaw - facing, 2 * kPi)) <= spread + 1e-9) yaws.push_back(yaw);
+      }
+    }
+    std::vector<Candidate> out;
+    for (double yaw : yaws) {
+      for (double h : heights_) {
+        out.push_back({yaw, h, false});
+        out.push_back({yaw, h, true});
+      }
+    }
+    std::uniform_real_distribution<double> yaw(facing - spread, facing + spread), height(0.3, 0.7);
+    for (std::int64_t i = 0; i < random_ && !std::holds_alternative<Box>(object.shape); ++i) {
+      out.push_back({yaw(rng), height(rng), (rng() & 1) != 0});
+    }
+    return out;
+  }
+
+  Grasp make_grasp(const Candidate& c, double half_width, double height, const Eigen::Isometry3d& world_T_object,
+                   const robot::GripperParameters& gripper) const {
+    const Eigen::Vector3d approach(std::cos(c.yaw), std::sin(c.yaw), 0.0);
+    const Eigen::Vector3d x = c.flipped ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d(-Eigen::Vector3d::UnitZ());
+    Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();
+    tool.linear().col(0) = x;
+    tool.linear().col(1) = approach.cross(x);
+    tool.linear().col(2) = approach;
+    tool.translation() = world_T_object.translation();
+    tool.translation().z() += (c.height - 0.5) * height;
+    Grasp g;
+    g.world_T_gripper = tool;
+    g.world_T_pregrasp = tool;
+    g.world_T_pregrasp.translation() -= approach_ * approach;
+    g.world_T_lift = tool;
+    g.world_T_lift.translation().z() += lift_;
+    g.gripper_T_object = tool.inverse() * world_T_object;
+    g.finger_open = std::min(gripper.stroke / 2, half_width + clearance_);
+    g.finger_closed = half_width;
+    return g;
+  }
+
+  // IK through the grasp, then per branch the pre-grasp and lift nearest to it; checks
+  // the approach (fingers open, the object itself ignored), the grasp and the lift
+  // (object held). Files the grasp as usable or blocked, with the objects in the way.
+  void evaluate(plugin::PlanningContext& context, collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
+                const robot::RobotDescription& robot, const Eigen::Isometry3d& base_T_world, const Eigen::VectorXd& seed,
+                ObjectIndex object, Grasp& grasp, GraspAnswer& answer) const {
+    const auto finger = robot.finger_variable();
+    Eigen::VectorXd open_seed = seed;
+    if (finger) open_seed[*finger] = grasp.finger_open;
+    grasp.ik_solutions = robot.ik().solve(base_T_world * grasp.world_T_gripper, open_seed);
+    if (grasp.ik_solutions.empty()) {
+      answer.blocked.push_back({grasp, {}, "unreachable: no IK solution", false});
+      return;
+    }
+    // The best failed branch: freeable first, then fewest blocking objects.
+    collision::ObjectSet blocking;
+    bool freeable = false, any_branch = false;
+    std::string why = "the approach or lift leaves the reachable workspace";
+    const ObjectIndex ignore_target[] = {object};
+    const Eigen::Isometry3d world_T_object = world.object_pose(object);
+    // Try the branches nearest the current configuration first.
+    const std::size_t branches = std::min<std::size_t>(grasp.ik_solutions.size(), 2);
+    for (std::size_t b = 0; b < branches; ++b) {
+      const Eigen::VectorXd& q_grasp = grasp.ik_solutions[b];
+      const auto pre = robot.ik().solve(base_T_world * grasp.world_T_pregrasp, q_grasp);
+      const auto lift = robot.ik().solve(base_T_world * grasp.world_T_lift, q_grasp);
+      if (pre.empty() || lift.empty() || (pre[0] - q_grasp).cwiseAbs().maxCoeff() > 0.8 ||
+          (lift[0] - q_grasp).cwiseAbs().maxCoeff() > 0.8) {
+        continue;  // not one continuous branch
+      }
+      GraspMotion motion{pre[0], q_grasp, lift[0]};
+      if (finger) motion.lift[*finger] = grasp.finger_closed;
+      collision::ObjectSet objects;
+      bool hits_fixed = false, self = false;
+      auto check = [&](const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
+        context.count(counter::collision_checks);
+        if (world.is_valid(q, checker, ignored)) return;
+        const collision::CollisionReport r = world.check(q, checker, ignored);
+        objects.insert(objects.end(), r.objects.begin(), r.objects.end());
+        hits_fixed = hits_fixed || r.fixed;
+        self = self || r.self;
+      };
+      for (std::int64_t s = 0; s <= steps_; ++s) {
+        check(motion.pregrasp + (motion.grasp - motion.pregrasp) * (double(s) / double(steps_)), ignore_target);
+      }
+      world.attach(object, grasp.gripper_T_object);
+      check(motion.lift, {});
+      world.detach(world_T_object);
+      std::sort(objects.begin(), objects.end());
+      objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
+      if (objects.empty() && !hits_fixed && !self) {
+        grasp.motions.push_back(motion);
+        answer.usable.push_back(grasp);
+        return;
+      }
+      const bool branch_freeable = !hits_fixed && !self;
+      if (!any_branch || (branch_freeable && (!freeable || objects.size() < blocking.size()))) {
+        blocking = objects;
+        freeable = branch_freeable;
+        why = hits_fixed ? "fixed geometry is in the way" : self ? "the arm would hit itself" : "movable objects are in the way";
+      }
+      any_branch = true;
+    }
+    answer.blocked.push_back({grasp, blocking, why, freeable});
+  }
+
+  std::int64_t directions_ = 7;
+  double spread_ = 60.0;  // degrees either side of facing the robot
+  std::vector<double> heights_{0.5, 0.35, 0.65};
+  std::int64_t random_ = 4;
+  double approach_ = 0.10;
+  double lift_ = 0.03;
+  double clearance_ = 0.008;
+  std::int64_t steps_ = 5;
+  std::int64_t max_usable_ = 3;
+};
+
+}  // namespace
+
+CLUTTERTAMP_EXPORT_GRASP_SAMPLER(SideGrasps, grasp_side, "Side grasps facing the robot, with the objects that block each",
+                                 "1.0.0")
