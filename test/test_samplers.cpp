@@ -4,6 +4,7 @@
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "test_support.hpp"
@@ -47,6 +48,18 @@ class SamplerScene : public ::testing::Test {
     state_.robot_configuration = problem_.robot.loaded->home();
     plugin::PlanningContext context{problem_, plugin::Deadline::after(10), seed, counters_, samplers_, world_.get()};
     return sampler->sample(context, {object, &state_});
+  }
+
+  plugin::MotionAnswer motion(const Eigen::VectorXd& start, const Eigen::VectorXd& goal, std::uint64_t seed = 1,
+                              double time_limit = 1.0) {
+    world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+    Parameters parameters;
+    parameters.set("time_limit", time_limit);
+    auto sampler = registry_.create<plugin::MotionSampler>("motion_ompl", parameters);
+    state_ = WorldState::initial(problem_.scene);
+    state_.robot_configuration = start;
+    plugin::PlanningContext context{problem_, plugin::Deadline::after(10), seed, counters_, samplers_, world_.get()};
+    return sampler->plan(context, {start, goal, &state_});
   }
 
   Problem problem_;
@@ -111,6 +124,65 @@ TEST_F(SamplerScene, SameSeedSameGrasps) {
   ASSERT_FALSE(a.usable.empty());
   EXPECT_TRUE(a.usable[0].world_T_gripper.isApprox(b.usable[0].world_T_gripper));
   EXPECT_EQ(a.usable[0].motions[0].grasp, b.usable[0].motions[0].grasp);
+}
+
+// A collision-free motion to the pre-grasp of a cylinder: dense re-checks, velocity
+// limits, determinism.
+TEST_F(SamplerScene, PlansACollisionFreeMotionWithinVelocityLimits) {
+  const ObjectIndex cup = add("cup", 0.85, 0.0);
+  add("left", 0.9, 0.25);
+  add("right", 0.9, -0.25);
+  const plugin::GraspAnswer grasps = grasp(cup);
+  ASSERT_FALSE(grasps.usable.empty());
+  const Eigen::VectorXd goal = grasps.usable[0].motions[0].pregrasp;
+  const Eigen::VectorXd start = problem_.robot.loaded->home();
+  const plugin::MotionAnswer answer = motion(start, goal);
+  ASSERT_TRUE(answer.trajectory.has_value()) << answer.failure->reason;
+  const Trajectory& t = *answer.trajectory;
+  ASSERT_GE(t.positions.size(), 2u);
+  EXPECT_TRUE(t.positions.front().isApprox(start));
+  EXPECT_TRUE(t.positions.back().isApprox(goal));
+  auto checker = world_->make_context();
+  world_->sync(state_);
+  const Eigen::VectorXd limits = problem_.robot.loaded->model()->velocity_limits();
+  for (std::size_t k = 0; k + 1 < t.positions.size(); ++k) {
+    const double dt = t.times[k + 1] - t.times[k];
+    ASSERT_GT(dt, 0.0);
+    const Eigen::VectorXd speed = (t.positions[k + 1] - t.positions[k]).cwiseAbs() / dt;
+    EXPECT_TRUE((speed.array() <= limits.array() + 1e-9).all()) << speed.transpose();
+    for (int s = 0; s <= 200; ++s) {  // ten times finer than the planner's resolution
+      const Eigen::VectorXd q = t.positions[k] + (t.positions[k + 1] - t.positions[k]) * (s / 200.0);
+      EXPECT_TRUE(world_->is_valid(q, *checker)) << "segment " << k << " step " << s;
+    }
+  }
+  const plugin::MotionAnswer again = motion(start, goal);
+  ASSERT_TRUE(again.trajectory.has_value());
+  EXPECT_EQ(again.trajectory->positions.size(), t.positions.size());
+  for (std::size_t k = 0; k < t.positions.size(); ++k) EXPECT_EQ(again.trajectory->positions[k], t.positions[k]);
+}
+
+TEST_F(SamplerScene, NamesTheObjectsAMotionWouldHaveToPassThrough) {
+  // The goal puts the gripper inside a ring of cylinders: no path, and the path found
+  // through movable objects passes only through the ring.
+  const ObjectIndex cup = add("cup", 0.85, 0.0);
+  const plugin::GraspAnswer grasps = grasp(cup);
+  ASSERT_FALSE(grasps.usable.empty());
+  const Eigen::VectorXd goal = grasps.usable[0].motions[0].grasp;
+  problem_.scene.objects.clear();
+  std::vector<ObjectIndex> ring;
+  for (int k = 0; k < 10; ++k) {
+    const double a = 2 * M_PI * k / 10;
+    ring.push_back(add("ring" + std::to_string(k), 0.85 + 0.2 * std::cos(a), 0.2 * std::sin(a), 0.05));
+  }
+  const ObjectIndex far = add("far", 1.1, 0.5);
+  const plugin::MotionAnswer answer = motion(problem_.robot.loaded->home(), goal, 1, 0.5);
+  ASSERT_FALSE(answer.trajectory.has_value());
+  ASSERT_TRUE(answer.failure.has_value());
+  EXPECT_FALSE(answer.failure->blocking_objects.empty()) << answer.failure->reason;
+  for (ObjectIndex o : answer.failure->blocking_objects) {
+    EXPECT_NE(o, far);
+    EXPECT_TRUE(std::find(ring.begin(), ring.end(), o) != ring.end());
+  }
 }
 
 }  // namespace

@@ -1,0 +1,282 @@
+// motion_ompl: joint-space motion planning for the robot's arm with OMPL (RRTConnect
+// by default), FCL validity from the shared collision world (the held object
+// included), deterministic shortcutting and a time parameterization within the joint
+// velocity limits. When no path exists, it plans again with the movable objects
+// ignored and names the objects that path passes through.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <random>
+
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/datastructures/NearestNeighborsLinear.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/planners/prm/PRM.h>
+#include <ompl/geometric/planners/rrt/RRT.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/geometric/planners/rrt/RRTstar.h>
+#include <ompl/util/Console.h>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
+
+namespace {
+
+using namespace cluttertamp;
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+// Uniform sampling from our own seeded generator, so that a query's seed fixes the
+// path (OMPL's own generators draw from one process-wide seed).
+class SeededSampler final : public ob::StateSampler {
+ public:
+  SeededSampler(const ob::StateSpace* space, std::uint64_t seed) : ob::StateSampler(space), rng_(seed) {}
+  void sampleUniform(ob::State* state) override {
+    const auto* rv = space_->as<ob::RealVectorStateSpace>();
+    auto* values = state->as<ob::RealVectorStateSpace::StateType>()->values;
+    for (unsigned i = 0; i < rv->getDimension(); ++i) {
+      values[i] = std::uniform_real_distribution<double>(rv->getBounds().low[i], rv->getBounds().high[i])(rng_);
+    }
+  }
+  void sampleUniformNear(ob::State* state, const ob::State* near, double distance) override {
+    const auto* rv = space_->as<ob::RealVectorStateSpace>();
+    auto* values = state->as<ob::RealVectorStateSpace::StateType>()->values;
+    const auto* center = near->as<ob::RealVectorStateSpace::StateType>()->values;
+    for (unsigned i = 0; i < rv->getDimension(); ++i) {
+      values[i] = std::clamp(center[i] + std::uniform_real_distribution<double>(-distance, distance)(rng_),
+                             rv->getBounds().low[i], rv->getBounds().high[i]);
+    }
+  }
+  void sampleGaussian(ob::State* state, const ob::State* mean, double stdDev) override {
+    const auto* rv = space_->as<ob::RealVectorStateSpace>();
+    auto* values = state->as<ob::RealVectorStateSpace::StateType>()->values;
+    const auto* center = mean->as<ob::RealVectorStateSpace::StateType>()->values;
+    for (unsigned i = 0; i < rv->getDimension(); ++i) {
+      values[i] = std::clamp(center[i] + std::normal_distribution<double>(0.0, stdDev)(rng_), rv->getBounds().low[i],
+                             rv->getBounds().high[i]);
+    }
+  }
+
+ private:
+  std::mt19937_64 rng_;
+};
+
+class OmplMotion final : public plugin::MotionSampler {
+ public:
+  OmplMotion() { ompl::msg::setLogLevel(ompl::msg::LOG_NONE); }
+
+  void configure(const Parameters& p) override {
+    planner_ = p.get_string("planner", planner_);
+    time_limit_ = p.get_double("time_limit", time_limit_);
+    resolution_ = p.get_double("resolution", resolution_);
+    shortcuts_ = p.get_int("shortcuts", shortcuts_);
+    velocity_scale_ = p.get_double("velocity_scale", velocity_scale_);
+    p.require(planner_ == "rrtconnect" || planner_ == "rrt" || planner_ == "rrtstar" || planner_ == "prm", "planner",
+              "must be rrtconnect, rrt, rrtstar or prm");
+    p.require(time_limit_ > 0, "time_limit", "must be positive (seconds)");
+    p.require(resolution_ > 0 && resolution_ < 1, "resolution", "must be in (0, 1) rad");
+    p.require(shortcuts_ >= 0, "shortcuts", "must not be negative");
+    p.require(velocity_scale_ > 0 && velocity_scale_ <= 1, "velocity_scale", "must be in (0, 1]");
+  }
+
+  plugin::MotionAnswer plan(plugin::PlanningContext& context, const plugin::MotionQuery& query) override {
+    plugin::MotionAnswer answer;
+    context.count(counter::motion_planning_calls);
+    if (!context.world) {
+      answer.failure = Failure{"motion", "the problem has no robot", {}};
+      return answer;
+    }
+    collision::CollisionWorld& world = *context.world;
+    world.sync(*query.state);
+    const robot::RobotDescription& robot = context.robot();
+    const std::vector<int> joints = arm_variables(robot);
+    auto checker = world.make_context();
+
+    std::vector<Eigen::VectorXd> path;
+    const double budget = std::min(time_limit_, context.deadline.remaining());
+    const collision::ObjectSet none;
+    auto valid = [&](const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
+      context.count(counter::collision_checks);
+      return world.is_valid(q, *checker, ignored);
+    };
+    if (!valid(query.start, {}) || !valid(query.goal, {})) {
+      // An endpoint in collision: report what it touches.
+      Failure failure{"motion", "the start or goal configuration is in collision", {}};
+      for (const Eigen::VectorXd* q : {&query.start, &query.goal}) {
+        const collision::CollisionReport r = world.check(*q, *checker);
+        failure.blocking_objects.insert(failure.blocking_objects.end(), r.objects.begin(), r.objects.end());
+        if (r.fixed || r.self) failure.reason += r.fixed ? " (fixed geometry)" : " (the arm itself)";
+      }
+      normalize(failure.blocking_objects);
+      answer.failure = failure;
+      return answer;
+    }
+    if (solve(context, robot, joints, query, budget, {}, valid, path)) {
+      answer.trajectory = parameterize(robot, path);
+      return answer;
+    }
+    // No path: which movable objects would a path have to pass through?
+    std::vector<ObjectIndex> all(context.scene().objects.size());
+    for (ObjectIndex i = 0; i < all.size(); ++i) all[i] = i;
+    Failure failure{"motion", "no collision-free path within " + std::to_string(budget) + " s", {}};
+    std::vector<Eigen::VectorXd> relaxed;
+    if (solve(context, robot, joints, query, std::min(budget, context.deadline.remaining()), all, valid, relaxed)) {
+      for (std::size_t k = 0; k + 1 < relaxed.size(); ++k) {
+        const int steps = std::max(1, static_cast<int>(std::ceil((relaxed[k + 1] - relaxed[k]).cwiseAbs().maxCoeff() / resolution_)));
+        for (int s = 0; s <= steps; ++s) {
+          const collision::CollisionReport r = world.check(relaxed[k] + (relaxed[k + 1] - relaxed[k]) * (double(s) / steps), *checker);
+          failure.blocking_objects.insert(failure.blocking_objects.end(), r.objects.begin(), r.objects.end());
+        }
+      }
+      normalize(failure.blocking_objects);
+      failure.reason += "; ignoring movable objects a path exists, through " +
+                        std::to_string(failure.blocking_objects.size()) + " of them";
+    } else {
+      failure.reason += "; no path even through movable objects (fixed geometry, limits or time)";
+    }
+    answer.failure = failure;
+    return answer;
+  }
+
+ private:
+  // The run's seed mixed with the query's endpoints: the same query, the same path.
+  static std::uint64_t query_seed(std::uint64_t seed, const plugin::MotionQuery& query) {
+    std::uint64_t h = seed ^ 0x9e3779b97f4a7c15ull;
+    for (const Eigen::VectorXd* q : {&query.start, &query.goal}) {
+      for (Eigen::Index i = 0; i < q->size(); ++i) {
+        std::uint64_t bits = 0;
+        const double v = (*q)[i];
+        std::memcpy(&bits, &v, sizeof bits);
+        h = (h ^ bits) * 0x100000001b3ull;
+      }
+    }
+    return h;
+  }
+
+  static void normalize(std::vector<ObjectIndex>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  }
+
+  // The arm: the variables of the IK chain; the fingers and a mobile base's other
+  // joints keep the start's values.
+  static std::vector<int> arm_variables(const robot::RobotDescription& robot) {
+    std::vector<int> out;
+    for (robot::JointIndex j : robot.ik().chain()) out.push_back(robot.model()->joints()[j].variable);
+    return out;
+  }
+
+  using Validity = std::function<bool(const Eigen::VectorXd&, std::span<const ObjectIndex>)>;
+
+  bool solve(plugin::PlanningContext& context, const robot::RobotDescription& robot, const std::vector<int>& joints,
+             const plugin::MotionQuery& query, double seconds, std::span<const ObjectIndex> ignored,
+             const Validity& valid, std::vector<Eigen::VectorXd>& path) const {
+    const robot::RobotModel& model = *robot.model();
+    const unsigned dim = static_cast<unsigned>(joints.size());
+    auto space = std::make_shared<ob::RealVectorStateSpace>(dim);
+    ob::RealVectorBounds bounds(dim);
+    for (unsigned i = 0; i < dim; ++i) {
+      bounds.setLow(i, model.lower_limits()[joints[i]]);
+      bounds.setHigh(i, model.upper_limits()[joints[i]]);
+    }
+    space->setBounds(bounds);
+    const std::uint64_t seed = query_seed(context.seed, query);
+    space->setStateSamplerAllocator([seed](const ob::StateSpace* s) { return std::make_shared<SeededSampler>(s, seed); });
+    auto si = std::make_shared<ob::SpaceInformation>(space);
+    auto to_q = [&](const ob::State* state) {
+      Eigen::VectorXd q = query.start;
+      const auto* values = state->as<ob::RealVectorStateSpace::StateType>()->values;
+      for (unsigned i = 0; i < dim; ++i) q[joints[i]] = values[i];
+      return q;
+    };
+    si->setStateValidityChecker([&](const ob::State* state) { return valid(to_q(state), ignored); });
+    si->setStateValidityCheckingResolution(resolution_ / space->getMaximumExtent());
+    si->setup();
+    auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+    ob::ScopedState<> start(space), goal(space);
+    for (unsigned i = 0; i < dim; ++i) {
+      start[i] = query.start[joints[i]];
+      goal[i] = query.goal[joints[i]];
+    }
+    pdef->setStartAndGoalStates(start, goal);
+    ob::PlannerPtr planner;
+    if (planner_ == "rrtconnect") {
+      auto p = std::make_shared<og::RRTConnect>(si);
+      p->setNearestNeighbors<ompl::NearestNeighborsLinear>();  // GNAT draws its own random numbers
+      planner = p;
+    } else if (planner_ == "rrt") {
+      auto p = std::make_shared<og::RRT>(si);
+      p->setNearestNeighbors<ompl::NearestNeighborsLinear>();
+      planner = p;
+    } else if (planner_ == "rrtstar") {
+      auto p = std::make_shared<og::RRTstar>(si);
+      p->setNearestNeighbors<ompl::NearestNeighborsLinear>();
+      planner = p;
+    } else {
+      planner = std::make_shared<og::PRM>(si);
+    }
+    planner->setProblemDefinition(pdef);
+    planner->setup();
+    const ob::PlannerStatus status = planner->solve(ob::timedPlannerTerminationCondition(std::max(seconds, 1e-3)));
+    if (status != ob::PlannerStatus::EXACT_SOLUTION) return false;
+    auto* solution = pdef->getSolutionPath()->as<og::PathGeometric>();
+    path.clear();
+    for (const ob::State* state : solution->getStates()) path.push_back(to_q(state));
+    // Joints outside the arm (the fingers) move to the goal's values on the last segment.
+    path.back() = query.goal;
+    if (path.size() >= 2 && !segment_valid(path[path.size() - 2], path.back(), ignored, valid)) return false;
+    shortcut(path, seed, [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return segment_valid(a, b, ignored, valid); });
+    return true;
+  }
+
+  bool segment_valid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored,
+                     const Validity& valid) const {
+    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / resolution_)));
+    for (int s = 1; s < steps; ++s) {
+      if (!valid(a + (b - a) * (double(s) / steps), ignored)) return false;
+    }
+    return true;
+  }
+
+  // Deterministic random shortcutting: join two random waypoints when the straight
+  // segment between them is free.
+  void shortcut(std::vector<Eigen::VectorXd>& path, std::uint64_t seed,
+                const std::function<bool(const Eigen::VectorXd&, const Eigen::VectorXd&)>& free) const {
+    std::mt19937_64 rng(seed + 1);
+    for (std::int64_t round = 0; round < shortcuts_ && path.size() > 2; ++round) {
+      const std::size_t i = rng() % (path.size() - 2);
+      const std::size_t j = i + 2 + rng() % (path.size() - i - 2);
+      if (free(path[i], path[j])) path.erase(path.begin() + static_cast<long>(i) + 1, path.begin() + static_cast<long>(j));
+    }
+  }
+
+  // Each segment at the fastest pace every joint's (scaled) velocity limit allows.
+  Trajectory parameterize(const robot::RobotDescription& robot, const std::vector<Eigen::VectorXd>& path) const {
+    Trajectory t;
+    t.joint_names = robot.model()->variable_names();
+    const Eigen::VectorXd limit = robot.model()->velocity_limits() * velocity_scale_;
+    double time = 0.0;
+    for (std::size_t k = 0; k < path.size(); ++k) {
+      if (k > 0) time += std::max(1e-3, ((path[k] - path[k - 1]).cwiseAbs().array() / limit.array()).maxCoeff());
+      t.times.push_back(time);
+      t.positions.push_back(path[k]);
+    }
+    return t;
+  }
+
+  std::string planner_ = "rrtconnect";
+  double time_limit_ = 1.0;
+  double resolution_ = 0.02;
+  std::int64_t shortcuts_ = 50;
+  double velocity_scale_ = 0.5;
+};
+
+}  // namespace
+
+CLUTTERTAMP_EXPORT_MOTION_SAMPLER(OmplMotion, motion_ompl, "Joint-space motions with OMPL, naming the objects in the way",
+                                  "1.0.0")
