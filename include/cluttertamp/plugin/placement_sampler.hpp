@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,10 +17,14 @@ struct PlacementQuery {
   std::string region;                 ///< a Scene::regions id
   const WorldState* state = nullptr;  ///< not null
   std::size_t max_placements = 1;
+  /// How the object is held; reachability is checked for this grip. Absent: for a
+  /// side grasp facing the robot.
+  std::optional<Eigen::Isometry3d> gripper_T_object;
 };
 
 struct PlacementAnswer {
   std::vector<Eigen::Isometry3d> world_T_object;  ///< stable, collision-free, reachable
+  std::vector<Eigen::VectorXd> configurations;    ///< a robot configuration holding it there, per placement
   std::optional<Failure> failure;                 ///< set when none was found
 };
 
