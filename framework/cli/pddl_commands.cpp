@@ -1,4 +1,5 @@
 // `cluttertamp pddl` and `cluttertamp validate-plan`.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -24,7 +25,13 @@ int pddl(const PddlArgs& args) {
   const pddl::Domain domain = pddl::load_domain(args.domain);
   const pddl::Problem problem = pddl::load_problem(args.problem, domain);
   search::GroundingStats grounding;
-  const search::Task task = search::ground(domain, problem, &grounding);
+  search::Task task;
+  try {
+    task = search::ground(domain, problem, &grounding, args.time_limit);
+  } catch (const search::TimeLimit& e) {
+    std::cerr << "no plan: " << e.what() << "\n";
+    return run::ExitCode::no_plan;
+  }
   if (args.verbosity != Verbosity::quiet) {
     std::cerr << "grounding: " << grounding.reachable_facts << " reachable atoms (" << grounding.static_facts
               << " static), " << task.fact_count() << " state facts, " << grounding.operators << " operators, "
@@ -32,7 +39,7 @@ int pddl(const PddlArgs& args) {
   }
   search::SearchOptions options;
   options.algorithm = args.search;
-  options.time_limit = args.time_limit;
+  options.time_limit = std::max(0.0, args.time_limit - grounding.seconds);
   options.max_expansions = args.max_expansions;
   options.weight = args.weight;
   const search::SearchResult result = search::plan(task, options);

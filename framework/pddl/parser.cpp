@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "cluttertamp/pddl/sexpr.hpp"
@@ -229,8 +230,9 @@ class Reader {
     if (e.is_atom()) {
       try {
         std::size_t used = 0;
-        const double value = std::stod(e.text, &used);
-        if (used != e.text.size() || !(value >= 0) || value > 1e12) throw std::invalid_argument("");
+        const bool plain = e.text.find_first_not_of("0123456789.eE+-") == std::string::npos;
+        const double value = plain ? std::stod(e.text, &used) : -1.0;
+        if (!plain || used != e.text.size() || !(value >= 0) || value > 1e12) throw std::invalid_argument("");
         c.number = value;
       } catch (const std::exception&) {
         error(e.where, "a cost must be a non-negative number or a function term, not '" + e.text + "'");
@@ -366,7 +368,7 @@ class Checker {
   }
 
   void check_effect(const Effect& e, Scope scope, const std::map<std::string, std::vector<std::string>>& objects,
-                    const std::set<std::string>& derived) {
+                    const std::set<std::string>& derived, bool nested = false) {
     switch (e.kind) {
       case Effect::Kind::add:
       case Effect::Kind::remove:
@@ -377,20 +379,24 @@ class Checker {
       case Effect::Kind::forall:
         check_types_exist(e.variables);
         for (const TypedName& v : e.variables) scope[v.name] = v.types;
-        for (const Effect& c : e.children) check_effect(c, scope, objects, derived);
+        for (const Effect& c : e.children) check_effect(c, scope, objects, derived, true);
         break;
       case Effect::Kind::when:
         check_formula(e.condition, scope, objects);
-        for (const Effect& c : e.children) check_effect(c, scope, objects, derived);
+        for (const Effect& c : e.children) check_effect(c, scope, objects, derived, true);
         break;
       case Effect::Kind::increase:
+        if (nested) {
+          reader_.error(e.where, "(increase (total-cost) ...) inside (when ...) or (forall ...) is not supported; "
+                                 "an action's cost must not depend on the state");
+        }
         if (!e.cost.number && !e.cost.function.predicate.empty()) check_atom(e.cost.function, scope, objects, false, true);
         if (!domain_.functions.count("total-cost")) {
           reader_.error(e.where, "(increase (total-cost) ...) needs (total-cost) in :functions");
         }
         break;
       case Effect::Kind::conjunction:
-        for (const Effect& c : e.children) check_effect(c, scope, objects, derived);
+        for (const Effect& c : e.children) check_effect(c, scope, objects, derived, nested);
         break;
     }
   }
@@ -443,6 +449,7 @@ class DomainReader : public Reader {
     std::set<std::string> derived_names;
     for (const SExpr* d : derived) read_derived(*d, checker, derived_names);
     for (const SExpr* a : actions) read_action(*a, checker, derived_names);
+    check_stratified();
     finish();
     return domain_;
   }
@@ -541,12 +548,14 @@ class DomainReader : public Reader {
     action.name = section.items[1].text;
     if (domain_.find_action(action.name)) error(section.items[1].where, "action '" + action.name + "' is declared twice");
     bool has_effect = false;
+    std::set<std::string> keys;
     for (std::size_t i = 2; i < section.items.size(); i += 2) {
       const SExpr& key = section.items[i];
       if (!key.is_atom() || key.text[0] != ':' || i + 1 >= section.items.size()) {
         error(key.where, "expected :parameters, :precondition or :effect followed by its value");
         break;
       }
+      if (!keys.insert(key.text).second) error(key.where, key.text + " appears twice in action '" + action.name + "'");
       const SExpr& value = section.items[i + 1];
       if (key.text == ":parameters") {
         if (!value.is_list) error(value.where, ":parameters takes a list (?p - type ...)");
@@ -604,6 +613,40 @@ class DomainReader : public Reader {
     domain_.derived.push_back(std::move(rule));
   }
 
+  // Derived predicates must not depend on their own negation (through other rules).
+  void check_stratified() {
+    std::map<std::string, int> stratum;
+    for (const DerivedRule& r : domain_.derived) stratum[r.head.name] = 0;
+    std::function<void(const Formula&, bool, std::vector<std::pair<std::string, bool>>&)> uses =
+        [&](const Formula& f, bool negated, std::vector<std::pair<std::string, bool>>& out) {
+          if (f.kind == Formula::Kind::atom && stratum.count(f.atom.predicate)) out.push_back({f.atom.predicate, negated});
+          for (std::size_t i = 0; i < f.children.size(); ++i) {
+            const bool flips = f.kind == Formula::Kind::negation || (f.kind == Formula::Kind::implication && i == 0);
+            uses(f.children[i], negated != flips, out);
+          }
+        };
+    const int limit = static_cast<int>(stratum.size()) + 1;
+    for (int round = 0; round <= limit; ++round) {
+      bool changed = false;
+      for (const DerivedRule& r : domain_.derived) {
+        std::vector<std::pair<std::string, bool>> body;
+        uses(r.body, false, body);
+        for (const auto& [p, negated] : body) {
+          const int need = stratum[p] + (negated ? 1 : 0);
+          if (stratum[r.head.name] < need) {
+            stratum[r.head.name] = need;
+            changed = true;
+            if (need > limit) {
+              error(r.where, "derived predicate '" + r.head.name + "' depends on its own negation (not stratified)");
+              return;
+            }
+          }
+        }
+      }
+      if (!changed) return;
+    }
+  }
+
   Domain domain_;
   std::map<std::string, SourceLocation> type_where_;
   std::map<std::string, std::vector<std::string>> objects_;  // constants and their types
@@ -656,12 +699,19 @@ class ProblemReader : public Reader {
     if (problem_.domain_name.empty()) error(def.where, "the problem has no (:domain NAME)");
     Checker checker(domain_, *this);
     checker.check_types_exist(problem_.objects);
+    std::vector<TypedName> objects;
     for (const TypedName& o : problem_.objects) {
-      const bool constant = std::any_of(domain_.constants.begin(), domain_.constants.end(),
-                                        [&](const TypedName& c) { return c.name == o.name; });
-      if (constant) error(o.where, "object '" + o.name + "' is already a constant of the domain");
+      const auto constant = std::find_if(domain_.constants.begin(), domain_.constants.end(),
+                                         [&](const TypedName& c) { return c.name == o.name; });
+      if (constant != domain_.constants.end()) {
+        // Repeating a constant with its own type is harmless (IPC files do it); another type is not.
+        if (constant->types != o.types) error(o.where, "object '" + o.name + "' is a constant of the domain with another type");
+        continue;
+      }
       objects_[o.name] = o.types;
+      objects.push_back(o);
     }
+    problem_.objects = objects;
     if (init) read_init(*init, checker);
     if (!goal) {
       error(def.where, "the problem has no (:goal ...)");

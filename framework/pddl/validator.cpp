@@ -93,11 +93,15 @@ class Simulator {
         });
         break;
       case Effect::Kind::increase:
+        if (!problem_.minimize_total_cost) break;  // without the metric costs do not count
         if (e.cost.number) {
           cost += *e.cost.number;
         } else {
           auto it = values_.find(key(e.cost.function, b));
-          if (it == values_.end()) throw std::runtime_error("no value for the cost " + ground_text(e.cost.function, b));
+          if (it == values_.end()) {
+            throw InputError(e.cost.where, "the initial state of " + problem_.file + " gives no value for the cost " +
+                                               ground_text(e.cost.function, b));
+          }
           cost += it->second;
         }
         break;
@@ -152,7 +156,7 @@ class Simulator {
     std::function<void(const Formula&, bool, std::vector<std::pair<std::string, bool>>&)> uses =
         [&](const Formula& f, bool negated, std::vector<std::pair<std::string, bool>>& out) {
           if (f.kind == Formula::Kind::atom && stratum.count(f.atom.predicate)) out.push_back({f.atom.predicate, negated});
-          const bool flips = f.kind == Formula::Kind::negation || f.kind == Formula::Kind::forall;
+          const bool flips = f.kind == Formula::Kind::negation;  // quantifiers keep polarity
           for (std::size_t i = 0; i < f.children.size(); ++i) {
             uses(f.children[i], negated != (flips || (f.kind == Formula::Kind::implication && i == 0)), out);
           }

@@ -173,7 +173,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
       const double child_g = g + space.task().operators[op].cost;
       const auto [child, is_new] = registry.insert(space.apply(state, op));
       Node& c = registry.node(child);
-      if (!is_new && (child_g >= c.g || (c.closed && !reopen))) continue;
+      if (!is_new && (child_g >= c.g || (c.closed && !reopen) || c.h == kInfinity)) continue;  // dead ends stay closed
       if (is_new) {
         c.h = h(registry.state(child), nullptr);
         ++result.statistics.evaluated;

@@ -19,6 +19,9 @@ using pddl::Formula;
 
 constexpr std::size_t kMaxDisjuncts = 10000;
 
+// Thrown while grounding one formula; turned into an InputError at its location.
+struct TooManyDisjuncts {};
+
 // ---- compiled (variable-slot) form of the lifted domain ----------------------------------
 
 struct CTerm {
@@ -49,11 +52,14 @@ struct CEffect {
   std::optional<double> cost_number;
   CAtom cost_function;  // predicate indexes the function table
   bool has_cost = false;
+  SourceLocation cost_where;
 };
 
 struct Schema {
   std::string name;
+  SourceLocation where;
   bool axiom = false;
+  bool conditional = false;  // has (when ...) effects: re-examined as atoms are reached
   int slot_count = 0;
   std::vector<int> parameters;  // slots
   std::vector<const std::vector<int>*> parameter_domains;
@@ -65,7 +71,10 @@ struct Schema {
 
 class Grounder {
  public:
-  Grounder(const pddl::Domain& domain, const pddl::Problem& problem) : domain_(domain), problem_(problem) {}
+  Grounder(const pddl::Domain& domain, const pddl::Problem& problem, double time_limit)
+      : domain_(domain), problem_(problem),
+        deadline_(std::chrono::steady_clock::now() +
+                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(std::min(time_limit, 1e9)))) {}
 
   Task run(GroundingStats* stats);
 
@@ -84,6 +93,13 @@ class Grounder {
   CFormula formula(const Formula& f, std::map<std::string, int> scope, int& slots);
   CEffect effect(const Effect& e, std::map<std::string, int> scope, int& slots);
   void collect_core(const CFormula& f, std::vector<CAtom>& core) const;
+  static bool has_when(const CEffect& e) {
+    if (e.kind == Effect::Kind::when) return true;
+    return std::any_of(e.children.begin(), e.children.end(), [](const CEffect& c) { return has_when(c); });
+  }
+  void check_deadline() const {
+    if ((++ticks_ & 1023) == 0 && std::chrono::steady_clock::now() >= deadline_) throw TimeLimit("time limit (grounding)");
+  }
   void mark_fluents(const Effect& e);
 
   // -- relaxed exploration
@@ -101,11 +117,17 @@ class Grounder {
   using Dnf = std::vector<std::vector<Lit>>;  // disjunction of conjunctions; {} = false; {{}} = true
   Dnf dnf(const CFormula& f, std::vector<int>& binding, bool negated) const;
   static Dnf conjoin(const Dnf& a, const Dnf& b);
+  static bool is_true(const Dnf& d) {
+    return std::any_of(d.begin(), d.end(), [](const std::vector<Lit>& c) { return c.empty(); });
+  }
   void ground_effect(const CEffect& e, std::vector<int>& binding, const Dnf& condition, Operator& op,
                      std::vector<std::pair<Dnf, std::pair<std::vector<Lit>, bool>>>& conditional, double& cost);
   FactId fact(int atom);
   Condition condition(const std::vector<Lit>& conjunction);
   std::vector<int> stratify();
+  [[noreturn]] void too_many(const SourceLocation& where, const std::string& what) const {
+    throw InputError(where, what + " has more than 10000 disjuncts in disjunctive normal form");
+  }
 
   const pddl::Domain& domain_;
   const pddl::Problem& problem_;
@@ -131,6 +153,8 @@ class Grounder {
   std::map<int, FactId> fact_ids_;
   std::vector<int> axiom_predicates_;  // head predicate of each ground axiom
   Task task_;
+  std::chrono::steady_clock::time_point deadline_;
+  mutable std::uint64_t ticks_ = 0;
 };
 
 const std::vector<int>* Grounder::objects_of(const std::vector<std::string>& types) {
@@ -202,6 +226,7 @@ CEffect Grounder::effect(const Effect& e, std::map<std::string, int> scope, int&
   if (e.kind == Effect::Kind::when) out.condition = formula(e.condition, scope, slots);
   if (e.kind == Effect::Kind::increase) {
     out.has_cost = true;
+    out.cost_where = e.cost.where;
     out.cost_number = e.cost.number;
     if (!e.cost.number) {
       out.cost_function.predicate = function_ids_.at(e.cost.function.predicate);
@@ -374,7 +399,16 @@ void Grounder::explore() {
       std::vector<int> binding(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
       std::vector<bool> bound(binding.size(), false);
       std::vector<int> added;
+      if (s.conditional) {
+        // A (when ...) condition may have become reachable since an instance was found.
+        for (const std::vector<int>& parameters : instances_[i]) {
+          std::vector<int> b(binding.size(), -1);
+          for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
+          relaxed_effects(s.effect, b, added);
+        }
+      }
       enumerate(s, 0, binding, bound, [&] {
+        check_deadline();
         std::vector<int> parameters;
         for (int slot : s.parameters) parameters.push_back(binding[slot]);
         if (instances_[i].count(parameters)) return;
@@ -414,7 +448,7 @@ Grounder::Dnf Grounder::conjoin(const Dnf& a, const Dnf& b) {
         if (!present) c.push_back(l);
       }
       if (!contradiction) out.push_back(std::move(c));
-      if (out.size() > kMaxDisjuncts) throw InputError({}, "a precondition or goal has more than 10000 disjuncts in normal form");
+      if (out.size() > kMaxDisjuncts) throw TooManyDisjuncts();
     }
   }
   return out;
@@ -456,10 +490,11 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
         Dnf part = dnf(c, b, negated);
         if (conjunction) {
           out = conjoin(out, part);
-          if (out.empty()) return out;
+          if (out.empty()) return out;  // false
         } else {
+          if (is_true(part)) return truth;
           out.insert(out.end(), part.begin(), part.end());
-          if (out.size() > kMaxDisjuncts) throw InputError({}, "a precondition or goal has more than 10000 disjuncts in normal form");
+          if (out.size() > kMaxDisjuncts) throw TooManyDisjuncts();
         }
       }
       return out;
@@ -470,22 +505,34 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
       Dnf out = dnf(f.children[0], b, true);
       Dnf then = dnf(f.children[1], b, false);
       out.insert(out.end(), then.begin(), then.end());
+      if (out.size() > kMaxDisjuncts) throw TooManyDisjuncts();
       return out;
     }
     case Formula::Kind::exists:
     case Formula::Kind::forall: {
       const bool conjunction = (f.kind == Formula::Kind::forall) != negated;
       Dnf out = conjunction ? truth : falsity;
+      bool decided = false;  // the quantifier's value is known: stop expanding
       std::function<void(std::size_t)> each = [&](std::size_t k) {
         if (k == f.slots.size()) {
+          check_deadline();
           Dnf part = dnf(f.children[0], b, negated);
-          if (conjunction) out = conjoin(out, part);
-          else out.insert(out.end(), part.begin(), part.end());
+          if (conjunction) {
+            out = conjoin(out, part);
+            decided = out.empty();  // false
+          } else if (is_true(part)) {
+            out = truth;
+            decided = true;
+          } else {
+            out.insert(out.end(), part.begin(), part.end());
+          }
+          if (out.size() > kMaxDisjuncts) throw TooManyDisjuncts();
           return;
         }
         for (int o : *f.domains[k]) {
           b[f.slots[k]] = o;
           each(k + 1);
+          if (decided) return;
         }
       };
       each(0);
@@ -547,6 +594,7 @@ void Grounder::ground_effect(const CEffect& e, std::vector<int>& b, const Dnf& c
       return;
     }
     case Effect::Kind::increase: {
+      if (task_.unit_cost) return;  // without (:metric minimize (total-cost)) costs do not count
       if (e.cost_number) {
         cost += *e.cost_number;
       } else {
@@ -559,7 +607,7 @@ void Grounder::ground_effect(const CEffect& e, std::vector<int>& b, const Dnf& c
             if (id == key[0]) name += fn;
           }
           for (std::size_t i = 1; i < key.size(); ++i) name += " " + object_names_[key[i]];
-          throw InputError({problem_.file, 0, 0}, "the initial state gives no value for the cost " + name + ")");
+          throw InputError(e.cost_where, "the initial state of " + problem_.file + " gives no value for the cost " + name + ")");
         }
         cost += it->second;
       }
@@ -582,7 +630,7 @@ std::vector<int> Grounder::stratify() {
           const int p = predicate_ids_.at(f.atom.predicate);
           if (derived_[p]) out.push_back({p, negated});
         }
-        const bool flips = f.kind == Formula::Kind::negation || f.kind == Formula::Kind::forall;
+        const bool flips = f.kind == Formula::Kind::negation;  // quantifiers keep polarity
         for (std::size_t i = 0; i < f.children.size(); ++i) {
           const bool antecedent = f.kind == Formula::Kind::implication && i == 0;
           uses(f.children[i], negated != (flips || antecedent), out);
@@ -644,6 +692,7 @@ Task Grounder::run(GroundingStats* stats) {
   for (const pddl::DerivedRule& r : domain_.derived) {
     Schema s;
     s.name = r.head.name;
+    s.where = r.where;
     s.axiom = true;
     std::map<std::string, int> scope;
     for (const pddl::TypedName& p : r.head.parameters) {
@@ -661,6 +710,7 @@ Task Grounder::run(GroundingStats* stats) {
   for (const pddl::Action& a : domain_.actions) {
     Schema s;
     s.name = a.name;
+    s.where = a.where;
     std::map<std::string, int> scope;
     for (const pddl::TypedName& p : a.parameters) {
       scope[p.name] = s.slot_count;
@@ -669,6 +719,7 @@ Task Grounder::run(GroundingStats* stats) {
     }
     s.precondition = formula(a.precondition, scope, s.slot_count);
     s.effect = effect(a.effect, scope, s.slot_count);
+    s.conditional = has_when(s.effect);
     collect_core(s.precondition, s.core);
     // Join static atoms first: they are complete from the start and most selective.
     std::stable_sort(s.core.begin(), s.core.end(), [&](const CAtom& x, const CAtom& y) {
@@ -685,7 +736,12 @@ Task Grounder::run(GroundingStats* stats) {
     for (const std::vector<int>& parameters : instances_[i]) {
       std::vector<int> b(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
       for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
-      const Dnf pre = dnf(s.precondition, b, false);
+      Dnf pre;
+      try {
+        pre = dnf(s.precondition, b, false);
+      } catch (const TooManyDisjuncts&) {
+        too_many(s.where, s.axiom ? "the body of derived predicate '" + s.name + "'" : "the precondition of '" + s.name + "'");
+      }
       if (s.axiom) {
         const int head = atom_id(s.head.predicate, ground_args(s.head, b));
         for (const auto& conjunction : pre) {
@@ -742,7 +798,13 @@ Task Grounder::run(GroundingStats* stats) {
   int goal_slots = 0;
   const CFormula goal = formula(problem_.goal, {}, goal_slots);
   goal_binding.assign(static_cast<std::size_t>(std::max(1, goal_slots)), -1);
-  for (const auto& conjunction : dnf(goal, goal_binding, false)) task_.goal.push_back(condition(conjunction));
+  Dnf goal_dnf;
+  try {
+    goal_dnf = dnf(goal, goal_binding, false);
+  } catch (const TooManyDisjuncts&) {
+    too_many(problem_.goal.where, "the goal");
+  }
+  for (const auto& conjunction : goal_dnf) task_.goal.push_back(condition(conjunction));
 
   if (stats) {
     stats->reachable_facts = static_cast<std::size_t>(std::count(reached_.begin(), reached_.end(), true));
@@ -758,8 +820,8 @@ Task Grounder::run(GroundingStats* stats) {
 
 }  // namespace
 
-Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats) {
-  return Grounder(domain, problem).run(stats);
+Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats, double time_limit) {
+  return Grounder(domain, problem, time_limit).run(stats);
 }
 
 }  // namespace cluttertamp::search

@@ -5,7 +5,9 @@
 
 namespace cluttertamp::search::detail {
 
-RelaxedTask::RelaxedTask(const Task& task) : facts_(task.fact_count() + 1), goal_(static_cast<FactId>(task.fact_count())) {
+RelaxedTask::RelaxedTask(const Task& task)
+    : facts_(task.fact_count() + 1), goal_(static_cast<FactId>(task.fact_count())), origin_count_(task.operators.size()) {
+  origin_reduced_.assign(origin_count_, 0);
   for (OperatorId id = 0; id < static_cast<OperatorId>(task.operators.size()); ++id) {
     const Operator& op = task.operators[id];
     if (!op.add.empty()) ops_.push_back({op.precondition.positive, op.add, op.cost, id});
@@ -113,7 +115,17 @@ double RelaxedTask::ff(const State& s, const StateSpace& space, std::vector<Oper
 }
 
 double RelaxedTask::lmcut(const State& s) {
-  std::vector<double> cost = base_cost_;
+  // Costs belong to task operators: the relaxed operators of one operator's
+  // conditional effects share it, and a cut reduces each operator once.
+  remaining_.assign(origin_count_, 0.0);
+  for (const Op& o : ops_) {
+    if (o.origin >= 0) remaining_[o.origin] = o.cost;
+  }
+  std::vector<double> cost(ops_.size(), 0.0);
+  auto refresh = [&] {
+    for (std::size_t i = 0; i < ops_.size(); ++i) cost[i] = ops_[i].origin >= 0 ? remaining_[ops_[i].origin] : 0.0;
+  };
+  refresh();
   double h = 0.0;
   constexpr FactId none = -1;
   for (int round = 0; round < 100000; ++round) {
@@ -186,9 +198,16 @@ double RelaxedTask::lmcut(const State& s) {
     for (int i : cut_) m = std::min(m, cost[i]);
     h += m;
     for (int i : cut_) {
-      cost[i] -= m;
       in_cut_[i] = 0;
+      if (ops_[i].origin >= 0 && !origin_reduced_[ops_[i].origin]) {
+        origin_reduced_[ops_[i].origin] = 1;
+        remaining_[ops_[i].origin] -= m;
+      }
     }
+    for (int i : cut_) {
+      if (ops_[i].origin >= 0) origin_reduced_[ops_[i].origin] = 0;
+    }
+    refresh();
   }
   return h;
 }

@@ -51,6 +51,9 @@ class RelaxedTask {
   std::vector<char> in_goal_zone_, reached_, in_cut_;
   std::vector<int> cut_;
   std::vector<FactId> open_;
+  std::size_t origin_count_;
+  std::vector<double> remaining_;      // per task operator: cost left in this LM-cut evaluation
+  std::vector<char> origin_reduced_;  // per task operator: already reduced by the current cut
 };
 
 }  // namespace cluttertamp::search::detail

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <stdexcept>
 
 #include "cluttertamp/export.hpp"
 #include "cluttertamp/pddl/ast.hpp"
@@ -21,8 +22,17 @@ struct GroundingStats {
 /// (never the cross product of all objects). Static facts are folded away, quantifiers
 /// expanded over the objects of their types, preconditions and goals put in
 /// disjunctive normal form (a disjunctive precondition splits an operator).
-/// Throws InputError for a cost function without a value, derived predicates that are
-/// not stratified, or a formula whose normal form exceeds 10000 disjuncts.
-CLUTTERTAMP_API Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats = nullptr);
+/// Throws InputError (located) for a cost function without a value when costs count,
+/// derived predicates that are not stratified, or a formula whose normal form exceeds
+/// 10000 disjuncts; throws TimeLimit when grounding takes longer than `time_limit`
+/// seconds.
+CLUTTERTAMP_API Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats = nullptr,
+                            double time_limit = 1e9);
+
+/// Grounding ran out of time: a planning failure, not bad input.
+class CLUTTERTAMP_API TimeLimit : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 }  // namespace cluttertamp::search

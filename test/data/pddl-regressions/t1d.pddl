@@ -1,0 +1,5 @@
+(define (domain t1)
+  (:requirements :strips :conditional-effects)
+  (:predicates (p) (q))
+  (:action a :parameters () :precondition () :effect (when (p) (q)))
+  (:action b :parameters () :precondition () :effect (p)))

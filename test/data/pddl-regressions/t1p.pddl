@@ -1,0 +1,1 @@
+(define (problem t1p) (:domain t1) (:init) (:goal (q)))

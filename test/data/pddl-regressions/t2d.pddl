@@ -1,0 +1,7 @@
+(define (domain t2)
+  (:requirements :strips :typing :derived-predicates :negative-preconditions :universal-preconditions)
+  (:types item)
+  (:predicates (base ?x - item) (d ?x - item) (h) (done))
+  (:derived (h) (not (forall (?y - item) (d ?y))))
+  (:derived (d ?x - item) (base ?x))
+  (:action finish :parameters () :precondition (h) :effect (done)))

@@ -1,0 +1,7 @@
+(define (domain t3)
+  (:requirements :strips :typing :derived-predicates :universal-preconditions)
+  (:types node)
+  (:predicates (edge ?x ?y - node) (leaf ?x - node) (ok ?x - node) (done))
+  (:derived (ok ?x - node) (and (leaf ?x) ))
+  (:derived (ok ?x - node) (forall (?y - node) (imply (edge ?x ?y) (ok ?y))))
+  (:action finish :parameters (?r - node) :precondition (ok ?r) :effect (done)))

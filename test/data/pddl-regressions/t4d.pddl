@@ -1,0 +1,8 @@
+(define (domain t4)
+  (:requirements :strips :conditional-effects :action-costs)
+  (:predicates (m) (p) (q) (r))
+  (:functions (total-cost) - number)
+  (:action x :parameters () :precondition () :effect (and (m) (increase (total-cost) 1)))
+  (:action big :parameters () :precondition (m) :effect (and (p) (when (r) (q)) (increase (total-cost) 2)))
+  (:action y :parameters () :precondition () :effect (and (p) (q) (increase (total-cost) 4)))
+  (:action spoil :parameters () :precondition (p) :effect (and (not (r)) (increase (total-cost) 1))))

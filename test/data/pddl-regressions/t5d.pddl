@@ -1,0 +1,6 @@
+(define (domain t5)
+  (:requirements :strips :conditional-effects :action-costs :negative-preconditions)
+  (:predicates (p) (g) (heavy))
+  (:functions (total-cost) - number)
+  (:action go :parameters () :precondition () :effect (and (g) (when (heavy) (increase (total-cost) 10)) (increase (total-cost) 1)))
+  (:action lighten :parameters () :precondition (heavy) :effect (and (not (heavy)) (increase (total-cost) 1))))
