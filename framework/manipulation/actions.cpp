@@ -1,0 +1,208 @@
+#include "cluttertamp/manipulation/actions.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/placement_sampler.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
+
+namespace cluttertamp::manipulation {
+
+namespace {
+
+ActionOutcome failed(const std::string& stage, const std::string& reason, std::vector<ObjectIndex> blocking = {}) {
+  ActionOutcome out;
+  out.failure = Failure{stage, reason, std::move(blocking)};
+  return out;
+}
+
+// The held object follows the tool: its pose at configuration q.
+Eigen::Isometry3d held_pose(plugin::PlanningContext& context, const Eigen::VectorXd& q, const Eigen::Isometry3d& gripper_T_object) {
+  auto checker = context.world->make_context();
+  return context.world->tool_pose(q, *checker) * gripper_T_object;
+}
+
+// Plans a collision-free motion in `state` (its held object included).
+std::optional<Trajectory> move(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& goal,
+                               std::optional<Failure>& failure) {
+  const auto answer = context.samplers.motion->plan(context, {state.robot_configuration, goal, &state});
+  if (!answer.trajectory) failure = answer.failure;
+  return answer.trajectory;
+}
+
+// True when every configuration of the straight joint-space segment is free.
+bool straight_free(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& a,
+                   const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored) {
+  collision::CollisionWorld& world = *context.world;
+  world.sync(state);
+  auto checker = world.make_context();
+  const int steps = std::max(1, static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / 0.01)));
+  for (int s = 0; s <= steps; ++s) {
+    context.count(counter::collision_checks);
+    if (!world.is_valid(a + (b - a) * (double(s) / steps), *checker, ignored)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Trajectory timed(const robot::RobotDescription& robot, const std::vector<Eigen::VectorXd>& waypoints, double scale) {
+  Trajectory t;
+  t.joint_names = robot.model()->variable_names();
+  const Eigen::VectorXd limit = robot.model()->velocity_limits() * scale;
+  double time = 0.0;
+  for (std::size_t k = 0; k < waypoints.size(); ++k) {
+    if (k > 0) time += std::max(1e-3, ((waypoints[k] - waypoints[k - 1]).cwiseAbs().array() / limit.array()).maxCoeff());
+    t.times.push_back(time);
+    t.positions.push_back(waypoints[k]);
+  }
+  return t;
+}
+
+ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, ObjectIndex object) {
+  if (!context.world || !context.samplers.grasp || !context.samplers.motion) {
+    return failed("pick", "pick needs a robot, a grasp_sampler and a motion_sampler");
+  }
+  if (state.held) return failed("pick", "the hand already holds an object");
+  const robot::RobotDescription& robot = context.robot();
+  const plugin::GraspAnswer grasps = context.samplers.grasp->sample(context, {object, &state});
+  if (grasps.usable.empty()) {
+    return failed("grasp", grasps.failure ? grasps.failure->reason : "no usable grasp",
+                  grasps.failure ? grasps.failure->blocking_objects : std::vector<ObjectIndex>{});
+  }
+  std::optional<Failure> last;
+  for (const plugin::Grasp& grasp : grasps.usable) {
+    const plugin::GraspMotion& m = grasp.motions.front();
+    std::optional<Failure> why;
+    const auto transfer = move(context, state, m.pregrasp, why);
+    if (!transfer) {
+      last = why;
+      continue;
+    }
+    ActionOutcome out;
+    out.grasp = grasp;
+    out.segments.push_back({"transfer", *transfer});
+    out.segments.push_back({"approach", timed(robot, {m.pregrasp, m.grasp})});
+    Eigen::VectorXd closed = m.grasp;
+    if (robot.finger_variable()) closed[*robot.finger_variable()] = grasp.finger_closed;
+    out.segments.push_back({"grasp", timed(robot, {m.grasp, closed})});
+    out.segments.push_back({"lift", timed(robot, {closed, m.lift})});
+    WorldState holding = state;
+    holding.held = object;
+    holding.robot_configuration = m.lift;
+    holding.world_T_objects[object] = held_pose(context, m.lift, grasp.gripper_T_object);
+    // Retreat: back out along the approach, as far as the pre-grasp was in front.
+    Eigen::Isometry3d retreat_pose = grasp.world_T_lift;
+    retreat_pose.translation() -= (grasp.world_T_gripper.translation() - grasp.world_T_pregrasp.translation());
+    const auto retreat = robot.ik().solve(context.scene().world_T_robot_base.inverse() * retreat_pose, m.lift);
+    if (!retreat.empty() && (retreat[0] - m.lift).cwiseAbs().maxCoeff() < 0.8 &&
+        straight_free(context, holding, m.lift, retreat[0], {})) {
+      out.segments.push_back({"retreat", timed(robot, {m.lift, retreat[0]})});
+      holding.robot_configuration = retreat[0];
+      holding.world_T_objects[object] = held_pose(context, retreat[0], grasp.gripper_T_object);
+    }
+    out.after = holding;
+    out.ok = true;
+    context.world->sync(state);
+    return out;
+  }
+  context.world->sync(state);
+  return failed("motion", last ? "no motion reaches a usable grasp: " + last->reason : "no motion reaches a usable grasp",
+                last ? last->blocking_objects : std::vector<ObjectIndex>{});
+}
+
+ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, const std::string& region) {
+  if (!context.world || !context.samplers.placement || !context.samplers.motion) {
+    return failed("place", "place needs a robot, a placement_sampler and a motion_sampler");
+  }
+  if (!state.held) return failed("place", "the hand holds nothing");
+  const robot::RobotDescription& robot = context.robot();
+  const ObjectIndex object = *state.held;
+  auto checker = context.world->make_context();
+  context.world->sync(state);
+  const Eigen::Isometry3d gripper_T_object =
+      context.world->tool_pose(state.robot_configuration, *checker).inverse() * state.world_T_objects[object];
+  plugin::PlacementQuery query{object, region, &state, 8, gripper_T_object};
+  const plugin::PlacementAnswer placements = context.samplers.placement->sample(context, query);
+  if (placements.world_T_object.empty()) {
+    return failed("placement", placements.failure ? placements.failure->reason : "no placement",
+                  placements.failure ? placements.failure->blocking_objects : std::vector<ObjectIndex>{});
+  }
+  std::optional<Failure> last;
+  const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
+  for (std::size_t i = 0; i < placements.world_T_object.size(); ++i) {
+    const Eigen::VectorXd& q_place = placements.configurations[i];
+    Eigen::Isometry3d above = placements.world_T_object[i] * gripper_T_object.inverse();
+    above.translation().z() += 0.03;
+    const auto pre = robot.ik().solve(base_T_world * above, q_place);
+    if (pre.empty() || (pre[0] - q_place).cwiseAbs().maxCoeff() > 0.8 || !straight_free(context, state, pre[0], q_place, {})) continue;
+    std::optional<Failure> why;
+    const auto transfer = move(context, state, pre[0], why);
+    if (!transfer) {
+      last = why;
+      continue;
+    }
+    ActionOutcome out;
+    out.segments.push_back({"transfer", *transfer});
+    out.segments.push_back({"place", timed(robot, {pre[0], q_place})});
+    WorldState placed = state;
+    placed.held.reset();
+    placed.world_T_objects[object] = placements.world_T_object[i];
+    placed.robot_configuration = q_place;
+    Eigen::VectorXd open = q_place;
+    if (robot.finger_variable()) {
+      const auto& joint = robot.model()->joints()[robot.model()->variables()[*robot.finger_variable()]];
+      open[*robot.finger_variable()] = joint.upper;
+    }
+    const ObjectIndex ignore[] = {object};
+    if (straight_free(context, placed, q_place, open, ignore)) {
+      out.segments.push_back({"release", timed(robot, {q_place, open})});
+      placed.robot_configuration = open;
+    }
+    // Retreat: back out along the tool's approach axis.
+    auto c = context.world->make_context();
+    Eigen::Isometry3d back = context.world->tool_pose(placed.robot_configuration, *c);
+    back.translation() -= 0.10 * back.linear().col(2);
+    const auto retreat = robot.ik().solve(base_T_world * back, placed.robot_configuration);
+    if (!retreat.empty() && (retreat[0] - placed.robot_configuration).cwiseAbs().maxCoeff() < 0.8 &&
+        straight_free(context, placed, placed.robot_configuration, retreat[0], {})) {
+      out.segments.push_back({"retreat", timed(robot, {placed.robot_configuration, retreat[0]})});
+      placed.robot_configuration = retreat[0];
+    }
+    out.after = placed;
+    out.ok = true;
+    context.world->sync(state);
+    return out;
+  }
+  context.world->sync(state);
+  return failed("motion", last ? "no motion reaches a placement: " + last->reason : "no placement can be approached from above",
+                last ? last->blocking_objects : std::vector<ObjectIndex>{});
+}
+
+ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state) {
+  const ObjectIndex target = context.scene().target;
+  ActionOutcome picked = pick(context, state, target);
+  if (!picked.ok) return picked;
+  const robot::RobotDescription& robot = context.robot();
+  const plugin::Grasp& grasp = *picked.grasp;
+  Eigen::Isometry3d exit = state.world_T_objects[target];
+  exit.translation() = context.scene().world_T_exit.translation();
+  const Eigen::Isometry3d tool = exit * grasp.gripper_T_object.inverse();
+  const auto solutions = robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, picked.after.robot_configuration);
+  if (solutions.empty()) return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
+  std::optional<Failure> why;
+  const auto carry = move(context, picked.after, solutions[0], why);
+  if (!carry) {
+    return failed("motion", "no motion carries the target to x_s" + (why ? ": " + why->reason : std::string()),
+                  why ? why->blocking_objects : std::vector<ObjectIndex>{});
+  }
+  picked.segments.push_back({"carry", *carry});
+  picked.after.robot_configuration = solutions[0];
+  picked.after.world_T_objects[target] = exit;
+  return picked;
+}
+
+}  // namespace cluttertamp::manipulation

@@ -1,0 +1,176 @@
+// Composite actions with the shipped samplers: pick, place and retrieve produce
+// trajectories that are collision-free when re-checked densely, or fail naming the
+// objects in the way; same seed, same trajectories.
+#include <gtest/gtest.h>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/manipulation/actions.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/placement_sampler.hpp"
+#include "cluttertamp/plugin/registry.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
+#include "test_support.hpp"
+
+namespace cluttertamp {
+namespace {
+
+Eigen::Isometry3d at(double x, double y, double z) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.translation() << x, y, z;
+  return p;
+}
+
+class Manipulation : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    problem_.robot.loaded = std::make_shared<const robot::RobotDescription>(
+        robot::RobotDescription::load(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml"));
+    FixedBody table;
+    table.id = "table";
+    table.shape = Box{{0.8, 1.4, 0.02}};
+    table.world_T_body = at(1.0, 0.0, 0.39);
+    problem_.scene.fixed.push_back(table);
+    Region buffer;
+    buffer.id = "buffer";
+    buffer.size = {0.25, 0.25, 0.32};
+    buffer.world_T_region = at(0.75, -0.5, 0.56);
+    problem_.scene.regions.push_back(buffer);
+    problem_.scene.world_T_exit = at(0.45, 0.0, 0.55);
+    samplers_.grasp = registry_.create<plugin::GraspSampler>("grasp_side");
+    samplers_.motion = registry_.create<plugin::MotionSampler>("motion_ompl");
+    samplers_.placement = registry_.create<plugin::PlacementSampler>("placement_region");
+  }
+
+  ObjectIndex add(const std::string& id, double x, double y) {
+    SceneObject o;
+    o.id = id;
+    o.shape = Cylinder{0.035, 0.26};
+    o.world_T_object = at(x, y, 0.53);
+    o.mass = 0.3;
+    problem_.scene.objects.push_back(o);
+    return static_cast<ObjectIndex>(problem_.scene.objects.size() - 1);
+  }
+
+  plugin::PlanningContext& context(std::uint64_t seed = 3) {
+    world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+    context_ = std::make_unique<plugin::PlanningContext>(
+        plugin::PlanningContext{problem_, plugin::Deadline::after(30), seed, counters_, samplers_, world_.get()});
+    return *context_;
+  }
+
+  WorldState start() const {
+    WorldState s = WorldState::initial(problem_.scene);
+    s.robot_configuration = problem_.robot.loaded->home();
+    return s;
+  }
+
+  // Every configuration along every segment, 10x finer than the planners check, is free
+  // in the state it runs in (the object being grasped may touch the open hand).
+  void expect_collision_free(const manipulation::ActionOutcome& out, const WorldState& before, ObjectIndex object) {
+    auto checker = world_->make_context();
+    for (const manipulation::Segment& s : out.segments) {
+      const bool holding = s.name == "lift" || s.name == "retreat" || s.name == "carry" || s.name == "place" ||
+                           (s.name == "transfer" && before.held);
+      WorldState state = holding ? out.after : before;
+      if (holding && !state.held) {  // place: the object is held until released
+        state = before;
+      }
+      world_->sync(state);
+      if (holding && !world_->held()) {
+        // Attach with the grip the first configuration implies.
+        world_->attach(object, world_->tool_pose(s.trajectory.positions.front(), *checker).inverse() *
+                                   before.world_T_objects[object]);
+      }
+      const ObjectIndex none[] = {object};
+      const std::span<const ObjectIndex> ignored =
+          (s.name == "approach" || s.name == "grasp" || s.name == "release") ? std::span<const ObjectIndex>(none) : std::span<const ObjectIndex>();
+      for (std::size_t k = 0; k + 1 < s.trajectory.positions.size(); ++k) {
+        const Eigen::VectorXd& a = s.trajectory.positions[k];
+        const Eigen::VectorXd& b = s.trajectory.positions[k + 1];
+        const int steps = std::max(2, static_cast<int>((b - a).cwiseAbs().maxCoeff() / 0.002));
+        for (int i = 0; i <= steps; ++i) {
+          ASSERT_TRUE(world_->is_valid(a + (b - a) * (double(i) / steps), *checker, ignored)) << s.name << " " << k << " " << i;
+        }
+      }
+    }
+  }
+
+  Problem problem_;
+  plugin::Registry registry_{plugin::Registry::default_search_paths()};
+  plugin::Samplers samplers_;
+  std::unique_ptr<collision::CollisionWorld> world_;
+  std::unique_ptr<plugin::PlanningContext> context_;
+  std::map<std::string, std::uint64_t> counters_;
+};
+
+TEST_F(Manipulation, PicksAnUnobstructedCylinder) {
+  const ObjectIndex cup = add("cup", 0.85, 0.1);
+  add("other", 1.05, -0.25);
+  const WorldState s = start();
+  const manipulation::ActionOutcome out = manipulation::pick(context(), s, cup);
+  ASSERT_TRUE(out.ok) << out.failure->reason;
+  std::vector<std::string> names;
+  for (const auto& seg : out.segments) names.push_back(seg.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"transfer", "approach", "grasp", "lift", "retreat"}));
+  EXPECT_EQ(out.after.held, cup);
+  EXPECT_GT(out.after.world_T_objects[cup].translation().z(), s.world_T_objects[cup].translation().z() + 0.02);
+  expect_collision_free(out, s, cup);
+}
+
+TEST_F(Manipulation, ObstructedPickNamesExactlyTheBlockers) {
+  const ObjectIndex target = add("target", 1.05, 0.0);
+  // A tight arc of cylinders before the target, facing the robot.
+  std::vector<ObjectIndex> arc;
+  for (int k = -2; k <= 2; ++k) {
+    const double a = k * 0.45;
+    arc.push_back(add("arc" + std::to_string(k + 2), 1.05 - 0.12 * std::cos(a), -0.12 * std::sin(a)));
+  }
+  const ObjectIndex far = add("far", 1.3, 0.5);
+  const manipulation::ActionOutcome out = manipulation::pick(context(), start(), target);
+  ASSERT_FALSE(out.ok);
+  ASSERT_TRUE(out.failure.has_value());
+  EXPECT_FALSE(out.failure->blocking_objects.empty()) << out.failure->reason;
+  for (ObjectIndex o : out.failure->blocking_objects) {
+    EXPECT_NE(o, far);
+    EXPECT_TRUE(std::find(arc.begin(), arc.end(), o) != arc.end()) << o;
+  }
+}
+
+TEST_F(Manipulation, PicksAndPlacesIntoTheBuffer) {
+  const ObjectIndex cup = add("cup", 0.85, 0.1);
+  const WorldState s = start();
+  const manipulation::ActionOutcome picked = manipulation::pick(context(), s, cup);
+  ASSERT_TRUE(picked.ok) << picked.failure->reason;
+  const manipulation::ActionOutcome placed = manipulation::place(*context_, picked.after, "buffer");
+  ASSERT_TRUE(placed.ok) << placed.failure->reason;
+  EXPECT_FALSE(placed.after.held.has_value());
+  const Eigen::Vector3d p = placed.after.world_T_objects[cup].translation();
+  EXPECT_NEAR(p.z(), 0.40 + 0.13, 1e-9);  // standing on the table inside the region
+  EXPECT_LT(std::abs(p.x() - 0.75), 0.125);
+  EXPECT_LT(std::abs(p.y() + 0.5), 0.125);
+  EXPECT_EQ(placed.segments.front().name, "transfer");
+}
+
+TEST_F(Manipulation, RetrievesTheTargetToTheExitPose) {
+  const ObjectIndex target = add("target", 0.9, 0.0);
+  problem_.scene.target = target;
+  const manipulation::ActionOutcome out = manipulation::retrieve(context(), start());
+  ASSERT_TRUE(out.ok) << out.failure->reason;
+  EXPECT_EQ(out.segments.back().name, "carry");
+  EXPECT_TRUE(out.after.world_T_objects[target].translation().isApprox(problem_.scene.world_T_exit.translation()));
+}
+
+TEST_F(Manipulation, SameSeedSameTrajectories) {
+  const ObjectIndex cup = add("cup", 0.85, 0.1);
+  const manipulation::ActionOutcome a = manipulation::pick(context(5), start(), cup);
+  const manipulation::ActionOutcome b = manipulation::pick(context(5), start(), cup);
+  ASSERT_TRUE(a.ok && b.ok);
+  ASSERT_EQ(a.segments.size(), b.segments.size());
+  for (std::size_t i = 0; i < a.segments.size(); ++i) {
+    EXPECT_EQ(a.segments[i].trajectory.positions, b.segments[i].trajectory.positions) << a.segments[i].name;
+  }
+}
+
+}  // namespace
+}  // namespace cluttertamp
