@@ -1,0 +1,51 @@
+// Creates the grasp sampler a problem file names and asks it for grasps of every
+// object: a way to try a sampler plugin, yours included.
+//
+//   ./build/bin/example_try_grasps PROBLEM.yaml [--plugin-path DIR]
+#include <iostream>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/registry.hpp"
+#include "cluttertamp/run/runner.hpp"
+
+int main(int argc, char** argv) {
+  using namespace cluttertamp;
+  if (argc != 2 && !(argc == 4 && std::string(argv[2]) == "--plugin-path")) {
+    std::cerr << "usage: " << argv[0] << " PROBLEM.yaml [--plugin-path DIR]\n";
+    return 2;
+  }
+  try {
+    const Problem problem = io::load_problem(argv[1]);
+    run::RunOptions options;
+    if (argc == 4) options.plugin_paths.emplace_back(argv[3]);
+    const plugin::Registry registry(run::plugin_search_paths(problem, options));
+    const auto choice = problem.samplers.find(SamplerRole::grasp);
+    if (choice == problem.samplers.end()) {
+      std::cerr << argv[1] << ": the problem names no grasp_sampler\n";
+      return 2;
+    }
+    const auto sampler = registry.create<plugin::GraspSampler>(choice->second.name, choice->second.parameters, choice->second.where);
+    collision::CollisionWorld world(problem.scene, problem.robot.loaded);
+    std::map<std::string, std::uint64_t> counters;
+    const plugin::Samplers samplers;
+    plugin::PlanningContext context{problem, plugin::Deadline::after(problem.time_limit), problem.seed, counters, samplers, &world};
+    WorldState state = WorldState::initial(problem.scene);
+    state.robot_configuration = problem.robot.initial_configuration();
+    std::cout << "grasp sampler '" << choice->second.name << "':\n";
+    for (ObjectIndex i = 0; i < problem.scene.objects.size(); ++i) {
+      const plugin::GraspAnswer answer = sampler->sample(context, {i, &state});
+      std::cout << "  " << problem.scene.objects[i].id << ": " << answer.usable.size() << " usable";
+      if (const plugin::BlockedGrasp* b = answer.least_blocked()) {
+        std::cout << ", least blocked by";
+        for (ObjectIndex o : b->blocking_objects) std::cout << " " << problem.scene.objects[o].id;
+      }
+      std::cout << "\n";
+    }
+    return 0;
+  } catch (const InputError& e) {
+    std::cerr << e.diagnostics().str();
+    return 2;
+  }
+}
