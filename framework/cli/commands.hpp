@@ -71,5 +71,7 @@ struct BenchArgs {
 int bench_collision(const BenchArgs& args);
 /// Prints a table per instance and search; exit code 0.
 int bench_pddl(const BenchArgs& args);
+/// Grasp, motion and pick-and-place medians; exit code 0 when every goal is met.
+int bench_samplers(const BenchArgs& args);
 
 }  // namespace cluttertamp::cli

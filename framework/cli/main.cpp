@@ -104,10 +104,14 @@ int main(int argc, char** argv) {
 
   cli::BenchArgs bench_args;
   auto* bench = app.add_subcommand(
-      "bench", "Measure speed: 'collision' times FK, IK, collision and sweep queries; 'pddl' times searches on PDDL instances");
-  bench->add_option("what", bench_args.what, "What to measure")->required()->check(CLI::IsMember({"collision", "pddl"}));
+      "bench",
+      "Measure speed: 'collision' times FK, IK, collision and sweep queries; 'pddl' times searches on PDDL instances; "
+      "'samplers' times grasp, motion and pick-and-place queries");
+  bench->add_option("what", bench_args.what, "What to measure")
+      ->required()
+      ->check(CLI::IsMember({"collision", "pddl", "samplers"}));
   bench->add_option("--seed", bench_args.seed, "Seed of the generated scene and samples")->capture_default_str();
-  bench->add_option("--samples", bench_args.samples, "Queries per measurement")->capture_default_str()->check(CLI::Range(500, 10000000));
+  bench->add_option("--samples", bench_args.samples, "collision: queries per measurement; samplers: 1000 per generated scene")->capture_default_str()->check(CLI::Range(500, 10000000));
   bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf")->capture_default_str()->check(CLI::Range(1, 60));
   bench->add_option("--json", bench_args.json, "Also write the results as JSON to this file");
   bench_args.pddl_instances = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "test/data/pddl";
@@ -143,7 +147,11 @@ int main(int argc, char** argv) {
     if (*plan) return cli::plan(plan_args);
     if (*validate) return cli::validate(validate_args);
     if (*plugins) return cli::plugins(plugins_args);
-    if (*bench) return bench_args.what == "pddl" ? cli::bench_pddl(bench_args) : cli::bench_collision(bench_args);
+    if (*bench) {
+      if (bench_args.what == "pddl") return cli::bench_pddl(bench_args);
+      if (bench_args.what == "samplers") return cli::bench_samplers(bench_args);
+      return cli::bench_collision(bench_args);
+    }
     if (*pddl) return cli::pddl(pddl_args);
     if (*validate_plan) return cli::validate_plan(validate_plan_args);
   } catch (const cluttertamp::InputError& e) {

@@ -73,10 +73,16 @@ class SideGrasps final : public plugin::GraspSampler {
     const Eigen::VectorXd seed = query.state->robot_configuration.size() ? query.state->robot_configuration : robot.home();
     std::mt19937_64 rng(context.seed ^ (0x9e3779b97f4a7c15ull * (query.object + 1)));
 
+    bool previous_unreachable = true;
     for (const Candidate& c : candidates(object, world_T_object, context.scene().world_T_robot_base, rng)) {
+      // The wrist turned over (tool x up) is tried only where the upright one is out of reach.
+      if (c.flipped && !previous_unreachable) continue;
       context.count(counter::samples);
       Grasp grasp = make_grasp(c, *half_width, object_height(object), world_T_object, gripper);
+      const std::size_t blocked_before = answer.blocked.size();
       evaluate(context, world, *checker, robot, base_T_world, seed, query.object, grasp, answer);
+      previous_unreachable = answer.blocked.size() > blocked_before && !answer.blocked.back().freeable &&
+                             answer.blocked.back().reason.rfind("unreachable", 0) == 0;
       if (static_cast<std::int64_t>(answer.usable.size()) >= max_usable_) break;
     }
     world.sync(*query.state);
@@ -189,7 +195,7 @@ class SideGrasps final : public plugin::GraspSampler {
     // The best failed branch: freeable first, then fewest blocking objects.
     collision::ObjectSet blocking;
     bool freeable = false, any_branch = false;
-    std::string why = "the approach or lift leaves the reachable workspace";
+    std::string why = "unreachable: the approach or lift leaves the workspace";
     const ObjectIndex ignore_target[] = {object};
     const Eigen::Isometry3d world_T_object = world.object_pose(object);
     // Try the branches nearest the current configuration first.
