@@ -18,11 +18,7 @@ std::shared_ptr<const robot::RobotDescription> ur10() {
   return robot;
 }
 
-Eigen::Isometry3d at(double x, double y, double z) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  p.translation() << x, y, z;
-  return p;
-}
+using test::at;
 
 SceneObject cylinder(const std::string& id, const Eigen::Isometry3d& pose, double radius = 0.02, double height = 0.1) {
   SceneObject o;

@@ -15,11 +15,7 @@
 namespace cluttertamp {
 namespace {
 
-Eigen::Isometry3d at(double x, double y, double z) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  p.translation() << x, y, z;
-  return p;
-}
+using test::at;
 
 class Manipulation : public ::testing::Test {
  protected:

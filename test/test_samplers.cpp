@@ -12,11 +12,7 @@
 namespace cluttertamp {
 namespace {
 
-Eigen::Isometry3d at(double x, double y, double z) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  p.translation() << x, y, z;
-  return p;
-}
+using test::at;
 
 // A UR10 before a table whose top is at z = 0.40, with standing cylinders on it.
 class SamplerScene : public ::testing::Test {

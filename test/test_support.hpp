@@ -4,11 +4,19 @@
 #include <filesystem>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "cluttertamp/core/diagnostics.hpp"
 
 namespace cluttertamp::test {
+
+/// A pose at (x, y, z), not rotated.
+inline Eigen::Isometry3d at(double x, double y, double z) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.translation() << x, y, z;
+  return p;
+}
 
 inline std::filesystem::path data(const std::string& relative) {
   return std::filesystem::path(CLUTTERTAMP_TEST_DATA) / relative;

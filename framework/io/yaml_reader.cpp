@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <set>
@@ -154,18 +155,7 @@ std::optional<std::vector<std::string>> YamlFile::strings(const YAML::Node& node
 }
 
 std::optional<Eigen::Vector3d> YamlFile::vec3(const YAML::Node& node, const std::string& what) const {
-  if (!node.IsSequence() || node.size() != 3) {
-    error(node, what + " must be a list of 3 numbers, not " + describe(node));
-    return std::nullopt;
-  }
-  Eigen::Vector3d v;
-  bool ok = true;
-  for (int i = 0; i < 3; ++i) {
-    auto x = number(node[i], what + "[" + std::to_string(i) + "]");
-    if (x) v[i] = *x; else ok = false;
-  }
-  if (!ok) return std::nullopt;
-  return v;
+  return vec3_in(node, what, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), "");
 }
 
 std::optional<Eigen::Vector3d> YamlFile::vec3_in(const YAML::Node& node, const std::string& what, double lo, double hi,

@@ -22,6 +22,7 @@
 #include <ompl/util/Console.h>
 
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
 
@@ -117,7 +118,7 @@ class OmplMotion final : public plugin::MotionSampler {
       return answer;
     }
     if (solve(context, robot, joints, query, budget, {}, valid, path)) {
-      answer.trajectory = parameterize(robot, path);
+      answer.trajectory = manipulation::timed(robot, path, velocity_scale_);
       return answer;
     }
     // No path: which movable objects would a path have to pass through?
@@ -253,20 +254,6 @@ class OmplMotion final : public plugin::MotionSampler {
       const std::size_t j = i + 2 + rng() % (path.size() - i - 2);
       if (free(path[i], path[j])) path.erase(path.begin() + static_cast<long>(i) + 1, path.begin() + static_cast<long>(j));
     }
-  }
-
-  // Each segment at the fastest pace every joint's (scaled) velocity limit allows.
-  Trajectory parameterize(const robot::RobotDescription& robot, const std::vector<Eigen::VectorXd>& path) const {
-    Trajectory t;
-    t.joint_names = robot.model()->variable_names();
-    const Eigen::VectorXd limit = robot.model()->velocity_limits() * velocity_scale_;
-    double time = 0.0;
-    for (std::size_t k = 0; k < path.size(); ++k) {
-      if (k > 0) time += std::max(1e-3, ((path[k] - path[k - 1]).cwiseAbs().array() / limit.array()).maxCoeff());
-      t.times.push_back(time);
-      t.positions.push_back(path[k]);
-    }
-    return t;
   }
 
   std::string planner_ = "rrtconnect";
