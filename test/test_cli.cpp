@@ -196,14 +196,20 @@ TEST_F(Cli, InvalidProblemIsBadInput) {
   EXPECT_NE(r.output.find("bad_problem.yaml:7:15: error:"), std::string::npos) << r.output;
 }
 
-TEST_F(Cli, DefaultProblemReportsHonestlyThatNoPlannerIsAvailable) {
-  // Until a retrieval planner plugin is built, the default problem validates and
-  // says which plugin is missing instead of pretending to solve.
-  const CliRun r = plan(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/default.yaml");
-  if (r.output.find("SOLVED:") != std::string::npos) GTEST_SKIP() << "a retrieval planner is installed";
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("no usable task_planner plugin named 'retrieval_graph'"), std::string::npos) << r.output;
-  EXPECT_EQ(result()["solved"], false);
+TEST_F(Cli, DefaultProblemIsSolvedWithEveryMotion) {
+  const CliRun r = plan(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/default.yaml", "--time-limit 60");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("SOLVED"), std::string::npos) << r.output;
+  const auto json = result();
+  EXPECT_EQ(json["solved"], true);
+  ASSERT_GE(json["plan"].size(), 1u);
+  EXPECT_EQ(json["plan"].back()["action"], "retrieve");
+  EXPECT_EQ(json["moved_objects"].back(), "target");
+  for (const auto& step : json["plan"]) {
+    ASSERT_FALSE(step["trajectory"].is_null()) << step["action"];
+    EXPECT_GE(step["trajectory"]["positions"].size(), 2u);
+  }
+  EXPECT_GT(json["counters"]["motion_planning_calls"].get<int>(), 0);
 }
 
 TEST_F(Cli, PluginsListsKindsAndVersions) {

@@ -1,0 +1,75 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <boost/graph/adjacency_list.hpp>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/retrieval/retrieval_graph.hpp"
+
+namespace cluttertamp::retrieval {
+
+/// A roadmap node: a position of the held target in the plane and the objects its
+/// footprint overlaps there (Col).
+struct RoadmapNode {
+  Eigen::Vector2d x = Eigen::Vector2d::Zero();
+  ObjectSet col;
+};
+
+using RoadmapGraph = boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS, RoadmapNode>;
+
+/// Algorithm 2's parameters (Tian et al., Section VI-A: T = 1000, T_raise = 100).
+struct RoadmapOptions {
+  int samples = 1000;      ///< T: sampling iterations per expansion
+  int raise_every = 100;   ///< T_raise
+  double step = 0.05;      ///< delta: longest edge, m
+  int neighbours = 10;     ///< k of NEAR
+};
+
+/// The roadmap of the target's positions (x, y) with the footprint of the target plus
+/// gripper (radius r_b), grown by EXTEND with bisection under a sampling limit K that
+/// rises every T_raise steps towards the exploration limit L. Nearest neighbours come
+/// from an R-tree. Node 0 is x_s, node 1 is x_g.
+class CLUTTERTAMP_API Roadmap {
+ public:
+  /// `area`: where samples are drawn (the plane's box around the clutter and x_s).
+  /// `target` is never in a collision set. The world is read, never changed.
+  Roadmap(const collision::CollisionWorld& world, const collision::Footprint& footprint, const Eigen::AlignedBox2d& area,
+          const Eigen::Vector2d& x_s, const Eigen::Vector2d& x_g, ObjectIndex target, std::uint64_t seed);
+  ~Roadmap();
+
+  /// One call of EXPANDROADMAP with exploration limit L (samples colliding with at most L objects).
+  void expand(int exploration_limit, const RoadmapOptions& options);
+
+  ObjectSet col(const Eigen::Vector2d& x) const;
+  ObjectSet edge_col(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
+  bool hits_fixed(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
+
+  const RoadmapGraph& graph() const { return graph_; }
+  std::size_t size() const { return boost::num_vertices(graph_); }
+
+  /// The retrieval graph over this roadmap: clusters of connected nodes with the same
+  /// collision set (objects in `removed` no longer count); `node_of` receives the
+  /// retrieval-graph node of every roadmap node. Start and goal are set.
+  RetrievalGraph cluster(const std::vector<bool>& removed, std::function<Eigen::Vector2d(ObjectIndex)> position,
+                         std::vector<int>& node_of) const;
+
+ private:
+  std::size_t add_node(const Eigen::Vector2d& x, ObjectSet col);
+
+  const collision::CollisionWorld& world_;
+  collision::Footprint footprint_;
+  Eigen::AlignedBox2d area_;
+  ObjectIndex target_;
+  std::uint64_t seed_;
+  std::uint64_t expansions_ = 0;
+  RoadmapGraph graph_;
+  struct Index;
+  std::unique_ptr<Index> index_;
+};
+
+}  // namespace cluttertamp::retrieval

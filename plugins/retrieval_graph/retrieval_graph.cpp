@@ -1,0 +1,292 @@
+// retrieval_graph: the incremental sampling-based retrieval planner of Tian et al.
+// (T-RO 2023), Algorithm 1: grow the roadmap of the held target's positions under an
+// exploration limit L (Algorithm 2), cluster it into the retrieval graph, find the
+// removal sequence with the fewest objects (Algorithm 3), check it with the robot
+// (grasp, motion and placement samplers) removing objects in order; a failure adds the
+// robot-obstacle collisions as new graph nodes in place of the failed edge (Fig. 5) and
+// the search runs again; with no sequence of at most L objects left, L grows.
+#include <algorithm>
+#include <chrono>
+#include <variant>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/manipulation/actions.hpp"
+#include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/object_pruner.hpp"
+#include "cluttertamp/plugin/task_planner.hpp"
+#include "cluttertamp/retrieval/roadmap.hpp"
+
+namespace {
+
+using namespace cluttertamp;
+using retrieval::ObjectSet;
+using Clock = std::chrono::steady_clock;
+
+struct Settings {
+  retrieval::RoadmapOptions roadmap;
+  std::string initial_limit = "one";  // Table I: 1, |n_g.NodeCol| or |O|
+  std::string region = "buffer";
+  int max_feedback = 200;
+
+  void read(const Parameters& p) {
+    roadmap.samples = static_cast<int>(p.get_int("T", roadmap.samples));
+    roadmap.raise_every = static_cast<int>(p.get_int("T_raise", roadmap.raise_every));
+    roadmap.step = p.get_double("delta", roadmap.step);
+    roadmap.neighbours = static_cast<int>(p.get_int("k", roadmap.neighbours));
+    initial_limit = p.get_string("initial_L", initial_limit);
+    region = p.get_string("region", region);
+    p.require(roadmap.samples >= 10, "T", "must be at least 10");
+    p.require(roadmap.raise_every >= 1 && roadmap.raise_every <= roadmap.samples, "T_raise", "must be 1 to T");
+    p.require(roadmap.step > 0 && roadmap.step < 1, "delta", "must be in (0, 1) m");
+    p.require(roadmap.neighbours >= 1 && roadmap.neighbours <= 100, "k", "must be 1 to 100");
+    p.require(initial_limit == "one" || initial_limit == "nodecol" || initial_limit == "objects", "initial_L",
+              "must be one, nodecol or objects");
+  }
+};
+
+// A place a feedback node attaches to: a roadmap cluster (by one of its roadmap nodes)
+// or an earlier feedback node (by its index), so the graph can be rebuilt after the
+// roadmap grows.
+using Endpoint = std::variant<std::size_t, int>;
+struct Feedback {
+  Endpoint before, after;
+  ObjectSet objects;
+};
+
+class Search {
+ public:
+  Search(plugin::PlanningContext& context, const Settings& settings, const WorldState& initial)
+      : context_(context), settings_(settings), state_(initial) {
+    const Scene& scene = context.scene();
+    target_ = scene.target;
+    const robot::RobotDescription& robot = context.robot();
+    const SceneObject& t = scene.objects[target_];
+    const double radius = std::holds_alternative<Cylinder>(t.shape) ? std::get<Cylinder>(t.shape).radius
+                                                                     : std::get<Box>(t.shape).size.head<2>().norm() / 2;
+    const Eigen::AlignedBox3d bounds = world_bounds(t.shape, initial.world_T_objects[target_]);
+    footprint_ = {robot.gripper().footprint_radius(radius), bounds.min().z(), bounds.max().z()};
+    Eigen::AlignedBox2d area(scene.world_T_exit.translation().head<2>());
+    for (const SceneObject& o : scene.objects) area.extend(o.world_T_object.translation().head<2>());
+    area.min().array() -= footprint_.radius;
+    area.max().array() += footprint_.radius;
+    world_ = context.world;
+    world_->sync(state_);
+    roadmap_ = std::make_unique<retrieval::Roadmap>(*world_, footprint_, area, scene.world_T_exit.translation().head<2>(),
+                                                    initial.world_T_objects[target_].translation().head<2>(), target_,
+                                                    context.seed);
+  }
+
+  // The graph of the current roadmap with every feedback node; objects already removed
+  // do not count.
+  retrieval::RetrievalGraph graph() {
+    const Scene& scene = context_.scene();
+    auto position = [&](ObjectIndex o) -> Eigen::Vector2d { return state_.world_T_objects[o].translation().head<2>(); };
+    retrieval::RetrievalGraph g = roadmap_->cluster(state_.removed, position, node_of_);
+    std::vector<int> feedback_node;
+    auto resolve = [&](const Endpoint& e) {
+      return std::holds_alternative<std::size_t>(e) ? node_of_[std::get<std::size_t>(e)] : feedback_node[std::get<int>(e)];
+    };
+    for (const Feedback& f : feedback_) {
+      const int a = resolve(f.before), b = resolve(f.after);
+      ObjectSet live;
+      for (ObjectIndex o : f.objects) {
+        if (!state_.removed[o]) live.push_back(o);
+      }
+      Eigen::Vector2d where = Eigen::Vector2d::Zero();
+      for (ObjectIndex o : live) where += position(o) / double(live.size());
+      const int n = g.add_node(live, live.empty() ? g.node(b).position : where);
+      g.remove_edge(a, b);
+      g.add_edge(a, n);
+      g.add_edge(n, b);
+      feedback_node.push_back(n);
+    }
+    feedback_nodes_ = feedback_node;
+    for (ObjectIndex o : blocked_) g.block_object(o);
+    (void)scene;
+    g.update();
+    return g;
+  }
+
+  Endpoint endpoint(int node) const {
+    for (std::size_t i = 0; i < feedback_nodes_.size(); ++i) {
+      if (feedback_nodes_[i] == node) return static_cast<int>(i);
+    }
+    const auto it = std::find(node_of_.begin(), node_of_.end(), node);
+    return static_cast<std::size_t>(it - node_of_.begin());
+  }
+
+  Result run() {
+    Result result;
+    const auto start = Clock::now();
+    int limit = initial_limit();
+    const int objects = static_cast<int>(context_.scene().objects.size());
+    while (!context_.deadline.expired() && limit <= objects) {
+      roadmap_->expand(limit, settings_.roadmap);
+      context_.count("roadmap_nodes", 0);
+      for (int attempt = 0; attempt < settings_.max_feedback && !context_.deadline.expired(); ++attempt) {
+        retrieval::RetrievalGraph g = graph();
+        const auto removal = g.removal_sequence();
+        if (!removal || static_cast<int>(removal->objects_in_order.size()) > limit) break;
+        if (execute(g, *removal, result)) {
+          result.solved = true;
+          finish(result, start);
+          return result;
+        }
+      }
+      ++limit;
+      result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
+    }
+    result.reason = context_.deadline.expired() ? "time limit reached before the target was retrieved"
+                                                : "no removal sequence works within the exploration limit";
+    finish(result, start);
+    return result;
+  }
+
+ private:
+  int initial_limit() {
+    if (settings_.initial_limit == "objects") return static_cast<int>(context_.scene().objects.size());
+    if (settings_.initial_limit == "nodecol") return std::max(1, static_cast<int>(roadmap_->col(roadmap_->graph()[1].x).size()));
+    return 1;
+  }
+
+  void finish(Result& result, Clock::time_point start) {
+    result.time.motion_planning = motion_seconds_;
+    result.time.task_planning = std::max(0.0, std::chrono::duration<double>(Clock::now() - start).count() - motion_seconds_);
+    result.counters["roadmap_nodes"] = roadmap_->size();
+    result.counters["feedback_nodes"] = feedback_.size();
+  }
+
+  template <class F>
+  manipulation::ActionOutcome timed_action(F&& f) {
+    const auto t0 = Clock::now();
+    manipulation::ActionOutcome out = f();
+    motion_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
+    return out;
+  }
+
+  static Trajectory join(const std::vector<manipulation::Segment>& segments) {
+    Trajectory t;
+    double offset = 0.0;
+    for (const manipulation::Segment& s : segments) {
+      t.joint_names = s.trajectory.joint_names;
+      for (std::size_t k = 0; k < s.trajectory.positions.size(); ++k) {
+        if (!t.positions.empty() && k == 0) continue;  // shared endpoint
+        t.times.push_back(offset + s.trajectory.times[k]);
+        t.positions.push_back(s.trajectory.positions[k]);
+      }
+      offset = t.times.empty() ? 0.0 : t.times.back();
+    }
+    return t;
+  }
+
+  void record(Result& result, const std::string& action, ObjectIndex object, const manipulation::ActionOutcome& out) {
+    PlanStep step;
+    step.action = action;
+    step.objects = {object};
+    step.trajectory = join(out.segments);
+    result.plan.push_back(step);
+  }
+
+  // Feedback for a failure while removing `object` on `removal`: new nodes with the
+  // robot's collisions replace the edge into the failing node.
+  void feed_back(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, ObjectIndex object,
+                 const Failure& failure, Result& result) {
+    result.failures.push_back(failure);
+    ObjectSet blocking;
+    for (ObjectIndex o : failure.blocking_objects) {
+      if (o != target_ && !state_.removed[o]) blocking.push_back(o);
+    }
+    std::size_t fail = removal.nodes.size() - 1;
+    for (std::size_t i = 0; i < removal.nodes.size(); ++i) {
+      const ObjectSet& col = g.node(removal.nodes[i]).node_col;
+      if (std::binary_search(col.begin(), col.end(), object)) {
+        fail = i;
+        break;
+      }
+    }
+    if (blocking.empty() || fail == 0) {
+      blocked_.push_back(object);  // nothing to remove would help: avoid this object
+      return;
+    }
+    feedback_.push_back({endpoint(removal.nodes[fail - 1]), endpoint(removal.nodes[fail]), blocking});
+  }
+
+  bool execute(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, Result& result) {
+    for (ObjectIndex o : removal.objects_in_order) {
+      if (context_.deadline.expired()) return false;
+      const manipulation::ActionOutcome picked = timed_action([&] { return manipulation::pick(context_, state_, o); });
+      if (!picked.ok) {
+        feed_back(g, removal, o, *picked.failure, result);
+        return false;
+      }
+      WorldState after = picked.after;
+      manipulation::ActionOutcome placed = timed_action([&] { return manipulation::place(context_, picked.after, settings_.region); });
+      record(result, "pick", o, picked);
+      if (placed.ok) {
+        record(result, "place", o, placed);
+        after = placed.after;
+      } else {
+        // Nowhere to put it: carried out of the workspace (Tian et al., assumption 4).
+        result.failures.push_back({"place", "'" + context_.scene().objects[o].id + "' could not be placed in '" +
+                                                settings_.region + "' and was taken out of the workspace: " +
+                                                (placed.failure ? placed.failure->reason : ""), {}});
+        after.held.reset();
+      }
+      after.removed[o] = true;
+      state_ = after;
+      result.moved_objects.push_back(o);
+    }
+    const manipulation::ActionOutcome retrieved = timed_action([&] { return manipulation::retrieve(context_, state_); });
+    if (!retrieved.ok) {
+      feed_back(g, removal, target_, *retrieved.failure, result);
+      return false;
+    }
+    record(result, "retrieve", target_, retrieved);
+    result.moved_objects.push_back(target_);
+    state_ = retrieved.after;
+    return true;
+  }
+
+  plugin::PlanningContext& context_;
+  const Settings& settings_;
+  WorldState state_;
+  ObjectIndex target_ = 0;
+  collision::Footprint footprint_;
+  collision::CollisionWorld* world_ = nullptr;
+  std::unique_ptr<retrieval::Roadmap> roadmap_;
+  std::vector<Feedback> feedback_;
+  std::vector<int> feedback_nodes_;
+  std::vector<int> node_of_;
+  std::vector<ObjectIndex> blocked_;
+  double motion_seconds_ = 0.0;
+};
+
+std::optional<std::string> missing(const plugin::PlanningContext& context) {
+  if (!context.world || !context.problem.robot.loaded) return "the problem has no robot";
+  if (!std::holds_alternative<RetrievalTask>(context.problem.task)) return "retrieval_graph plans retrieve tasks only";
+  if (!context.samplers.grasp || !context.samplers.motion || !context.samplers.placement) {
+    return "retrieval_graph needs a grasp_sampler, a motion_sampler and a placement_sampler in the problem's plugins block";
+  }
+  return std::nullopt;
+}
+
+class RetrievalGraphPlanner final : public plugin::TaskPlanner {
+ public:
+  void configure(const Parameters& p) override { settings_.read(p); }
+  Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
+    if (auto why = missing(context)) {
+      Result r;
+      r.reason = *why;
+      return r;
+    }
+    return Search(context, settings_, initial).run();
+  }
+
+ private:
+  Settings settings_;
+};
+
+}  // namespace
+
+CLUTTERTAMP_EXPORT_TASK_PLANNER(RetrievalGraphPlanner, retrieval_graph,
+                                "Roadmap + retrieval graph with robot-collision feedback (Tian et al. 2023)", "0.1.0")
