@@ -62,22 +62,21 @@ class Manipulation : public ::testing::Test {
   }
 
   // Every configuration along every segment, 10x finer than the planners check, is free
-  // in the state it runs in (the object being grasped may touch the open hand).
+  // in the state it runs in: the object being grasped or released may touch the open
+  // hand; it is held from the grasp until it is released.
   void expect_collision_free(const manipulation::ActionOutcome& out, const WorldState& before, ObjectIndex object) {
     auto checker = world_->make_context();
+    const bool placing = before.held.has_value();
+    bool held = placing;
+    WorldState state = before;
     for (const manipulation::Segment& s : out.segments) {
-      const bool holding = s.name == "lift" || s.name == "retreat" || s.name == "carry" || s.name == "place" ||
-                           (s.name == "transfer" && before.held);
-      WorldState state = holding ? out.after : before;
-      if (holding && !state.held) {  // place: the object is held until released
-        state = before;
-      }
+      if (s.name == "lift") held = true;
+      if (s.name == "release") held = false;
+      state.robot_configuration = s.trajectory.positions.front();
+      state.held = held ? std::optional<ObjectIndex>(object) : std::nullopt;
+      if (placing && !held) state = out.after;  // released: the object stands where it was placed
+      state.robot_configuration = s.trajectory.positions.front();
       world_->sync(state);
-      if (holding && !world_->held()) {
-        // Attach with the grip the first configuration implies.
-        world_->attach(object, world_->tool_pose(s.trajectory.positions.front(), *checker).inverse() *
-                                   before.world_T_objects[object]);
-      }
       const ObjectIndex none[] = {object};
       const std::span<const ObjectIndex> ignored =
           (s.name == "approach" || s.name == "grasp" || s.name == "release") ? std::span<const ObjectIndex>(none) : std::span<const ObjectIndex>();
@@ -88,6 +87,12 @@ class Manipulation : public ::testing::Test {
         for (int i = 0; i <= steps; ++i) {
           ASSERT_TRUE(world_->is_valid(a + (b - a) * (double(i) / steps), *checker, ignored)) << s.name << " " << k << " " << i;
         }
+      }
+      // The held object moves with the tool: carry its pose to the end of the segment.
+      if (held) {
+        auto c = world_->make_context();
+        const Eigen::Isometry3d grip = world_->tool_pose(s.trajectory.positions.front(), *c).inverse() * state.world_T_objects[object];
+        state.world_T_objects[object] = world_->tool_pose(s.trajectory.positions.back(), *c) * grip;
       }
     }
   }
@@ -126,6 +131,7 @@ TEST_F(Manipulation, ObstructedPickNamesExactlyTheBlockers) {
   const manipulation::ActionOutcome out = manipulation::pick(context(), start(), target);
   ASSERT_FALSE(out.ok);
   ASSERT_TRUE(out.failure.has_value());
+  EXPECT_EQ(out.failure->stage, "grasp");
   EXPECT_FALSE(out.failure->blocking_objects.empty()) << out.failure->reason;
   for (ObjectIndex o : out.failure->blocking_objects) {
     EXPECT_NE(o, far);
@@ -146,6 +152,7 @@ TEST_F(Manipulation, PicksAndPlacesIntoTheBuffer) {
   EXPECT_LT(std::abs(p.x() - 0.75), 0.125);
   EXPECT_LT(std::abs(p.y() + 0.5), 0.125);
   EXPECT_EQ(placed.segments.front().name, "transfer");
+  expect_collision_free(placed, picked.after, cup);
 }
 
 TEST_F(Manipulation, RetrievesTheTargetToTheExitPose) {
@@ -155,6 +162,7 @@ TEST_F(Manipulation, RetrievesTheTargetToTheExitPose) {
   ASSERT_TRUE(out.ok) << out.failure->reason;
   EXPECT_EQ(out.segments.back().name, "carry");
   EXPECT_TRUE(out.after.world_T_objects[target].translation().isApprox(problem_.scene.world_T_exit.translation()));
+  expect_collision_free(out, start(), target);
 }
 
 TEST_F(Manipulation, SameSeedSameTrajectories) {

@@ -74,8 +74,19 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
                   grasps.failure ? grasps.failure->blocking_objects : std::vector<ObjectIndex>{});
   }
   std::optional<Failure> last;
+  const ObjectIndex self[] = {object};
   for (const plugin::Grasp& grasp : grasps.usable) {
     const plugin::GraspMotion& m = grasp.motions.front();
+    // Whatever the grasp sampler checked, the straight segments are checked densely here.
+    Eigen::VectorXd closed_check = m.grasp;
+    if (robot.finger_variable()) closed_check[*robot.finger_variable()] = grasp.finger_closed;
+    WorldState lifted = state;
+    lifted.held = object;
+    lifted.robot_configuration = closed_check;
+    if (!straight_free(context, state, m.pregrasp, m.grasp, self) || !straight_free(context, lifted, closed_check, m.lift, {})) {
+      last = Failure{"grasp", "the approach or lift of a usable grasp is not free when checked densely", {}};
+      continue;
+    }
     std::optional<Failure> why;
     const auto transfer = move(context, state, m.pregrasp, why);
     if (!transfer) {
@@ -154,14 +165,18 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
     placed.robot_configuration = q_place;
     Eigen::VectorXd open = q_place;
     if (robot.finger_variable()) {
-      const auto& joint = robot.model()->joints()[robot.model()->variables()[*robot.finger_variable()]];
-      open[*robot.finger_variable()] = joint.upper;
+      // Open by a grasp sampler's usual clearance, within the stroke.
+      const int f = *robot.finger_variable();
+      const auto& joint = robot.model()->joints()[robot.model()->variables()[f]];
+      open[f] = std::min(joint.upper, q_place[f] + 0.008);
     }
     const ObjectIndex ignore[] = {object};
-    if (straight_free(context, placed, q_place, open, ignore)) {
-      out.segments.push_back({"release", timed(robot, {q_place, open})});
-      placed.robot_configuration = open;
+    if (!straight_free(context, placed, q_place, open, ignore)) {
+      last = Failure{"place", "the fingers cannot open at the placement", {}};
+      continue;
     }
+    out.segments.push_back({"release", timed(robot, {q_place, open})});
+    placed.robot_configuration = open;
     // Retreat: back out along the tool's approach axis.
     auto c = context.world->make_context();
     Eigen::Isometry3d back = context.world->tool_pose(placed.robot_configuration, *c);

@@ -33,6 +33,7 @@ class SideGrasps final : public plugin::GraspSampler {
     lift_ = p.get_double("lift", lift_);
     clearance_ = p.get_double("clearance", clearance_);
     steps_ = p.get_int("approach_steps", steps_);
+    resolution_ = p.get_double("resolution", resolution_);
     max_usable_ = p.get_int("max_usable", max_usable_);
     p.require(directions_ >= 1 && directions_ <= 64, "directions", "must be 1 to 64");
     p.require(spread_ >= 0 && spread_ <= 180, "spread", "must be 0 to 180 (degrees either side)");
@@ -43,6 +44,7 @@ class SideGrasps final : public plugin::GraspSampler {
     p.require(lift_ >= 0 && lift_ < 1, "lift", "must be in [0, 1) m");
     p.require(clearance_ >= 0 && clearance_ < 0.05, "clearance", "must be in [0, 0.05) m");
     p.require(steps_ >= 1 && steps_ <= 100, "approach_steps", "must be 1 to 100");
+    p.require(resolution_ > 0 && resolution_ < 1, "resolution", "must be in (0, 1) rad");
     p.require(max_usable_ >= 1, "max_usable", "must be at least 1");
   }
 
@@ -151,7 +153,9 @@ class SideGrasps final : public plugin::GraspSampler {
     }
     std::uniform_real_distribution<double> yaw(facing - spread, facing + spread), height(0.3, 0.7);
     for (std::int64_t i = 0; i < random_ && !std::holds_alternative<Box>(object.shape); ++i) {
-      out.push_back({yaw(rng), height(rng), (rng() & 1) != 0});
+      const double y = yaw(rng), h = height(rng);
+      out.push_back({y, h, false});  // upright first; turned over only where it is out of reach
+      out.push_back({y, h, true});
     }
     return out;
   }
@@ -220,11 +224,27 @@ class SideGrasps final : public plugin::GraspSampler {
         hits_fixed = hits_fixed || r.fixed;
         self = self || r.self;
       };
-      for (std::int64_t s = 0; s <= steps_; ++s) {
-        check(motion.pregrasp + (motion.grasp - motion.pregrasp) * (double(s) / double(steps_)), ignore_target);
-      }
+      // Straight joint-space segments, checked every `resolution_` radians; a blocked
+      // segment reports the objects at a few of its colliding steps.
+      auto segment = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored) {
+        const int n = std::max<int>(static_cast<int>(steps_),
+                                    static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / resolution_)));
+        std::vector<int> colliding;
+        for (int s = 0; s <= n; ++s) {
+          context.count(counter::collision_checks);
+          if (!world.is_valid(a + (b - a) * (double(s) / n), checker, ignored)) colliding.push_back(s);
+        }
+        const std::size_t reports = std::min<std::size_t>(colliding.size(), 5);
+        for (std::size_t r = 0; r < reports; ++r) {
+          const int s = colliding[r * colliding.size() / reports];
+          check(a + (b - a) * (double(s) / n), ignored);
+        }
+      };
+      segment(motion.pregrasp, motion.grasp, ignore_target);
       world.attach(object, grasp.gripper_T_object);
-      check(motion.lift, {});
+      Eigen::VectorXd closed = motion.grasp;
+      if (finger) closed[*finger] = grasp.finger_closed;
+      segment(closed, motion.lift, {});
       world.detach(world_T_object);
       std::sort(objects.begin(), objects.end());
       objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
@@ -252,6 +272,7 @@ class SideGrasps final : public plugin::GraspSampler {
   double lift_ = 0.03;
   double clearance_ = 0.008;
   std::int64_t steps_ = 5;
+  double resolution_ = 0.02;  // rad between checks along straight segments
   std::int64_t max_usable_ = 3;
 };
 

@@ -5,6 +5,7 @@
 // ignored and names the objects that path passes through.
 #include <algorithm>
 #include <cmath>
+#include <chrono>
 #include <cstring>
 #include <functional>
 #include <map>
@@ -99,7 +100,11 @@ class OmplMotion final : public plugin::MotionSampler {
     auto checker = world.make_context();
 
     std::vector<Eigen::VectorXd> path;
+    // One budget for the whole query: the search, and the search through movable objects.
     const double budget = std::min(time_limit_, context.deadline.remaining());
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                            std::chrono::duration<double>(budget));
+    auto left = [&] { return std::chrono::duration<double>(end - std::chrono::steady_clock::now()).count(); };
     const collision::ObjectSet none;
     auto valid = [&](const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
       context.count(counter::collision_checks);
@@ -117,7 +122,7 @@ class OmplMotion final : public plugin::MotionSampler {
       answer.failure = failure;
       return answer;
     }
-    if (solve(context, robot, joints, query, budget, {}, valid, path)) {
+    if (budget > 0 && solve(context, robot, joints, query, 0.75 * budget, {}, valid, path)) {
       answer.trajectory = manipulation::timed(robot, path, velocity_scale_);
       return answer;
     }
@@ -126,7 +131,7 @@ class OmplMotion final : public plugin::MotionSampler {
     for (ObjectIndex i = 0; i < all.size(); ++i) all[i] = i;
     Failure failure{"motion", "no collision-free path within " + std::to_string(budget) + " s", {}};
     std::vector<Eigen::VectorXd> relaxed;
-    if (solve(context, robot, joints, query, std::min(budget, context.deadline.remaining()), all, valid, relaxed)) {
+    if (left() > 1e-3 && solve(context, robot, joints, query, left(), all, valid, relaxed)) {
       for (std::size_t k = 0; k + 1 < relaxed.size(); ++k) {
         const int steps = std::max(1, static_cast<int>(std::ceil((relaxed[k + 1] - relaxed[k]).cwiseAbs().maxCoeff() / resolution_)));
         for (int s = 0; s <= steps; ++s) {
@@ -223,7 +228,7 @@ class OmplMotion final : public plugin::MotionSampler {
     }
     planner->setProblemDefinition(pdef);
     planner->setup();
-    const ob::PlannerStatus status = planner->solve(ob::timedPlannerTerminationCondition(std::max(seconds, 1e-3)));
+    const ob::PlannerStatus status = planner->solve(ob::timedPlannerTerminationCondition(seconds));
     if (status != ob::PlannerStatus::EXACT_SOLUTION) return false;
     auto* solution = pdef->getSolutionPath()->as<og::PathGeometric>();
     path.clear();

@@ -64,7 +64,11 @@ class RegionPlacements final : public plugin::PlacementSampler {
         ++outside;
         continue;
       }
-      if (!world.shape_contacts(object.shape, pose, self).objects.empty()) {
+      // Lifted 1 mm off its support: it must then touch nothing at all.
+      Eigen::Isometry3d lifted = pose;
+      lifted.translation().z() += 1e-3;
+      const collision::CollisionReport contacts = world.shape_contacts(object.shape, lifted, self);
+      if (!contacts.valid()) {
         ++blocked;
         continue;
       }
