@@ -218,7 +218,6 @@ class SideGrasps final : public plugin::GraspSampler {
       bool hits_fixed = false, self = false;
       auto check = [&](const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
         context.count(counter::collision_checks);
-        if (world.is_valid(q, checker, ignored)) return;
         const collision::CollisionReport r = world.check(q, checker, ignored);
         objects.insert(objects.end(), r.objects.begin(), r.objects.end());
         hits_fixed = hits_fixed || r.fixed;
@@ -229,16 +228,14 @@ class SideGrasps final : public plugin::GraspSampler {
       auto segment = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored) {
         const int n = std::max<int>(static_cast<int>(steps_),
                                     static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / resolution_)));
-        std::vector<int> colliding;
-        for (int s = 0; s <= n; ++s) {
+        bool blocked = false;
+        for (int s = 0; s <= n && !blocked; ++s) {
           context.count(counter::collision_checks);
-          if (!world.is_valid(a + (b - a) * (double(s) / n), checker, ignored)) colliding.push_back(s);
+          blocked = !world.is_valid(a + (b - a) * (double(s) / n), checker, ignored);
         }
-        const std::size_t reports = std::min<std::size_t>(colliding.size(), 5);
-        for (std::size_t r = 0; r < reports; ++r) {
-          const int s = colliding[r * colliding.size() / reports];
-          check(a + (b - a) * (double(s) / n), ignored);
-        }
+        if (!blocked) return;
+        // What is in the way: the full collision sets at both ends and the middle.
+        for (int r = 0; r <= 2; ++r) check(a + (b - a) * (r / 2.0), ignored);
       };
       segment(motion.pregrasp, motion.grasp, ignore_target);
       world.attach(object, grasp.gripper_T_object);
