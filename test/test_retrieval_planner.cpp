@@ -5,6 +5,7 @@
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/object_pruner.hpp"
 #include "cluttertamp/plugin/placement_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -108,6 +109,26 @@ TEST_F(RetrievalPlanner, SameSeedSamePlan) {
   EXPECT_EQ(a.moved_objects, b.moved_objects);
   ASSERT_EQ(a.plan.size(), b.plan.size());
   for (std::size_t i = 0; i < a.plan.size(); ++i) EXPECT_EQ(a.plan[i].trajectory->positions, b.plan[i].trajectory->positions);
+}
+
+TEST_F(RetrievalPlanner, PrunesToTheObjectsOfTheRemovalSequence) {
+  problem_.scene.target = add("target", 1.1, 0.0);
+  std::vector<ObjectIndex> wall;
+  for (double y : {-0.22, -0.11, 0.0, 0.11, 0.22}) wall.push_back(add("w" + std::to_string(wall.size()), 0.9, y));
+  const ObjectIndex aside = add("aside", 1.12, 0.22);
+  auto pruner = registry_.create<plugin::ObjectPruner>("retrieval_graph");
+  world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+  std::map<std::string, std::uint64_t> counters;
+  plugin::PlanningContext context{problem_, plugin::Deadline::after(30), 1, counters, samplers_, world_.get()};
+  WorldState s = WorldState::initial(problem_.scene);
+  s.robot_configuration = problem_.robot.loaded->home();
+  const plugin::PruneAnswer answer = pruner->prune(context, s);
+  ASSERT_FALSE(answer.failure.has_value()) << answer.failure->reason;
+  ASSERT_EQ(answer.removal_sequences.size(), 1u);
+  // The target's footprint needs one gap in the row: one cylinder, and never the one aside.
+  ASSERT_EQ(answer.removal_sequences[0].size(), 1u);
+  EXPECT_TRUE(std::find(wall.begin(), wall.end(), answer.removal_sequences[0][0]) != wall.end());
+  EXPECT_NE(answer.removal_sequences[0][0], aside);
 }
 
 TEST_F(RetrievalPlanner, SaysWhatIsMissing) {

@@ -115,6 +115,24 @@ class Search {
     return static_cast<std::size_t>(it - node_of_.begin());
   }
 
+  // Task planning only (object pruning for the symbolic layer): the removal sequence
+  // of the first exploration limit that has one, without checking it with the robot.
+  plugin::PruneAnswer prune() {
+    plugin::PruneAnswer answer;
+    const int objects = static_cast<int>(context_.scene().objects.size());
+    for (int limit = initial_limit(); limit <= objects && !context_.deadline.expired(); ++limit) {
+      roadmap_->expand(limit, settings_.roadmap);
+      retrieval::RetrievalGraph g = graph();
+      const auto removal = g.removal_sequence();
+      if (removal && static_cast<int>(removal->objects_in_order.size()) <= limit) {
+        answer.removal_sequences.push_back(removal->objects_in_order);
+        return answer;
+      }
+    }
+    answer.failure = Failure{"object_pruner", context_.deadline.expired() ? "time limit reached" : "no removal sequence found", {}};
+    return answer;
+  }
+
   Result run() {
     Result result;
     const auto start = Clock::now();
@@ -286,7 +304,27 @@ class RetrievalGraphPlanner final : public plugin::TaskPlanner {
   Settings settings_;
 };
 
+// The same planner's task level as an object pruner: the objects of its best removal
+// sequence, so that a symbolic search moves only those.
+class RetrievalGraphPruner final : public plugin::ObjectPruner {
+ public:
+  void configure(const Parameters& p) override { settings_.read(p); }
+  plugin::PruneAnswer prune(plugin::PlanningContext& context, const WorldState& state) override {
+    if (!context.world || !context.problem.robot.loaded) {
+      plugin::PruneAnswer answer;
+      answer.failure = Failure{"object_pruner", "the problem has no robot", {}};
+      return answer;
+    }
+    return Search(context, settings_, state).prune();
+  }
+
+ private:
+  Settings settings_;
+};
+
 }  // namespace
 
+CLUTTERTAMP_EXPORT_OBJECT_PRUNER(RetrievalGraphPruner, retrieval_graph,
+                                 "The retrieval graph's removal sequence, unchecked, to focus a symbolic search", "0.1.0")
 CLUTTERTAMP_EXPORT_TASK_PLANNER(RetrievalGraphPlanner, retrieval_graph,
                                 "Roadmap + retrieval graph with robot-collision feedback (Tian et al. 2023)", "0.1.0")
