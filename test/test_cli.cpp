@@ -212,6 +212,54 @@ TEST_F(Cli, DefaultProblemIsSolvedWithEveryMotion) {
   EXPECT_GT(json["counters"]["motion_planning_calls"].get<int>(), 0);
 }
 
+// generate writes a scene the target cannot leave directly and a problem that plans on it.
+TEST_F(Cli, GeneratedShelfProblemIsSolved) {
+  const fs::path scene = dir_ / "shelf.yaml", problem_file = dir_ / "shelf_problem.yaml";
+  const CliRun g = run("generate --objects 12 --seed 1 --output " + scene.string() + " --problem " + problem_file.string());
+  ASSERT_EQ(g.exit_code, 0) << g.output;
+  EXPECT_EQ(run("validate " + scene.string() + " " + problem_file.string()).exit_code, 0);
+  const CliRun r = plan(problem_file, "--time-limit 60");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const auto json = result();
+  EXPECT_EQ(json["moved_objects"].back(), "target");
+  EXPECT_GE(json["moved_objects"].size(), 2u);  // something had to move first
+}
+
+TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
+  EXPECT_EQ(run("generate --objects 12").exit_code, 2);                      // no --output
+  EXPECT_EQ(run("generate --objects 0 --output x.yaml").exit_code, 2);       // out of range
+  EXPECT_EQ(run("bench retrieval --scenes 0").exit_code, 2);
+  EXPECT_EQ(run("bench retrieval --sizes 12 --time-limit -1").exit_code, 2);
+}
+
+// One scene, one run per L strategy: the table, CSV and JSON say the same thing.
+TEST_F(Cli, BenchRetrievalWritesTableCsvAndJson) {
+  const fs::path csv = dir_ / "r.csv", json_file = dir_ / "r.json";
+  const CliRun r = run("bench retrieval -q --sizes 12 --scenes 1 --runs 1 --time-limit 30 --csv " + csv.string() +
+                       " --json " + json_file.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("nodecol"), std::string::npos) << r.output;
+  std::ifstream in(csv);
+  std::string line;
+  int rows = 0, solved = 0;
+  std::getline(in, line);
+  EXPECT_EQ(line, "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations");
+  while (std::getline(in, line)) {
+    ++rows;
+    if (line.rfind("12,", 0) == 0 && line.find(",0,0,1,") != std::string::npos) ++solved;
+  }
+  EXPECT_EQ(rows, 3);
+  std::ifstream jin(json_file);
+  const auto json = nlohmann::json::parse(jin);
+  ASSERT_EQ(json.size(), 3u);
+  double rate = 0;
+  for (const auto& row : json) {
+    EXPECT_EQ(row["objects"], 12);
+    rate += row["success_rate"].get<double>();
+  }
+  EXPECT_DOUBLE_EQ(rate, 100.0 * solved);
+}
+
 TEST_F(Cli, PluginsListsKindsAndVersions) {
   const CliRun r = run("plugins --plugin-path " + test::plugin_dir("good").string() + " --plugin-path " +
                     test::plugin_dir("abi").string());

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/shelf_support.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
@@ -34,10 +35,7 @@ double median(std::vector<double> v) {
 
 int bench_samplers(const BenchArgs& args) {
   const plugin::Registry registry(plugin::Registry::default_search_paths());
-  plugin::Samplers samplers;
-  samplers.grasp = registry.create<plugin::GraspSampler>("grasp_side");
-  samplers.motion = registry.create<plugin::MotionSampler>("motion_ompl");
-  samplers.placement = registry.create<plugin::PlacementSampler>("placement_region");
+  const plugin::Samplers samplers = shipped_samplers(registry);
 
   std::vector<double> grasp_ms, grasp_blocked_ms, motion_ms, pick_place_ms;
   std::size_t grasps_usable = 0, grasps_blocked = 0, motions_ok = 0, motions = 0, pick_place_ok = 0, pick_places = 0;

@@ -55,6 +55,19 @@ struct ValidatePlanArgs {
 /// Exit code 0 for a valid plan, 1 for an invalid one (with the reason), 2 bad input.
 int validate_plan(const ValidatePlanArgs& args);
 
+struct GenerateArgs {
+  int objects = 12;
+  std::uint64_t seed = 1;
+  std::filesystem::path output;   ///< the scene file
+  std::filesystem::path problem;  ///< also write a problem file here (optional)
+  std::filesystem::path robot;
+  bool require_removal = true;    ///< keep only scenes whose target needs a removal
+  int max_attempts = 100;
+  Verbosity verbosity = Verbosity::normal;
+};
+/// Exit code 0 when a scene was written, 1 when no attempt needed a removal.
+int generate(const GenerateArgs& args);
+
 struct BenchArgs {
   std::string what;  ///< "collision" or "pddl"
   std::uint64_t seed = 1;
@@ -64,7 +77,11 @@ struct BenchArgs {
   std::filesystem::path robot;  ///< robot description file
   std::filesystem::path pddl_instances;  ///< bench pddl: <dir>/<family>/{domain*,p*}.pddl
   std::vector<std::string> searches;     ///< bench pddl
-  double time_limit = 60;                ///< bench pddl, per search
+  double time_limit = 60;                ///< bench pddl, per search; bench retrieval, per run
+  int instances = 5;                     ///< bench retrieval: scenes per object count
+  std::vector<int> sizes;                ///< bench retrieval: object counts (default 12 16 20)
+  std::filesystem::path csv;             ///< bench retrieval
+  Verbosity verbosity = Verbosity::normal;
   int runs = 3;                          ///< bench pddl
 };
 /// Exit code 0 when every speed goal is met, 1 when one is missed.
@@ -73,5 +90,7 @@ int bench_collision(const BenchArgs& args);
 int bench_pddl(const BenchArgs& args);
 /// Grasp, motion and pick-and-place medians; exit code 0 when every goal is met.
 int bench_samplers(const BenchArgs& args);
+/// Table I of Tian et al. on generated shelves; exit code 0.
+int bench_retrieval(const BenchArgs& args);
 
 }  // namespace cluttertamp::cli

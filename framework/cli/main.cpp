@@ -102,14 +102,31 @@ int main(int argc, char** argv) {
   validate_plan->add_option("plan", validate_plan_args.plan, "Plan file: (action arg ...) per line")->required();
   add_verbosity(*validate_plan, validate_plan_args.verbosity, "Same output as the default");
 
+  cli::GenerateArgs generate_args;
+  auto* generate = app.add_subcommand("generate", "Generate a shelf scene (Tian et al., Section VI-B) and optionally a problem file");
+  generate->add_option("--objects", generate_args.objects, "Cylinders in the shelf (12 to 20 in the paper)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  generate->add_option("--seed", generate_args.seed, "Seed of the first scene tried")->capture_default_str();
+  generate->add_option("--output", generate_args.output, "Scene file to write")->required();
+  generate->add_option("--problem", generate_args.problem, "Also write a problem file for the scene here");
+  generate_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
+  generate->add_option("--robot", generate_args.robot, "Robot description")->capture_default_str()->check(CLI::ExistingFile);
+  generate->add_flag("!--any", generate_args.require_removal,
+                     "Keep the first scene even if the target comes out without removing anything");
+  generate->add_option("--attempts", generate_args.max_attempts, "Scenes tried (seeds seed, seed+1, ...)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  add_verbosity(*generate, generate_args.verbosity, "Also say which seeds were rejected");
+
   cli::BenchArgs bench_args;
   auto* bench = app.add_subcommand(
       "bench",
       "Measure speed: 'collision' times FK, IK, collision and sweep queries; 'pddl' times searches on PDDL instances; "
-      "'samplers' times grasp, motion and pick-and-place queries");
+      "'samplers' times grasp, motion and pick-and-place queries; 'retrieval' runs the retrieval-graph planner on generated shelves (Table I of Tian et al.)");
   bench->add_option("what", bench_args.what, "What to measure")
       ->required()
-      ->check(CLI::IsMember({"collision", "pddl", "samplers"}));
+      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval"}));
   bench->add_option("--seed", bench_args.seed, "Seed of the generated scene and samples")->capture_default_str();
   bench->add_option("--samples", bench_args.samples, "collision: queries per measurement; samplers: 1000 per generated scene")->capture_default_str()->check(CLI::Range(500, 10000000));
   bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf")->capture_default_str()->check(CLI::Range(1, 60));
@@ -123,8 +140,14 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(CLI::IsMember(cluttertamp::search::search_names()));
-  bench->add_option("--time-limit", bench_args.time_limit, "pddl: seconds per search")->capture_default_str()->check(CLI::PositiveNumber);
-  bench->add_option("--runs", bench_args.runs, "pddl: runs per instance and search (median reported)")->capture_default_str()->check(CLI::Range(1, 100));
+  bench->add_option("--time-limit", bench_args.time_limit, "pddl: seconds per search; retrieval: per run")->capture_default_str()->check(CLI::PositiveNumber);
+  bench->add_option("--runs", bench_args.runs, "pddl, retrieval: runs per instance (seeds seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 100));
+  bench->add_option("--scenes", bench_args.instances, "retrieval: generated scenes per object count")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  bench->add_option("--sizes", bench_args.sizes, "retrieval: object counts (default 12 16 20)")->check(CLI::Range(1, 100));
+  bench->add_option("--csv", bench_args.csv, "retrieval: also write every run as CSV");
+  add_verbosity(*bench, bench_args.verbosity, "Same output as the default");
   bench_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
   bench->add_option("--robot", bench_args.robot, "Robot description (a UR arm: the bench times analytic IK)")
       ->capture_default_str()
@@ -150,9 +173,11 @@ int main(int argc, char** argv) {
     if (*bench) {
       if (bench_args.what == "pddl") return cli::bench_pddl(bench_args);
       if (bench_args.what == "samplers") return cli::bench_samplers(bench_args);
+      if (bench_args.what == "retrieval") return cli::bench_retrieval(bench_args);
       return cli::bench_collision(bench_args);
     }
     if (*pddl) return cli::pddl(pddl_args);
+    if (*generate) return cli::generate(generate_args);
     if (*validate_plan) return cli::validate_plan(validate_plan_args);
   } catch (const cluttertamp::InputError& e) {
     std::cerr << e.diagnostics().str();

@@ -34,17 +34,26 @@ std::optional<Trajectory> move(plugin::PlanningContext& context, const WorldStat
 }
 
 // True when every configuration of the straight joint-space segment is free.
-bool straight_free(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& a,
-                   const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored) {
+// The contacts of the first state in collision on the straight segment a→b, checked
+// every 0.01 rad; a valid report when the segment is free.
+collision::CollisionReport straight_contacts(plugin::PlanningContext& context, const WorldState& state,
+                                             const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                                             std::span<const ObjectIndex> ignored) {
   collision::CollisionWorld& world = *context.world;
   world.sync(state);
   auto checker = world.make_context();
   const int steps = std::max(1, static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / 0.01)));
   for (int s = 0; s <= steps; ++s) {
     context.count(counter::collision_checks);
-    if (!world.is_valid(a + (b - a) * (double(s) / steps), *checker, ignored)) return false;
+    const Eigen::VectorXd q = a + (b - a) * (double(s) / steps);
+    if (!world.is_valid(q, *checker, ignored)) return world.check(q, *checker, ignored);
   }
-  return true;
+  return {};
+}
+
+bool straight_free(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& a,
+                   const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored) {
+  return straight_contacts(context, state, a, b, ignored).valid();
 }
 
 }  // namespace
@@ -83,8 +92,12 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
     WorldState lifted = state;
     lifted.held = object;
     lifted.robot_configuration = closed_check;
-    if (!straight_free(context, state, m.pregrasp, m.grasp, self) || !straight_free(context, lifted, closed_check, m.lift, {})) {
-      last = Failure{"grasp", "the approach or lift of a usable grasp is not free when checked densely", {}};
+    collision::CollisionReport contacts = straight_contacts(context, state, m.pregrasp, m.grasp, self);
+    if (contacts.valid()) contacts = straight_contacts(context, lifted, closed_check, m.lift, {});
+    if (!contacts.valid()) {
+      // The sampler's coarser check missed a contact: say what it is, so it can be removed.
+      last = Failure{"grasp", "the approach or lift of a usable grasp is not free when checked densely",
+                     contacts.self || contacts.fixed ? std::vector<ObjectIndex>{} : contacts.objects};
       continue;
     }
     std::optional<Failure> why;

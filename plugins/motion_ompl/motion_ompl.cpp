@@ -140,6 +140,11 @@ class OmplMotion final : public plugin::MotionSampler {
         }
       }
       normalize(failure.blocking_objects);
+      if (failure.blocking_objects.empty() && densely_valid(relaxed, valid)) {
+        // The easier search found a path that touches nothing after all: it is a solution.
+        answer.trajectory = manipulation::timed(robot, relaxed, velocity_scale_);
+        return answer;
+      }
       failure.reason += "; ignoring movable objects a path exists, through " +
                         std::to_string(failure.blocking_objects.size()) + " of them";
     } else {
@@ -162,6 +167,18 @@ class OmplMotion final : public plugin::MotionSampler {
       }
     }
     return h;
+  }
+
+  // Every waypoint and every interpolated state `resolution_` apart is valid.
+  template <class Valid>
+  bool densely_valid(const std::vector<Eigen::VectorXd>& path, const Valid& valid) const {
+    for (std::size_t k = 0; k + 1 < path.size(); ++k) {
+      const int steps = std::max(1, static_cast<int>(std::ceil((path[k + 1] - path[k]).cwiseAbs().maxCoeff() / resolution_)));
+      for (int s = 0; s <= steps; ++s) {
+        if (!valid(path[k] + (path[k + 1] - path[k]) * (double(s) / steps), {})) return false;
+      }
+    }
+    return true;
   }
 
   static void normalize(std::vector<ObjectIndex>& v) {

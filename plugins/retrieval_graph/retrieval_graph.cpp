@@ -7,11 +7,15 @@
 // the search runs again; with no sequence of at most L objects left, L grows.
 #include <algorithm>
 #include <chrono>
+#include <map>
+#include <optional>
+#include <set>
 #include <variant>
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/object_pruner.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/retrieval/roadmap.hpp"
@@ -138,18 +142,21 @@ class Search {
     const auto start = Clock::now();
     int limit = initial_limit();
     const int objects = static_cast<int>(context_.scene().objects.size());
+    std::uint64_t iterations = 0;
     while (!context_.deadline.expired() && limit <= objects) {
       roadmap_->expand(limit, settings_.roadmap);
-      context_.count("roadmap_nodes", 0);
+      result.counters["iterations"] = ++iterations;
       for (int attempt = 0; attempt < settings_.max_feedback && !context_.deadline.expired(); ++attempt) {
         retrieval::RetrievalGraph g = graph();
         const auto removal = g.removal_sequence();
         if (!removal || static_cast<int>(removal->objects_in_order.size()) > limit) break;
-        if (execute(g, *removal, result)) {
+        const Attempt attempt_result = execute(g, *removal, result);
+        if (attempt_result == Attempt::solved) {
           result.solved = true;
           finish(result, start);
           return result;
         }
+        if (attempt_result == Attempt::stuck) break;  // the same sequence would come back
       }
       ++limit;
       result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
@@ -206,14 +213,17 @@ class Search {
   }
 
   // Feedback for a failure while removing `object` on `removal`: new nodes with the
-  // robot's collisions replace the edge into the failing node.
-  void feed_back(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, ObjectIndex object,
+  // robot's collisions replace the edge into the failing node. Returns false when the
+  // failure teaches the graph nothing new (so the same sequence would come back).
+  bool feed_back(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, ObjectIndex object,
                  const Failure& failure, Result& result) {
-    result.failures.push_back(failure);
+    record_failure(result, failure);
     ObjectSet blocking;
     for (ObjectIndex o : failure.blocking_objects) {
       if (o != target_ && !state_.removed[o]) blocking.push_back(o);
     }
+    std::sort(blocking.begin(), blocking.end());
+    blocking.erase(std::unique(blocking.begin(), blocking.end()), blocking.end());
     std::size_t fail = removal.nodes.size() - 1;
     for (std::size_t i = 0; i < removal.nodes.size(); ++i) {
       const ObjectSet& col = g.node(removal.nodes[i]).node_col;
@@ -222,21 +232,65 @@ class Search {
         break;
       }
     }
-    if (blocking.empty() || fail == 0) {
-      blocked_.push_back(object);  // nothing to remove would help: avoid this object
-      return;
+    if (blocking.empty() || fail == 0) return avoid(object);  // nothing to remove would help
+    if (!seen_failures_[object].insert(blocking).second) {
+      // The same object blocked by the same objects again: removing them first did not
+      // help (objects blocking each other's least blocked grasps). Feed back the next
+      // least blocked grasp instead; avoid the object once every grasp has been tried.
+      const auto other = other_grasp_blockers(object, failure);
+      if (!other) return avoid(object);
+      blocking = *other;
+      seen_failures_[object].insert(blocking);
     }
     feedback_.push_back({endpoint(removal.nodes[fail - 1]), endpoint(removal.nodes[fail]), blocking});
+    return true;
   }
 
-  bool execute(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, Result& result) {
-    for (ObjectIndex o : removal.objects_in_order) {
-      if (context_.deadline.expired()) return false;
-      const manipulation::ActionOutcome picked = timed_action([&] { return manipulation::pick(context_, state_, o); });
-      if (!picked.ok) {
-        feed_back(g, removal, o, *picked.failure, result);
-        return false;
+  // Keeps the retrieval graph away from `object`; the target cannot be avoided.
+  bool avoid(ObjectIndex object) {
+    if (object == target_ || std::find(blocked_.begin(), blocked_.end(), object) != blocked_.end()) return false;
+    blocked_.push_back(object);
+    return true;
+  }
+
+  // Failures repeat as the graph retries; each distinct one is kept once.
+  static void record_failure(Result& result, const Failure& failure) {
+    for (const Failure& f : result.failures) {
+      if (f.stage == failure.stage && f.reason == failure.reason && f.blocking_objects == failure.blocking_objects) return;
+    }
+    result.failures.push_back(failure);
+  }
+
+  // The smallest set of removable objects blocking a grasp of `object` that has not
+  // been fed back yet, or nothing. Only grasp failures have alternatives.
+  std::optional<ObjectSet> other_grasp_blockers(ObjectIndex object, const Failure& failure) {
+    if (failure.stage != "grasp" || !context_.samplers.grasp) return std::nullopt;
+    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &state_});
+    std::optional<ObjectSet> best;
+    for (const plugin::BlockedGrasp& b : answer.blocked) {
+      if (!b.freeable) continue;
+      ObjectSet set;
+      for (ObjectIndex o : b.blocking_objects) {
+        if (o != target_ && !state_.removed[o]) set.push_back(o);
       }
+      std::sort(set.begin(), set.end());
+      set.erase(std::unique(set.begin(), set.end()), set.end());
+      if (set.empty() || seen_failures_[object].count(set)) continue;
+      if (!best || set.size() < best->size()) best = std::move(set);
+    }
+    return best;
+  }
+
+  // solved: the target is out; retry: the world or the graph changed; stuck: neither.
+  enum class Attempt { solved, retry, stuck };
+
+  Attempt execute(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, Result& result) {
+    bool moved = false;
+    auto failed = [&](bool learned) { return learned || moved ? Attempt::retry : Attempt::stuck; };
+    for (ObjectIndex o : removal.objects_in_order) {
+      if (context_.deadline.expired()) return Attempt::retry;
+      const manipulation::ActionOutcome picked = timed_action([&] { return manipulation::pick(context_, state_, o); });
+      if (!picked.ok) return failed(feed_back(g, removal, o, *picked.failure, result));
       WorldState after = picked.after;
       manipulation::ActionOutcome placed = timed_action([&] { return manipulation::place(context_, picked.after, settings_.region); });
       record(result, "pick", o, picked);
@@ -253,16 +307,14 @@ class Search {
       after.removed[o] = true;
       state_ = after;
       result.moved_objects.push_back(o);
+      moved = true;
     }
     const manipulation::ActionOutcome retrieved = timed_action([&] { return manipulation::retrieve(context_, state_); });
-    if (!retrieved.ok) {
-      feed_back(g, removal, target_, *retrieved.failure, result);
-      return false;
-    }
+    if (!retrieved.ok) return failed(feed_back(g, removal, target_, *retrieved.failure, result));
     record(result, "retrieve", target_, retrieved);
     result.moved_objects.push_back(target_);
     state_ = retrieved.after;
-    return true;
+    return Attempt::solved;
   }
 
   plugin::PlanningContext& context_;
@@ -276,6 +328,7 @@ class Search {
   std::vector<int> feedback_nodes_;
   std::vector<int> node_of_;
   std::vector<ObjectIndex> blocked_;
+  std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;
   double motion_seconds_ = 0.0;
 };
 

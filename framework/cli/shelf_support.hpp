@@ -1,0 +1,24 @@
+#pragma once
+// What `generate`, `bench samplers` and `bench retrieval` share: the shipped samplers
+// and the test that makes a generated shelf worth planning on.
+#include <cstdint>
+#include <memory>
+
+#include "cluttertamp/core/scene.hpp"
+#include "cluttertamp/plugin/context.hpp"
+#include "cluttertamp/plugin/registry.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
+
+namespace cluttertamp::cli {
+
+/// grasp_side, motion_ompl and placement_region from `registry`; throws InputError
+/// (listing what was searched) when one is missing.
+plugin::Samplers shipped_samplers(const plugin::Registry& registry);
+
+/// True when `robot`, from its home configuration, retrieves the scene's target to the
+/// exit pose without moving anything (the paper keeps only scenes where it cannot).
+/// Uses at most 10 s.
+bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
+                               const plugin::Samplers& samplers, std::uint64_t seed);
+
+}  // namespace cluttertamp::cli
