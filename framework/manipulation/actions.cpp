@@ -224,7 +224,7 @@ ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state
   std::optional<Failure> why;
   const auto carry = move(context, picked.after, solutions[0], why);
   if (!carry) {
-    return failed("motion", "no motion carries the target to x_s" + (why ? ": " + why->reason : std::string()),
+    return failed("carry", "no motion carries the target to x_s" + (why ? ": " + why->reason : std::string()),
                   why ? why->blocking_objects : std::vector<ObjectIndex>{});
   }
   picked.segments.push_back({"carry", *carry});

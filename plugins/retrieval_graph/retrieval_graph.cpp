@@ -52,9 +52,14 @@ struct Settings {
 // or an earlier feedback node (by its index), so the graph can be rebuilt after the
 // roadmap grows.
 using Endpoint = std::variant<std::size_t, int>;
+// A feedback node goes on the edge before → after; or before the start node (an object
+// every path meets first is blocked); or after the goal node, the target's position
+// (the target itself cannot be reached): on every path, and nothing to rebuild from.
 struct Feedback {
+  enum class Where { edge, before_start, after_goal };
   Endpoint before, after;
   ObjectSet objects;
+  Where where = Where::edge;
 };
 
 class Search {
@@ -91,7 +96,9 @@ class Search {
       return std::holds_alternative<std::size_t>(e) ? node_of_[std::get<std::size_t>(e)] : feedback_node[std::get<int>(e)];
     };
     for (const Feedback& f : feedback_) {
-      const int a = resolve(f.before), b = resolve(f.after);
+      using Where = Feedback::Where;
+      const int a = f.where == Where::edge ? resolve(f.before) : f.where == Where::before_start ? g.start() : g.goal();
+      const int b = f.where == Where::edge ? resolve(f.after) : a;
       ObjectSet live;
       for (ObjectIndex o : f.objects) {
         if (!state_.removed[o]) live.push_back(o);
@@ -99,9 +106,14 @@ class Search {
       Eigen::Vector2d where = Eigen::Vector2d::Zero();
       for (ObjectIndex o : live) where += position(o) / double(live.size());
       const int n = g.add_node(live, live.empty() ? g.node(b).position : where);
-      g.remove_edge(a, b);
-      g.add_edge(a, n);
-      g.add_edge(n, b);
+      if (f.where != Where::edge) {
+        g.add_edge(n, a);
+        f.where == Where::before_start ? g.set_start(n) : g.set_goal(n);
+      } else {
+        g.remove_edge(a, b);
+        g.add_edge(a, n);
+        g.add_edge(n, b);
+      }
       feedback_node.push_back(n);
     }
     feedback_nodes_ = feedback_node;
@@ -232,7 +244,7 @@ class Search {
         break;
       }
     }
-    if (blocking.empty() || fail == 0) return avoid(object);  // nothing to remove would help
+    if (blocking.empty()) return avoid(object);  // nothing to remove would help
     if (!seen_failures_[object].insert(blocking).second) {
       // The same object blocked by the same objects again: removing them first did not
       // help (objects blocking each other's least blocked grasps). Feed back the next
@@ -242,7 +254,14 @@ class Search {
       blocking = *other;
       seen_failures_[object].insert(blocking);
     }
-    feedback_.push_back({endpoint(removal.nodes[fail - 1]), endpoint(removal.nodes[fail]), blocking});
+    // Reaching the target is needed on every path; carrying it out is this path's.
+    if (object == target_ && failure.stage != "carry") {
+      feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal});
+    } else if (fail == 0) {
+      feedback_.push_back({{}, {}, blocking, Feedback::Where::before_start});
+    } else {
+      feedback_.push_back({endpoint(removal.nodes[fail - 1]), endpoint(removal.nodes[fail]), blocking});
+    }
     return true;
   }
 
@@ -285,14 +304,18 @@ class Search {
   enum class Attempt { solved, retry, stuck };
 
   Attempt execute(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, Result& result) {
+    // Each attempt samples afresh (deterministically): a motion that failed within its
+    // budget with nothing to blame gets another chance rather than the same draw.
+    plugin::PlanningContext attempt{context_.problem, context_.deadline, context_.seed + 0x9e3779b97f4a7c15ull * attempts_++,
+                                    context_.counters, context_.samplers, context_.world};
     bool moved = false;
     auto failed = [&](bool learned) { return learned || moved ? Attempt::retry : Attempt::stuck; };
     for (ObjectIndex o : removal.objects_in_order) {
       if (context_.deadline.expired()) return Attempt::retry;
-      const manipulation::ActionOutcome picked = timed_action([&] { return manipulation::pick(context_, state_, o); });
+      const manipulation::ActionOutcome picked = timed_action([&] { return manipulation::pick(attempt, state_, o); });
       if (!picked.ok) return failed(feed_back(g, removal, o, *picked.failure, result));
       WorldState after = picked.after;
-      manipulation::ActionOutcome placed = timed_action([&] { return manipulation::place(context_, picked.after, settings_.region); });
+      manipulation::ActionOutcome placed = timed_action([&] { return manipulation::place(attempt, picked.after, settings_.region); });
       record(result, "pick", o, picked);
       if (placed.ok) {
         record(result, "place", o, placed);
@@ -309,7 +332,7 @@ class Search {
       result.moved_objects.push_back(o);
       moved = true;
     }
-    const manipulation::ActionOutcome retrieved = timed_action([&] { return manipulation::retrieve(context_, state_); });
+    const manipulation::ActionOutcome retrieved = timed_action([&] { return manipulation::retrieve(attempt, state_); });
     if (!retrieved.ok) return failed(feed_back(g, removal, target_, *retrieved.failure, result));
     record(result, "retrieve", target_, retrieved);
     result.moved_objects.push_back(target_);
@@ -330,6 +353,7 @@ class Search {
   std::vector<ObjectIndex> blocked_;
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;
   double motion_seconds_ = 0.0;
+  std::uint64_t attempts_ = 0;
 };
 
 std::optional<std::string> missing(const plugin::PlanningContext& context) {
