@@ -168,7 +168,10 @@ class Search {
           finish(result, start);
           return result;
         }
-        if (attempt_result == Attempt::stuck) break;  // the same sequence would come back
+        if (attempt_result == Attempt::stuck) {  // the same sequence would come back
+          ++reseeds_;
+          break;
+        }
       }
       ++limit;
       result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
@@ -304,9 +307,9 @@ class Search {
   enum class Attempt { solved, retry, stuck };
 
   Attempt execute(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, Result& result) {
-    // Each attempt samples afresh (deterministically): a motion that failed within its
-    // budget with nothing to blame gets another chance rather than the same draw.
-    plugin::PlanningContext attempt{context_.problem, context_.deadline, context_.seed + 0x9e3779b97f4a7c15ull * attempts_++,
+    // After an attempt that taught nothing (a motion failed within its budget with
+    // nothing to blame), sample afresh, deterministically, rather than draw the same.
+    plugin::PlanningContext attempt{context_.problem, context_.deadline, context_.seed + 0x9e3779b97f4a7c15ull * reseeds_,
                                     context_.counters, context_.samplers, context_.world};
     bool moved = false;
     auto failed = [&](bool learned) { return learned || moved ? Attempt::retry : Attempt::stuck; };
@@ -353,7 +356,7 @@ class Search {
   std::vector<ObjectIndex> blocked_;
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;
   double motion_seconds_ = 0.0;
-  std::uint64_t attempts_ = 0;
+  std::uint64_t reseeds_ = 0;
 };
 
 std::optional<std::string> missing(const plugin::PlanningContext& context) {
