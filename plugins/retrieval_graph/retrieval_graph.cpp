@@ -155,7 +155,15 @@ class Search {
     int limit = initial_limit();
     const int objects = static_cast<int>(context_.scene().objects.size());
     std::uint64_t iterations = 0;
-    while (!context_.deadline.expired() && limit <= objects) {
+    // At L = |O| the graph cannot grow: a few more rounds, each drawing afresh after
+    // an attempt that taught nothing, before giving up.
+    constexpr int kRoundsAtFullLimit = 3;
+    int rounds_at_full_limit = 0;
+    bool stuck = false;
+    while (!context_.deadline.expired() &&
+           (limit <= objects || (stuck && ++rounds_at_full_limit < kRoundsAtFullLimit))) {
+      limit = std::min(limit, objects);
+      stuck = false;
       roadmap_->expand(limit, settings_.roadmap);
       result.counters["iterations"] = ++iterations;
       for (int attempt = 0; attempt < settings_.max_feedback && !context_.deadline.expired(); ++attempt) {
@@ -170,6 +178,7 @@ class Search {
         }
         if (attempt_result == Attempt::stuck) {  // the same sequence would come back
           ++reseeds_;
+          stuck = true;
           break;
         }
       }
