@@ -42,7 +42,9 @@ struct Stats {
   double median() const {
     std::vector<double> v = values;
     std::sort(v.begin(), v.end());
-    return v.empty() ? 0 : v[v.size() / 2];
+    if (v.empty()) return 0;
+    const std::size_t h = v.size() / 2;
+    return v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
   }
 };
 
@@ -93,8 +95,8 @@ int bench_retrieval(const BenchArgs& args) {
   const int total = static_cast<int>(sizes.size() * strategies.size()) * args.instances * args.runs;
   int done = 0;
   std::cout << std::left << std::setw(8) << "|O|" << std::setw(9) << "L init" << std::setw(15) << "|O_r|" << std::setw(15)
-            << "paper" << std::setw(16) << "time s" << std::setw(9) << "median" << std::setw(15) << "paper" << std::setw(13)
-            << "iterations" << std::setw(8) << "paper" << std::setw(9) << "success" << "paper\n";
+            << "paper" << std::setw(16) << "time s" << std::setw(9) << "median" << std::setw(15) << "paper" << std::setw(15)
+            << "task s" << std::setw(15) << "motion s" << std::setw(13) << "iterations" << std::setw(8) << "paper" << std::setw(9) << "success" << "paper\n";
   for (int n : sizes) {
     for (const std::string& strategy : strategies) {
       Stats removed, time, iterations, task, motion;
@@ -145,7 +147,8 @@ int bench_retrieval(const BenchArgs& args) {
       std::cout << std::left << std::setw(8) << n << std::setw(9) << strategy << std::setw(15)
                 << ms(removed.mean(), removed.stddev()) << std::setw(15) << ms(p.removed, p.removed_sd) << std::setw(16)
                 << ms(time.mean(), time.stddev()) << std::setw(9) << std::fixed << std::setprecision(2) << time.median()
-                << std::setw(15) << ms(p.time, p.time_sd) << std::setw(13) << iterations.mean() << std::setw(8)
+                << std::setw(15) << ms(p.time, p.time_sd) << std::setw(15) << ms(task.mean(), task.stddev())
+                << std::setw(15) << ms(motion.mean(), motion.stddev()) << std::setw(13) << iterations.mean() << std::setw(8)
                 << p.iterations << std::setw(9) << std::setprecision(0) << success << p.success << "\n";
       std::cout.unsetf(std::ios::floatfield);
       rows.push_back({{"objects", n},
@@ -158,7 +161,11 @@ int bench_retrieval(const BenchArgs& args) {
                       {"time_mean_s", time.mean()},
                       {"time_std_s", time.stddev()},
                       {"time_median_s", time.median()},
+                      {"task_time_mean_s", task.mean()},
+                      {"task_time_std_s", task.stddev()},
                       {"task_time_median_s", task.median()},
+                      {"motion_time_mean_s", motion.mean()},
+                      {"motion_time_std_s", motion.stddev()},
                       {"motion_time_median_s", motion.median()},
                       {"iterations_mean", iterations.mean()},
                       {"paper", {{"removed", p.removed}, {"time_s", p.time}, {"iterations", p.iterations}, {"success", p.success}}}});
