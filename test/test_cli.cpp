@@ -229,6 +229,10 @@ TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
   EXPECT_EQ(run("generate --objects 12").exit_code, 2);                      // no --output
   EXPECT_EQ(run("generate --objects 0 --output x.yaml").exit_code, 2);       // out of range
   EXPECT_EQ(run("bench retrieval --scenes 0").exit_code, 2);
+  // More cylinders than the cabinet holds: bad input that says why, not a crash.
+  const CliRun crowded = run("generate --objects 100 --attempts 1 --output " + (dir_ / "x.yaml").string());
+  EXPECT_EQ(crowded.exit_code, 2) << crowded.output;
+  EXPECT_NE(crowded.output.find("cannot place 100 cylinders"), std::string::npos) << crowded.output;
   EXPECT_EQ(run("bench retrieval --sizes 12 --time-limit -1").exit_code, 2);
 }
 

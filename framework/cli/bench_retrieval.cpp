@@ -81,7 +81,13 @@ int bench_retrieval(const BenchArgs& args) {
     scenes::ShelfSpec spec;
     spec.objects = n;
     for (std::uint64_t seed = args.seed; static_cast<int>(scenes[n].size()) < args.instances && seed < args.seed + 1000; ++seed) {
-      Scene scene = scenes::generate_shelf_scene(spec, seed);
+      Scene scene;
+      try {
+        scene = scenes::generate_shelf_scene(spec, seed);
+      } catch (const std::runtime_error& e) {
+        std::cerr << "bench retrieval: --sizes " << n << ": " << e.what() << "\n";
+        return run::ExitCode::bad_input;
+      }
       if (!target_comes_out_directly(scene, robot, samplers, seed)) scenes[n].push_back(std::move(scene));
     }
   }

@@ -49,7 +49,13 @@ int generate(const GenerateArgs& args) {
   spec.objects = args.objects;
   for (int attempt = 0; attempt < args.max_attempts; ++attempt) {
     const std::uint64_t seed = args.seed + static_cast<std::uint64_t>(attempt);
-    Scene scene = scenes::generate_shelf_scene(spec, seed);
+    Scene scene;
+    try {
+      scene = scenes::generate_shelf_scene(spec, seed);
+    } catch (const std::runtime_error& e) {
+      std::cerr << "generate: --objects " << args.objects << ": " << e.what() << "\n";
+      return run::ExitCode::bad_input;
+    }
     if (args.require_removal && target_comes_out_directly(scene, robot, samplers, seed)) {
       if (args.verbosity == Verbosity::verbose) std::cerr << "seed " << seed << ": the target comes out directly; next\n";
       continue;

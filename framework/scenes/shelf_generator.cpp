@@ -1,6 +1,7 @@
 #include "cluttertamp/scenes/shelf_generator.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <random>
 #include <stdexcept>
 
@@ -64,7 +65,13 @@ Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
   };
   std::vector<Disc> discs;
   for (int attempt = 0; static_cast<int>(discs.size()) < spec.objects; ++attempt) {
-    if (attempt > 100000) throw std::runtime_error("cannot place " + std::to_string(spec.objects) + " objects in the cabinet");
+    if (attempt > 100000) {
+      char size_text[64];
+      std::snprintf(size_text, sizeof size_text, "%.2f x %.2f m", width, depth);
+      throw std::runtime_error("cannot place " + std::to_string(spec.objects) + " cylinders " +
+                               std::to_string(static_cast<int>(spec.min_gap * 1000)) + " mm apart in a " + size_text +
+                               " cabinet (" + std::to_string(discs.size()) + " fitted in 100000 tries)");
+    }
     const double r = radius(rng);
     const double margin = r + spec.min_gap;
     if (depth < 2 * margin || width < 2 * margin) throw std::runtime_error("the cabinet is too small for one object");
