@@ -7,17 +7,12 @@
 #include <gtest/gtest.h>
 
 #include "cluttertamp/collision/collision_world.hpp"
-#include "test_support.hpp"
+#include "test_fixtures.hpp"
 
 namespace cluttertamp::collision {
 namespace {
 
-std::shared_ptr<const robot::RobotDescription> ur10() {
-  static const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(
-      std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml"));
-  return robot;
-}
-
+using test::ur10;
 using test::at;
 
 SceneObject cylinder(const std::string& id, const Eigen::Isometry3d& pose, double radius = 0.02, double height = 0.1) {

@@ -10,7 +10,7 @@
 #include "cluttertamp/plugin/placement_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
-#include "test_support.hpp"
+#include "test_fixtures.hpp"
 
 namespace cluttertamp {
 namespace {
@@ -20,8 +20,7 @@ using test::at;
 class Manipulation : public ::testing::Test {
  protected:
   void SetUp() override {
-    problem_.robot.loaded = std::make_shared<const robot::RobotDescription>(
-        robot::RobotDescription::load(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml"));
+    problem_.robot.loaded = test::ur10();
     FixedBody table;
     table.id = "table";
     table.shape = Box{{0.8, 1.4, 0.02}};
@@ -33,20 +32,10 @@ class Manipulation : public ::testing::Test {
     buffer.world_T_region = at(0.75, -0.5, 0.56);
     problem_.scene.regions.push_back(buffer);
     problem_.scene.world_T_exit = at(0.45, 0.0, 0.55);
-    samplers_.grasp = registry_.create<plugin::GraspSampler>("grasp_side");
-    samplers_.motion = registry_.create<plugin::MotionSampler>("motion_ompl");
-    samplers_.placement = registry_.create<plugin::PlacementSampler>("placement_region");
+    samplers_ = test::shipped_samplers(registry_);
   }
 
-  ObjectIndex add(const std::string& id, double x, double y) {
-    SceneObject o;
-    o.id = id;
-    o.shape = Cylinder{0.035, 0.26};
-    o.world_T_object = at(x, y, 0.53);
-    o.mass = 0.3;
-    problem_.scene.objects.push_back(o);
-    return static_cast<ObjectIndex>(problem_.scene.objects.size() - 1);
-  }
+  ObjectIndex add(const std::string& id, double x, double y) { return test::add_cylinder(problem_.scene, id, x, y, 0.035); }
 
   plugin::PlanningContext& context(std::uint64_t seed = 3) {
     world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);

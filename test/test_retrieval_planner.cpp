@@ -14,7 +14,7 @@
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
-#include "test_support.hpp"
+#include "test_fixtures.hpp"
 
 namespace cluttertamp {
 namespace {
@@ -24,8 +24,7 @@ using test::at;
 class RetrievalPlanner : public ::testing::Test {
  protected:
   void SetUp() override {
-    problem_.robot.loaded = std::make_shared<const robot::RobotDescription>(
-        robot::RobotDescription::load(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml"));
+    problem_.robot.loaded = test::ur10();
     problem_.task = RetrievalTask{"target"};
     Scene& s = problem_.scene;
     auto board = [&](const std::string& id, Eigen::Vector3d size, Eigen::Vector3d c) {
@@ -46,20 +45,10 @@ class RetrievalPlanner : public ::testing::Test {
     buffer.world_T_region = at(0.2, -0.65, 0.56);
     s.regions.push_back(buffer);
     s.world_T_exit = at(0.45, 0.0, 0.53);
-    samplers_.grasp = registry_.create<plugin::GraspSampler>("grasp_side");
-    samplers_.motion = registry_.create<plugin::MotionSampler>("motion_ompl");
-    samplers_.placement = registry_.create<plugin::PlacementSampler>("placement_region");
+    samplers_ = test::shipped_samplers(registry_);
   }
 
-  ObjectIndex add(const std::string& id, double x, double y) {
-    SceneObject o;
-    o.id = id;
-    o.shape = Cylinder{0.0375, 0.26};
-    o.world_T_object = at(x, y, 0.53);
-    o.mass = 0.3;
-    problem_.scene.objects.push_back(o);
-    return static_cast<ObjectIndex>(problem_.scene.objects.size() - 1);
-  }
+  ObjectIndex add(const std::string& id, double x, double y) { return test::add_cylinder(problem_.scene, id, x, y, 0.0375); }
 
   Result plan(std::uint64_t seed = 1) {
     auto planner = registry_.create<plugin::TaskPlanner>("retrieval_graph");

@@ -9,7 +9,7 @@
 #include "cluttertamp/plugin/motion_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
-#include "test_support.hpp"
+#include "test_fixtures.hpp"
 
 namespace cluttertamp {
 namespace {
@@ -20,8 +20,7 @@ using test::at;
 class SamplerScene : public ::testing::Test {
  protected:
   void SetUp() override {
-    problem_.robot.loaded = std::make_shared<const robot::RobotDescription>(
-        robot::RobotDescription::load(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml"));
+    problem_.robot.loaded = test::ur10();
     FixedBody table;
     table.id = "table";
     table.shape = Box{{0.8, 1.2, 0.02}};
@@ -30,13 +29,7 @@ class SamplerScene : public ::testing::Test {
   }
 
   ObjectIndex add(const std::string& id, double x, double y, double radius = 0.035) {
-    SceneObject o;
-    o.id = id;
-    o.shape = Cylinder{radius, 0.26};
-    o.world_T_object = at(x, y, 0.40 + 0.13);
-    o.mass = 0.3;
-    problem_.scene.objects.push_back(o);
-    return static_cast<ObjectIndex>(problem_.scene.objects.size() - 1);
+    return test::add_cylinder(problem_.scene, id, x, y, radius);
   }
 
   plugin::GraspAnswer grasp(ObjectIndex object, const Parameters& parameters = {}, std::uint64_t seed = 1) {

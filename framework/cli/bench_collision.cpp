@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/statistics.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
@@ -38,8 +39,7 @@ Measure measure(const std::string& name, double goal_us, std::size_t items, std:
     per_call.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / double(batch));
     calls += batch;
   }
-  std::nth_element(per_call.begin(), per_call.begin() + per_call.size() / 2, per_call.end());
-  return {name, per_call[per_call.size() / 2], goal_us, calls};
+  return {name, median(per_call), goal_us, calls};
 }
 
 Eigen::Isometry3d tcp_pose(const Eigen::Vector3d& p, double yaw) {

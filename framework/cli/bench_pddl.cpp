@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/statistics.hpp"
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/search/grounding.hpp"
@@ -53,10 +54,6 @@ std::vector<Pair> instances(const fs::path& root) {
   return out;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 }  // namespace
 

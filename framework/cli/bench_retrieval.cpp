@@ -11,6 +11,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
+#include "cli/statistics.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
@@ -25,28 +26,6 @@ namespace cluttertamp::cli {
 
 namespace {
 
-struct Stats {
-  std::vector<double> values;
-  double mean() const {
-    double s = 0;
-    for (double v : values) s += v;
-    return values.empty() ? 0 : s / double(values.size());
-  }
-  double stddev() const {
-    if (values.size() < 2) return 0;
-    const double m = mean();
-    double s = 0;
-    for (double v : values) s += (v - m) * (v - m);
-    return std::sqrt(s / double(values.size() - 1));
-  }
-  double median() const {
-    std::vector<double> v = values;
-    std::sort(v.begin(), v.end());
-    if (v.empty()) return 0;
-    const std::size_t h = v.size() / 2;
-    return v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
-  }
-};
 
 // Table I of the paper: |O_r| (incl. target), time (s), iterations, success (%).
 struct Paper {
@@ -105,7 +84,7 @@ int bench_retrieval(const BenchArgs& args) {
             << "task s" << std::setw(15) << "motion s" << std::setw(13) << "iterations" << std::setw(8) << "paper" << std::setw(9) << "success" << "paper\n";
   for (int n : sizes) {
     for (const std::string& strategy : strategies) {
-      Stats removed, time, iterations, task, motion;
+      std::vector<double> removed, time, iterations, task, motion;
       int solved = 0, attempts = 0;
       for (std::size_t i = 0; i < scenes[n].size(); ++i) {
         for (int run = 0; run < args.runs; ++run) {
@@ -128,11 +107,11 @@ int bench_retrieval(const BenchArgs& args) {
           ++attempts;
           if (r.solved) {
             ++solved;
-            removed.values.push_back(double(r.moved_objects.size()));
-            time.values.push_back(seconds);
-            task.values.push_back(r.time.task_planning);
-            motion.values.push_back(r.time.motion_planning);
-            iterations.values.push_back(double(r.counters.count("iterations") ? r.counters.at("iterations") : 0));
+            removed.push_back(double(r.moved_objects.size()));
+            time.push_back(seconds);
+            task.push_back(r.time.task_planning);
+            motion.push_back(r.time.motion_planning);
+            iterations.push_back(double(r.counters.count("iterations") ? r.counters.at("iterations") : 0));
           }
           if (csv.is_open()) {
             csv << n << "," << strategy << "," << i << "," << run << "," << r.solved << "," << r.moved_objects.size() << ","
@@ -151,10 +130,10 @@ int bench_retrieval(const BenchArgs& args) {
       const Paper p = kTableI.count({n, strategy}) ? kTableI.at({n, strategy}) : Paper{};
       const double success = attempts ? 100.0 * solved / attempts : 0.0;
       std::cout << std::left << std::setw(8) << n << std::setw(9) << strategy << std::setw(15)
-                << ms(removed.mean(), removed.stddev()) << std::setw(15) << ms(p.removed, p.removed_sd) << std::setw(16)
-                << ms(time.mean(), time.stddev()) << std::setw(9) << std::fixed << std::setprecision(2) << time.median()
-                << std::setw(15) << ms(p.time, p.time_sd) << std::setw(15) << ms(task.mean(), task.stddev())
-                << std::setw(15) << ms(motion.mean(), motion.stddev()) << std::setw(13) << iterations.mean() << std::setw(8)
+                << ms(mean(removed), stddev(removed)) << std::setw(15) << ms(p.removed, p.removed_sd) << std::setw(16)
+                << ms(mean(time), stddev(time)) << std::setw(9) << std::fixed << std::setprecision(2) << median(time)
+                << std::setw(15) << ms(p.time, p.time_sd) << std::setw(15) << ms(mean(task), stddev(task))
+                << std::setw(15) << ms(mean(motion), stddev(motion)) << std::setw(13) << mean(iterations) << std::setw(8)
                 << p.iterations << std::setw(9) << std::setprecision(0) << success << p.success << "\n";
       std::cout.unsetf(std::ios::floatfield);
       rows.push_back({{"objects", n},
@@ -162,18 +141,18 @@ int bench_retrieval(const BenchArgs& args) {
                       {"instances", scenes[n].size()},
                       {"runs", args.runs},
                       {"success_rate", success},
-                      {"removed_mean", removed.mean()},
-                      {"removed_std", removed.stddev()},
-                      {"time_mean_s", time.mean()},
-                      {"time_std_s", time.stddev()},
-                      {"time_median_s", time.median()},
-                      {"task_time_mean_s", task.mean()},
-                      {"task_time_std_s", task.stddev()},
-                      {"task_time_median_s", task.median()},
-                      {"motion_time_mean_s", motion.mean()},
-                      {"motion_time_std_s", motion.stddev()},
-                      {"motion_time_median_s", motion.median()},
-                      {"iterations_mean", iterations.mean()},
+                      {"removed_mean", mean(removed)},
+                      {"removed_std", stddev(removed)},
+                      {"time_mean_s", mean(time)},
+                      {"time_std_s", stddev(time)},
+                      {"time_median_s", median(time)},
+                      {"task_time_mean_s", mean(task)},
+                      {"task_time_std_s", stddev(task)},
+                      {"task_time_median_s", median(task)},
+                      {"motion_time_mean_s", mean(motion)},
+                      {"motion_time_std_s", stddev(motion)},
+                      {"motion_time_median_s", median(motion)},
+                      {"iterations_mean", mean(iterations)},
                       {"paper", {{"removed", p.removed}, {"time_s", p.time}, {"iterations", p.iterations}, {"success", p.success}}}});
     }
   }

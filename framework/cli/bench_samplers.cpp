@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/statistics.hpp"
 #include "cli/shelf_support.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
@@ -26,11 +27,6 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 }  // namespace
 
 int bench_samplers(const BenchArgs& args) {

@@ -88,7 +88,6 @@ class Search {
   // The graph of the current roadmap with every feedback node; objects already removed
   // do not count.
   retrieval::RetrievalGraph graph() {
-    const Scene& scene = context_.scene();
     auto position = [&](ObjectIndex o) -> Eigen::Vector2d { return state_.world_T_objects[o].translation().head<2>(); };
     retrieval::RetrievalGraph g = roadmap_->cluster(state_.removed, position, node_of_);
     std::vector<int> feedback_node;
@@ -99,10 +98,7 @@ class Search {
       using Where = Feedback::Where;
       const int a = f.where == Where::edge ? resolve(f.before) : f.where == Where::before_start ? g.start() : g.goal();
       const int b = f.where == Where::edge ? resolve(f.after) : a;
-      ObjectSet live;
-      for (ObjectIndex o : f.objects) {
-        if (!state_.removed[o]) live.push_back(o);
-      }
+      const ObjectSet live = removable(f.objects);
       Eigen::Vector2d where = Eigen::Vector2d::Zero();
       for (ObjectIndex o : live) where += position(o) / double(live.size());
       const int n = g.add_node(live, live.empty() ? g.node(b).position : where);
@@ -118,7 +114,6 @@ class Search {
     }
     feedback_nodes_ = feedback_node;
     for (ObjectIndex o : blocked_) g.block_object(o);
-    (void)scene;
     g.update();
     return g;
   }
@@ -242,12 +237,7 @@ class Search {
   bool feed_back(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, ObjectIndex object,
                  const Failure& failure, Result& result) {
     record_failure(result, failure);
-    ObjectSet blocking;
-    for (ObjectIndex o : failure.blocking_objects) {
-      if (o != target_ && !state_.removed[o]) blocking.push_back(o);
-    }
-    std::sort(blocking.begin(), blocking.end());
-    blocking.erase(std::unique(blocking.begin(), blocking.end()), blocking.end());
+    ObjectSet blocking = removable(failure.blocking_objects);
     std::size_t fail = removal.nodes.size() - 1;
     for (std::size_t i = 0; i < removal.nodes.size(); ++i) {
       const ObjectSet& col = g.node(removal.nodes[i]).node_col;
@@ -277,6 +267,18 @@ class Search {
     return true;
   }
 
+  // The objects of `objects` that removing could still help with: sorted, once each,
+  // neither the target nor already removed.
+  ObjectSet removable(const std::vector<ObjectIndex>& objects) const {
+    ObjectSet out;
+    for (ObjectIndex o : objects) {
+      if (o != target_ && !state_.removed[o]) out.push_back(o);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
   // Keeps the retrieval graph away from `object`; the target cannot be avoided.
   bool avoid(ObjectIndex object) {
     if (object == target_ || std::find(blocked_.begin(), blocked_.end(), object) != blocked_.end()) return false;
@@ -300,12 +302,7 @@ class Search {
     std::optional<ObjectSet> best;
     for (const plugin::BlockedGrasp& b : answer.blocked) {
       if (!b.freeable) continue;
-      ObjectSet set;
-      for (ObjectIndex o : b.blocking_objects) {
-        if (o != target_ && !state_.removed[o]) set.push_back(o);
-      }
-      std::sort(set.begin(), set.end());
-      set.erase(std::unique(set.begin(), set.end()), set.end());
+      ObjectSet set = removable(b.blocking_objects);
       if (set.empty() || seen_failures_[object].count(set)) continue;
       if (!best || set.size() < best->size()) best = std::move(set);
     }
