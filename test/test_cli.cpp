@@ -225,15 +225,44 @@ TEST_F(Cli, GeneratedShelfProblemIsSolved) {
   EXPECT_GE(json["moved_objects"].size(), 2u);  // something had to move first
 }
 
+// --min-removals keeps a scene whose optimum the exhaustive planner proved; plan
+// --planner runs the baselines on it: none moves fewer objects than that optimum.
+TEST_F(Cli, GeneratedSceneWithAKnownMinimumAndThePlannersOnIt) {
+  const fs::path scene = dir_ / "min2.yaml", problem_file = dir_ / "min2_problem.yaml";
+  const CliRun g = run("generate -q --objects 12 --min-removals 2 --seed 1 --attempts 20 --output " + scene.string() +
+                       " --problem " + problem_file.string());
+  ASSERT_EQ(g.exit_code, 0) << g.output;
+  EXPECT_FALSE(fs::exists(scene.string() + ".tmp"));
+  std::ifstream text(problem_file);
+  const std::string header((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+  EXPECT_NE(header.find("fewest objects to move, target included: 2"), std::string::npos) << header;
+
+  const CliRun best = plan(problem_file, "--planner exhaustive --seed 0");
+  ASSERT_EQ(best.exit_code, 0) << best.output;
+  EXPECT_EQ(result()["planner"], "exhaustive");
+  EXPECT_EQ(result()["moved_objects"].size(), 2u);
+  for (const std::string name : {"retrieval_graph", "traversability_graph"}) {
+    const CliRun r = plan(problem_file, "--planner " + name + " --seed 0");
+    ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.output;
+    if (r.exit_code == 0) EXPECT_GE(result()["moved_objects"].size(), 2u) << name;
+  }
+  const CliRun missing = plan(problem_file, "--planner no_such_planner");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("exhaustive"), std::string::npos) << missing.output;  // lists what exists
+}
+
 TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
   EXPECT_EQ(run("generate --objects 12").exit_code, 2);                      // no --output
   EXPECT_EQ(run("generate --objects 0 --output x.yaml").exit_code, 2);       // out of range
   EXPECT_EQ(run("bench retrieval --scenes 0").exit_code, 2);
   // More cylinders than the cabinet holds: bad input that says why, not a crash.
-  const CliRun crowded = run("generate --objects 100 --attempts 1 --output " + (dir_ / "x.yaml").string());
+  const CliRun crowded = run("generate --objects 100 --width 0.9 --depth 0.6 --attempts 1 --output " + (dir_ / "x.yaml").string());
   EXPECT_EQ(crowded.exit_code, 2) << crowded.output;
   EXPECT_NE(crowded.output.find("cannot place 100 cylinders"), std::string::npos) << crowded.output;
   EXPECT_EQ(run("bench retrieval --sizes 12 --time-limit -1").exit_code, 2);
+  EXPECT_EQ(run("bench retrieval --table VII").exit_code, 2);
+  EXPECT_EQ(run("bench retrieval --table VI --table6-scenes " + (dir_ / "none").string()).exit_code, 2);
+  EXPECT_EQ(run("generate --objects 12 --min-removals 1 --output x.yaml").exit_code, 2);  // 2 at least
 }
 
 // One scene, one run per L strategy: the table, CSV and JSON say the same thing.
@@ -247,20 +276,25 @@ TEST_F(Cli, BenchRetrievalWritesTableCsvAndJson) {
   std::string line;
   int rows = 0, solved = 0;
   std::getline(in, line);
-  EXPECT_EQ(line, "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations");
+  EXPECT_EQ(line, "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations,table,planner,scenes,sequences");
   while (std::getline(in, line)) {
     ++rows;
     if (line.rfind("12,", 0) == 0 && line.find(",0,0,1,") != std::string::npos) ++solved;
   }
-  EXPECT_EQ(rows, 3);
+  EXPECT_EQ(rows, 4);  // three initial limits and the traversability graph
   std::ifstream jin(json_file);
   const auto json = nlohmann::json::parse(jin);
-  ASSERT_EQ(json.size(), 3u);
+  ASSERT_EQ(json.size(), 4u);
   double rate = 0;
   for (const auto& row : json) {
     EXPECT_EQ(row["objects"], 12);
+    EXPECT_EQ(row["table"], "I");
     rate += row["success_rate"].get<double>();
   }
+  EXPECT_EQ(json[0]["planner"], "retrieval_graph");
+  EXPECT_EQ(json[0]["initial_L"], "one");
+  EXPECT_DOUBLE_EQ(json[0]["paper"]["removed"]["mean"].get<double>(), 2.14);
+  EXPECT_EQ(json[3]["planner"], "traversability_graph");
   EXPECT_DOUBLE_EQ(rate, 100.0 * solved);
 }
 

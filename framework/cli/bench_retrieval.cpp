@@ -1,11 +1,17 @@
-// `cluttertamp bench retrieval`: Table I of Tian et al. (T-RO 2023) — the retrieval
-// planner on generated shelves of 12, 16 and 20 cylinders with the three initial
-// exploration limits — beside the paper's numbers, as a table, CSV and JSON.
+// `cluttertamp bench retrieval`: Tables I, V and VI of Tian et al. (T-RO 2023) beside
+// the paper's numbers, as a table, CSV and JSON.
+//   I:  retrieval_graph with the three initial exploration limits (and the
+//       traversability-graph baseline, Fig. 15) on generated 12/16/20-object shelves;
+//   V:  retrieval_graph (L = 1) against traversability_graph on 100-object shelves;
+//   VI: retrieval_graph (L = 1) against the exhaustive optimum on the bundled
+//       16-object shelves whose fewest objects to move is 2, 3 and 4.
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -13,10 +19,7 @@
 #include "cli/shelf_support.hpp"
 #include "cli/statistics.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
-#include "cluttertamp/manipulation/actions.hpp"
-#include "cluttertamp/plugin/grasp_sampler.hpp"
-#include "cluttertamp/plugin/motion_sampler.hpp"
-#include "cluttertamp/plugin/placement_sampler.hpp"
+#include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/run/runner.hpp"
@@ -26,137 +29,293 @@ namespace cluttertamp::cli {
 
 namespace {
 
+constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 
-// Table I of the paper: |O_r| (incl. target), time (s), iterations, success (%).
+// A paper figure: mean and standard deviation, NaN where the paper gives none.
+struct Figure {
+  double mean = kNone, sd = kNone;
+};
+
+// What the paper reports for one row (|O_r| counts the target).
 struct Paper {
-  double removed, removed_sd, time, time_sd, iterations, success;
-};
-const std::map<std::pair<int, std::string>, Paper> kTableI{
-    {{12, "one"}, {2.14, 0.34, 10.54, 5.89, 1.78, 100}},    {{12, "nodecol"}, {2.35, 0.47, 9.85, 4.91, 1.5, 100}},
-    {{12, "objects"}, {2.36, 1.08, 8.95, 5.74, 1, 100}},   {{16, "one"}, {2.81, 0.52, 20.50, 6.71, 3.18, 95}},
-    {{16, "nodecol"}, {3.15, 0.53, 16.25, 6.0, 1.76, 100}}, {{16, "objects"}, {3.35, 1.0, 21.43, 7.50, 1, 100}},
-    {{20, "one"}, {3.28, 0.58, 21.73, 7.13, 3.28, 95}},    {{20, "nodecol"}, {3.57, 0.62, 17.63, 7.18, 1.92, 95}},
-    {{20, "objects"}, {4.25, 0.82, 15.73, 7.38, 1, 100}},
+  Figure removed, total, task, motion, iterations, sequences;
+  double success = kNone;
 };
 
-std::string ms(double mean, double sd) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.2f(%.2f)", mean, sd);
-  return text;
+// One row of a table: a planner with its parameters on a set of scenes.
+struct Row {
+  std::string table, scenes, planner, initial_limit;
+  int objects = 0;
+  const std::vector<Scene>* instances = nullptr;
+  Paper paper;
+};
+
+struct Measured {
+  std::vector<double> removed, total, task, motion, iterations, sequences;
+  int solved = 0, runs = 0;
+};
+
+Paper table_i(Figure removed, Figure total, double iterations, double success) {
+  Paper p;
+  p.removed = removed;
+  p.total = total;
+  p.iterations = {iterations, kNone};
+  p.success = success;
+  return p;
 }
+const std::map<std::pair<int, std::string>, Paper> kTableI{
+    {{12, "one"}, table_i({2.14, 0.34}, {10.54, 5.89}, 1.78, 100)},
+    {{12, "nodecol"}, table_i({2.35, 0.47}, {9.85, 4.91}, 1.5, 100)},
+    {{12, "objects"}, table_i({2.36, 1.08}, {8.95, 5.74}, 1, 100)},
+    {{16, "one"}, table_i({2.81, 0.52}, {20.50, 6.71}, 3.18, 95)},
+    {{16, "nodecol"}, table_i({3.15, 0.53}, {16.25, 6.0}, 1.76, 100)},
+    {{16, "objects"}, table_i({3.35, 1.0}, {21.43, 7.50}, 1, 100)},
+    {{20, "one"}, table_i({3.28, 0.58}, {21.73, 7.13}, 3.28, 95)},
+    {{20, "nodecol"}, table_i({3.57, 0.62}, {17.63, 7.18}, 1.92, 95)},
+    {{20, "objects"}, table_i({4.25, 0.82}, {15.73, 7.38}, 1, 100)},
+};
+Paper table_v(Figure task, Figure motion, Figure total, Figure sequences, Figure removed) {
+  Paper p;
+  p.task = task;
+  p.motion = motion;
+  p.total = total;
+  p.sequences = sequences;
+  p.removed = removed;
+  return p;
+}
+const Paper kTableVNam = table_v({9.71, 0.58}, {126.40, 31.44}, {136.10, 31.52}, {5.05, 1.57}, {10.95, 0.88});
+const Paper kTableVOurs = table_v({40.95, 4.72}, {78.54, 6.68}, {119.49, 9.52}, {1.30, 0.47}, {10.45, 0.51});
+Paper table_vi(Figure removed, Figure total) {
+  Paper p;
+  p.removed = removed;
+  p.total = total;
+  return p;
+}
+const std::map<int, std::pair<Paper, Paper>> kTableVI{  // brute force, ours
+    {2, {table_vi({2, 0}, {4.34, 0.11}), table_vi({2.25, 0.45}, {4.11, 0.65})}},
+    {3, {table_vi({3, 0}, {18.39, 2.54}), table_vi({3.18, 0.38}, {14.71, 2.26})}},
+    {4, {table_vi({4, 0}, {145.56, 7.44}), table_vi({4.27, 0.44}, {20.84, 5.57})}},
+};
+
+std::string text(const Figure& f) {
+  if (std::isnan(f.mean)) return "-";
+  char out[48];
+  if (std::isnan(f.sd)) {
+    std::snprintf(out, sizeof out, "%.2f", f.mean);
+  } else {
+    std::snprintf(out, sizeof out, "%.2f(%.2f)", f.mean, f.sd);
+  }
+  return out;
+}
+
+Figure of(const std::vector<double>& v) { return v.empty() ? Figure{} : Figure{mean(v), stddev(v)}; }
+
+std::uint64_t counter(const Result& r, const std::string& name) { return r.counters.count(name) ? r.counters.at(name) : 0; }
+
+// Generated shelves of `objects` cylinders whose target needs a removal, as the paper's.
+std::vector<Scene> generated(int objects, const BenchArgs& args, const std::shared_ptr<const robot::RobotDescription>& robot,
+                             const plugin::Samplers& samplers) {
+  scenes::ShelfSpec spec;
+  spec.objects = objects;
+  std::vector<Scene> out;
+  for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < args.seed + 1000; ++seed) {
+    Scene scene = scenes::generate_shelf_scene(spec, seed);  // throws runtime_error: too crowded
+    if (!target_comes_out_directly(scene, robot, samplers, seed)) out.push_back(std::move(scene));
+  }
+  return out;
+}
+
+class Bench {
+ public:
+  explicit Bench(const BenchArgs& args)
+      : args_(args),
+        registry_(plugin::Registry::default_search_paths()),
+        samplers_(shipped_samplers(registry_)),
+        robot_(std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot))) {
+    if (!args.csv.empty()) {
+      csv_.open(args.csv);
+      csv_ << "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations,table,planner,scenes,"
+              "sequences\n";
+    }
+  }
+
+  const plugin::Samplers& samplers() const { return samplers_; }
+  const std::shared_ptr<const robot::RobotDescription>& robot() const { return robot_; }
+
+  void set_total(int runs) { total_ = runs; }
+
+  static void header() {
+    std::cout << std::left << std::setw(6) << "table" << std::setw(14) << "scenes" << std::setw(22) << "planner (L init)"
+              << std::setw(13) << "|O_r|" << std::setw(13) << "paper" << std::setw(15) << "total s" << std::setw(8)
+              << "median" << std::setw(14) << "paper" << std::setw(14) << "task s" << std::setw(13) << "paper"
+              << std::setw(14) << "motion s" << std::setw(14) << "paper" << std::setw(7) << "iter" << std::setw(6)
+              << "paper" << std::setw(7) << "seqs" << std::setw(12) << "paper" << std::setw(8) << "success"
+              << "paper\n";
+  }
+
+  void run(const Row& row) {
+    Measured m;
+    for (std::size_t i = 0; i < row.instances->size(); ++i) {
+      for (int run = 0; run < args_.runs; ++run) measure(row, (*row.instances)[i], i, run, m);
+    }
+    if (args_.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(60, ' ') << "\r";
+    print(row, m);
+  }
+
+  void write_json() const {
+    if (!args_.json.empty()) std::ofstream(args_.json) << rows_.dump(2) << "\n";
+  }
+
+ private:
+  void measure(const Row& row, const Scene& scene, std::size_t instance, int run, Measured& m) {
+    Problem problem;
+    problem.scene = scene;
+    problem.robot.loaded = robot_;
+    problem.task = RetrievalTask{scene.objects[scene.target].id};
+    Parameters parameters;
+    if (!row.initial_limit.empty()) parameters.set("initial_L", row.initial_limit);
+    const auto planner = registry_.create<plugin::TaskPlanner>(row.planner, parameters);
+    collision::CollisionWorld world(problem.scene, robot_);
+    std::map<std::string, std::uint64_t> counters;
+    const std::uint64_t seed = args_.seed + static_cast<std::uint64_t>(run);
+    plugin::PlanningContext context{problem, plugin::Deadline::after(args_.time_limit), seed, counters, samplers_, &world};
+    WorldState state = WorldState::initial(problem.scene);
+    state.robot_configuration = robot_->home();
+    const auto t0 = std::chrono::steady_clock::now();
+    const Result r = planner->solve(context, state);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ++m.runs;
+    if (r.solved) {
+      ++m.solved;
+      m.removed.push_back(double(r.moved_objects.size()));
+      m.total.push_back(seconds);
+      m.task.push_back(r.time.task_planning);
+      m.motion.push_back(r.time.motion_planning);
+      if (r.counters.count("iterations")) m.iterations.push_back(double(counter(r, "iterations")));
+      if (r.counters.count("planning_sequences")) m.sequences.push_back(double(counter(r, "planning_sequences")));
+    }
+    if (csv_.is_open()) {
+      csv_ << row.objects << "," << row.initial_limit << "," << instance << "," << run << "," << r.solved << ","
+           << r.moved_objects.size() << "," << seconds << "," << r.time.task_planning << "," << r.time.motion_planning
+           << "," << counter(r, "iterations") << "," << row.table << "," << row.planner << "," << row.scenes << ","
+           << counter(r, "planning_sequences") << "\n";
+    }
+    ++done_;
+    if (args_.verbosity != Verbosity::quiet) {
+      const int bar = total_ ? 30 * done_ / total_ : 30;
+      std::cerr << "\r[" << std::string(static_cast<std::size_t>(bar), '#') << std::string(static_cast<std::size_t>(30 - bar), ' ')
+                << "] " << done_ << "/" << total_ << " table " << row.table << " " << row.planner << std::flush;
+    }
+  }
+
+  void print(const Row& row, const Measured& m) {
+    const double success = m.runs ? 100.0 * m.solved / m.runs : 0.0;
+    const std::string name = row.planner + (row.initial_limit.empty() ? "" : " (" + row.initial_limit + ")");
+    auto number = [](double v, int digits) {
+      if (std::isnan(v)) return std::string("-");
+      char out[32];
+      std::snprintf(out, sizeof out, "%.*f", digits, v);
+      return std::string(out);
+    };
+    const Figure iterations = of(m.iterations);
+    std::cout << std::left << std::setw(6) << row.table << std::setw(14) << row.scenes << std::setw(22) << name
+              << std::setw(13) << text(of(m.removed)) << std::setw(13) << text(row.paper.removed) << std::setw(15)
+              << text(of(m.total)) << std::setw(8) << number(m.total.empty() ? kNone : median(m.total), 2) << std::setw(14)
+              << text(row.paper.total) << std::setw(14) << text(of(m.task)) << std::setw(13) << text(row.paper.task)
+              << std::setw(14) << text(of(m.motion)) << std::setw(14) << text(row.paper.motion) << std::setw(7)
+              << number(iterations.mean, 2) << std::setw(6) << number(row.paper.iterations.mean, 2) << std::setw(7)
+              << number(of(m.sequences).mean, 2) << std::setw(12) << text(row.paper.sequences) << std::setw(8)
+              << number(success, 0) << number(row.paper.success, 0) << std::endl;
+    auto figure = [&](const std::vector<double>& v) {
+      nlohmann::ordered_json f = {{"mean", mean(v)}, {"std", stddev(v)}, {"median", median(v)}};
+      return v.empty() ? nlohmann::ordered_json(nullptr) : f;
+    };
+    auto paper = [](const Figure& f) {
+      return std::isnan(f.mean) ? nlohmann::ordered_json(nullptr)
+                                : nlohmann::ordered_json{{"mean", f.mean}, {"std", std::isnan(f.sd) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(f.sd)}};
+    };
+    rows_.push_back({{"table", row.table},
+                     {"scenes", row.scenes},
+                     {"objects", row.objects},
+                     {"planner", row.planner},
+                     {"initial_L", row.initial_limit.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(row.initial_limit)},
+                     {"instances", row.instances->size()},
+                     {"runs", args_.runs},
+                     {"success_rate", success},
+                     {"removed", figure(m.removed)},
+                     {"time_s", figure(m.total)},
+                     {"task_time_s", figure(m.task)},
+                     {"motion_time_s", figure(m.motion)},
+                     {"iterations", figure(m.iterations)},
+                     {"planning_sequences", figure(m.sequences)},
+                     {"paper",
+                      {{"removed", paper(row.paper.removed)},
+                       {"time_s", paper(row.paper.total)},
+                       {"task_time_s", paper(row.paper.task)},
+                       {"motion_time_s", paper(row.paper.motion)},
+                       {"iterations", paper(row.paper.iterations)},
+                       {"planning_sequences", paper(row.paper.sequences)},
+                       {"success", std::isnan(row.paper.success) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(row.paper.success)}}}});
+  }
+
+  const BenchArgs& args_;
+  plugin::Registry registry_;
+  plugin::Samplers samplers_;
+  std::shared_ptr<const robot::RobotDescription> robot_;
+  std::ofstream csv_;
+  nlohmann::ordered_json rows_ = nlohmann::ordered_json::array();
+  int done_ = 0, total_ = 0;
+};
 
 }  // namespace
 
 int bench_retrieval(const BenchArgs& args) {
-  const plugin::Registry registry(plugin::Registry::default_search_paths());
-  const plugin::Samplers samplers = shipped_samplers(registry);
-  const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
-  const std::vector<int> sizes = args.sizes.empty() ? std::vector<int>{12, 16, 20} : args.sizes;
-  const std::vector<std::string> strategies{"one", "nodecol", "objects"};
+  Bench bench(args);
+  const std::vector<std::string> tables = args.tables.empty() ? std::vector<std::string>{"I"} : args.tables;
+  auto wants = [&](const std::string& t) { return std::find(tables.begin(), tables.end(), t) != tables.end(); };
 
-  // Instances: generated scenes whose target needs a removal (as the paper's).
-  std::map<int, std::vector<Scene>> scenes;
-  for (int n : sizes) {
-    scenes::ShelfSpec spec;
-    spec.objects = n;
-    for (std::uint64_t seed = args.seed; static_cast<int>(scenes[n].size()) < args.instances && seed < args.seed + 1000; ++seed) {
-      Scene scene;
-      try {
-        scene = scenes::generate_shelf_scene(spec, seed);
-      } catch (const std::runtime_error& e) {
-        std::cerr << "bench retrieval: --sizes " << n << ": " << e.what() << "\n";
-        return run::ExitCode::bad_input;
-      }
-      if (!target_comes_out_directly(scene, robot, samplers, seed)) scenes[n].push_back(std::move(scene));
-    }
-  }
-
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  std::ofstream csv;
-  if (!args.csv.empty()) {
-    csv.open(args.csv);
-    csv << "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations\n";
-  }
-  const int total = static_cast<int>(sizes.size() * strategies.size()) * args.instances * args.runs;
-  int done = 0;
-  std::cout << std::left << std::setw(8) << "|O|" << std::setw(9) << "L init" << std::setw(15) << "|O_r|" << std::setw(15)
-            << "paper" << std::setw(16) << "time s" << std::setw(9) << "median" << std::setw(15) << "paper" << std::setw(15)
-            << "task s" << std::setw(15) << "motion s" << std::setw(13) << "iterations" << std::setw(8) << "paper" << std::setw(9) << "success" << "paper\n";
-  for (int n : sizes) {
-    for (const std::string& strategy : strategies) {
-      std::vector<double> removed, time, iterations, task, motion;
-      int solved = 0, attempts = 0;
-      for (std::size_t i = 0; i < scenes[n].size(); ++i) {
-        for (int run = 0; run < args.runs; ++run) {
-          Problem problem;
-          problem.scene = scenes[n][i];
-          problem.robot.loaded = robot;
-          problem.task = RetrievalTask{"target"};
-          Parameters parameters;
-          parameters.set("initial_L", strategy);
-          const auto planner = registry.create<plugin::TaskPlanner>("retrieval_graph", parameters);
-          collision::CollisionWorld world(problem.scene, robot);
-          std::map<std::string, std::uint64_t> counters;
-          const std::uint64_t seed = args.seed + static_cast<std::uint64_t>(run);
-          plugin::PlanningContext context{problem, plugin::Deadline::after(args.time_limit), seed, counters, samplers, &world};
-          WorldState state = WorldState::initial(problem.scene);
-          state.robot_configuration = robot->home();
-          const auto t0 = std::chrono::steady_clock::now();
-          const Result r = planner->solve(context, state);
-          const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          ++attempts;
-          if (r.solved) {
-            ++solved;
-            removed.push_back(double(r.moved_objects.size()));
-            time.push_back(seconds);
-            task.push_back(r.time.task_planning);
-            motion.push_back(r.time.motion_planning);
-            iterations.push_back(double(r.counters.count("iterations") ? r.counters.at("iterations") : 0));
-          }
-          if (csv.is_open()) {
-            csv << n << "," << strategy << "," << i << "," << run << "," << r.solved << "," << r.moved_objects.size() << ","
-                << seconds << "," << r.time.task_planning << "," << r.time.motion_planning << ","
-                << (r.counters.count("iterations") ? r.counters.at("iterations") : 0) << "\n";
-          }
-          ++done;
-          if (args.verbosity != Verbosity::quiet) {
-            std::cerr << "\r[" << std::string(static_cast<std::size_t>(30 * done / total), '#')
-                      << std::string(static_cast<std::size_t>(30 - 30 * done / total), ' ') << "] " << done << "/" << total
-                      << std::flush;
-          }
+  // Instances first (generating or loading can fail on bad input before any run).
+  std::map<std::string, std::vector<Scene>> scenes;
+  std::vector<Row> rows;
+  try {
+    if (wants("I")) {
+      for (int n : args.sizes.empty() ? std::vector<int>{12, 16, 20} : args.sizes) {
+        const std::string key = "shelf" + std::to_string(n);
+        scenes[key] = generated(n, args, bench.robot(), bench.samplers());
+        for (const std::string strategy : {"one", "nodecol", "objects"}) {
+          const Paper p = kTableI.count({n, strategy}) ? kTableI.at({n, strategy}) : Paper{};
+          rows.push_back({"I", key, "retrieval_graph", strategy, n, nullptr, p});
         }
+        rows.push_back({"I", key, "traversability_graph", "", n, nullptr, {}});
       }
-      if (args.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(50, ' ') << "\r";
-      const Paper p = kTableI.count({n, strategy}) ? kTableI.at({n, strategy}) : Paper{};
-      const double success = attempts ? 100.0 * solved / attempts : 0.0;
-      std::cout << std::left << std::setw(8) << n << std::setw(9) << strategy << std::setw(15)
-                << ms(mean(removed), stddev(removed)) << std::setw(15) << ms(p.removed, p.removed_sd) << std::setw(16)
-                << ms(mean(time), stddev(time)) << std::setw(9) << std::fixed << std::setprecision(2) << median(time)
-                << std::setw(15) << ms(p.time, p.time_sd) << std::setw(15) << ms(mean(task), stddev(task))
-                << std::setw(15) << ms(mean(motion), stddev(motion)) << std::setw(13) << mean(iterations) << std::setw(8)
-                << p.iterations << std::setw(9) << std::setprecision(0) << success << p.success << "\n";
-      std::cout.unsetf(std::ios::floatfield);
-      rows.push_back({{"objects", n},
-                      {"initial_L", strategy},
-                      {"instances", scenes[n].size()},
-                      {"runs", args.runs},
-                      {"success_rate", success},
-                      {"removed_mean", mean(removed)},
-                      {"removed_std", stddev(removed)},
-                      {"time_mean_s", mean(time)},
-                      {"time_std_s", stddev(time)},
-                      {"time_median_s", median(time)},
-                      {"task_time_mean_s", mean(task)},
-                      {"task_time_std_s", stddev(task)},
-                      {"task_time_median_s", median(task)},
-                      {"motion_time_mean_s", mean(motion)},
-                      {"motion_time_std_s", stddev(motion)},
-                      {"motion_time_median_s", median(motion)},
-                      {"iterations_mean", mean(iterations)},
-                      {"paper", {{"removed", p.removed}, {"time_s", p.time}, {"iterations", p.iterations}, {"success", p.success}}}});
     }
+    if (wants("V")) {
+      scenes["shelf100"] = generated(100, args, bench.robot(), bench.samplers());
+      rows.push_back({"V", "shelf100", "traversability_graph", "", 100, nullptr, kTableVNam});
+      rows.push_back({"V", "shelf100", "retrieval_graph", "one", 100, nullptr, kTableVOurs});
+    }
+    if (wants("VI")) {
+      for (const auto& [minimum, paper] : kTableVI) {
+        const std::string key = "shelf16-min" + std::to_string(minimum);
+        scenes[key] = {io::load_scene(args.table_vi_scenes / (key + ".yaml"))};
+        rows.push_back({"VI", key, "exhaustive", "", 16, nullptr, paper.first});
+        rows.push_back({"VI", key, "retrieval_graph", "one", 16, nullptr, paper.second});
+      }
+    }
+  } catch (const std::runtime_error& e) {
+    if (dynamic_cast<const InputError*>(&e)) throw;
+    std::cerr << "bench retrieval: " << e.what() << "\n";
+    return run::ExitCode::bad_input;
   }
-  if (!args.json.empty()) std::ofstream(args.json) << rows.dump(2) << "\n";
+  int total = 0;
+  for (Row& row : rows) {
+    row.instances = &scenes[row.scenes];
+    total += static_cast<int>(row.instances->size()) * args.runs;
+  }
+  bench.set_total(total);
+  Bench::header();
+  for (const Row& row : rows) bench.run(row);
+  bench.write_json();
   return run::ExitCode::solved;
 }
 

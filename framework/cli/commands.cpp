@@ -72,7 +72,8 @@ void print_summary(std::ostream& out, const Problem& problem, const run::RunOutc
 }  // namespace
 
 int plan(const PlanArgs& args) {
-  const Problem problem = io::load_problem(args.problem);
+  Problem problem = io::load_problem(args.problem);
+  if (args.planner && *args.planner != problem.planner.name) problem.planner = PluginChoice{*args.planner, {}, {"--planner", 0, 0}};
   run::RunOptions options;
   if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
   options.time_limit = args.time_limit;

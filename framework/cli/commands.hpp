@@ -16,6 +16,7 @@ struct PlanArgs {
   std::filesystem::path problem;
   std::optional<std::int64_t> seed;  ///< validated >= 0 by the parser
   std::optional<double> time_limit;
+  std::optional<std::string> planner;  ///< replaces the problem's planner.plugin
   std::filesystem::path output = "cluttertamp-out";
   std::vector<std::filesystem::path> plugin_paths;
   Verbosity verbosity = Verbosity::normal;
@@ -62,6 +63,9 @@ struct GenerateArgs {
   std::filesystem::path problem;  ///< also write a problem file here (optional)
   std::filesystem::path robot;
   bool require_removal = true;    ///< keep only scenes whose target needs a removal
+  int min_removals = 0;           ///< keep only scenes whose optimal |O_r| (target included) is this; 0: any
+  double check_time = 300;        ///< seconds for the exhaustive check of one scene
+  double width = 0, depth = 0;    ///< cabinet interior, m; 0: from the object count
   int max_attempts = 100;
   Verbosity verbosity = Verbosity::normal;
 };
@@ -81,6 +85,8 @@ struct BenchArgs {
   int instances = 5;                     ///< bench retrieval: scenes per object count
   std::vector<int> sizes;                ///< bench retrieval: object counts (default 12 16 20)
   std::filesystem::path csv;             ///< bench retrieval
+  std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
+  std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml
   Verbosity verbosity = Verbosity::normal;
   int runs = 3;                          ///< bench pddl
 };
@@ -90,7 +96,7 @@ int bench_collision(const BenchArgs& args);
 int bench_pddl(const BenchArgs& args);
 /// Grasp, motion and pick-and-place medians; exit code 0 when every goal is met.
 int bench_samplers(const BenchArgs& args);
-/// Table I of Tian et al. on generated shelves; exit code 0.
+/// Tables I, V and VI of Tian et al.; exit code 0.
 int bench_retrieval(const BenchArgs& args);
 
 }  // namespace cluttertamp::cli

@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
                        : "must be a finite number of seconds greater than 0";
           },
           "SECONDS", "finite positive"));
+  plan->add_option("--planner", plan_args.planner,
+                   "Task planner plugin to run instead of the problem file's planner.plugin (its parameters are "
+                   "dropped), e.g. exhaustive or traversability_graph to compare with retrieval_graph");
   plan->add_option("-o,--output", plan_args.output, "Directory for result.json")->capture_default_str();
   plan->add_option("--plugin-path", plan_args.plugin_paths, "Search this plugin directory first (repeatable)")
       ->expected(1)
@@ -104,9 +107,21 @@ int main(int argc, char** argv) {
 
   cli::GenerateArgs generate_args;
   auto* generate = app.add_subcommand("generate", "Generate a shelf scene (Tian et al., Section VI-B) and optionally a problem file");
-  generate->add_option("--objects", generate_args.objects, "Cylinders in the shelf (12 to 20 in the paper)")
+  generate->add_option("--objects", generate_args.objects, "Cylinders in the shelf (12 to 20, and 100, in the paper)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 100));
+      ->check(CLI::Range(1, 500));
+  generate->add_option("--width", generate_args.width,
+                       "Cabinet interior width, m (default: 0.9 for 12 objects to 1.2 for 20, +0.01 per object beyond)")
+      ->check(CLI::Range(0.1, 10.0));
+  generate->add_option("--depth", generate_args.depth, "Cabinet interior depth, m (default: 0.6 for 12 objects to 0.7 for 20 and beyond)")
+      ->check(CLI::Range(0.1, 2.0));
+  generate->add_option("--min-removals", generate_args.min_removals,
+                       "Keep only scenes whose fewest objects to move, target included, is this (Table VI: 2, 3, 4); "
+                       "proved with the exhaustive planner")
+      ->check(CLI::Range(2, 10));
+  generate->add_option("--check-time", generate_args.check_time, "Seconds for the exhaustive check of one scene")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   generate->add_option("--seed", generate_args.seed, "Seed of the first scene tried")->capture_default_str();
   generate->add_option("--output", generate_args.output, "Scene file to write")->required();
   generate->add_option("--problem", generate_args.problem, "Also write a problem file for the scene here");
@@ -123,7 +138,8 @@ int main(int argc, char** argv) {
   auto* bench = app.add_subcommand(
       "bench",
       "Measure speed: 'collision' times FK, IK, collision and sweep queries; 'pddl' times searches on PDDL instances; "
-      "'samplers' times grasp, motion and pick-and-place queries; 'retrieval' runs the retrieval-graph planner on generated shelves (Table I of Tian et al.)");
+      "'samplers' times grasp, motion and pick-and-place queries; 'retrieval' runs the retrieval planners on shelves "
+      "(Tables I, V and VI of Tian et al.)");
   bench->add_option("what", bench_args.what, "What to measure")
       ->required()
       ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval"}));
@@ -142,11 +158,22 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(cluttertamp::search::search_names()));
   bench->add_option("--time-limit", bench_args.time_limit, "pddl: seconds per search; retrieval: per run")->capture_default_str()->check(CLI::PositiveNumber);
   bench->add_option("--runs", bench_args.runs, "pddl, retrieval: runs per instance (seeds seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 100));
-  bench->add_option("--scenes", bench_args.instances, "retrieval: generated scenes per object count")
+  bench->add_option("--scenes", bench_args.instances, "retrieval: generated scenes per object count (tables I and V)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
   bench->add_option("--sizes", bench_args.sizes, "retrieval: object counts (default 12 16 20)")->check(CLI::Range(1, 100));
   bench->add_option("--csv", bench_args.csv, "retrieval: also write every run as CSV");
+  bench->add_option("--table", bench_args.tables,
+                    "retrieval: I (12/16/20 objects, L strategies), V (100 objects, against traversability_graph), "
+                    "VI (known minima, against exhaustive); repeatable, default I")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->check(CLI::IsMember({"I", "V", "VI"}));
+  bench_args.table_vi_scenes = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems/table6";
+  bench->add_option("--table6-scenes", bench_args.table_vi_scenes, "retrieval: directory of shelf16-min{2,3,4}.yaml")
+      ->capture_default_str()
+      ->check(CLI::ExistingDirectory);
   add_verbosity(*bench, bench_args.verbosity, "Same output as the default");
   bench_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
   bench->add_option("--robot", bench_args.robot, "Robot description (a UR arm: the bench times analytic IK)")

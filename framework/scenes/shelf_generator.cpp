@@ -27,7 +27,10 @@ FixedBody board(const std::string& id, const Eigen::Vector3d& size, const Eigen:
 
 Eigen::Vector3d cabinet_size(const ShelfSpec& spec) {
   const double t = std::clamp((spec.objects - 12) / 8.0, 0.0, 1.0);
-  const double width = spec.width > 0 ? spec.width : 0.9 + t * 0.3;
+  // Beyond 20 objects (Table V's 100) only the width grows, 1 cm per object: a deeper
+  // cabinet would put its back out of a UR10's reach.
+  const double wider = 0.01 * std::max(0, spec.objects - 20);
+  const double width = spec.width > 0 ? spec.width : 0.9 + t * 0.3 + wider;
   const double depth = spec.depth > 0 ? spec.depth : 0.6 + t * 0.1;
   return {depth, width, spec.height};
 }

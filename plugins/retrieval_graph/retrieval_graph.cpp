@@ -4,7 +4,9 @@
 // removal sequence with the fewest objects (Algorithm 3), check it with the robot
 // (grasp, motion and placement samplers) removing objects in order; a failure adds the
 // robot-obstacle collisions as new graph nodes in place of the failed edge (Fig. 5) and
-// the search runs again; with no sequence of at most L objects left, L grows.
+// the search runs again; with no sequence of at most L objects left, L grows. Each
+// sequence is checked from the initial world (a failed check is planning, not
+// execution), so the plan holds the last sequence only: R and Pi of Algorithm 1.
 #include <algorithm>
 #include <chrono>
 #include <map>
@@ -13,11 +15,11 @@
 #include <variant>
 
 #include "cluttertamp/collision/collision_world.hpp"
-#include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/object_pruner.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
+#include "cluttertamp/retrieval/removal_checker.hpp"
 #include "cluttertamp/retrieval/roadmap.hpp"
 
 namespace {
@@ -65,21 +67,16 @@ struct Feedback {
 class Search {
  public:
   Search(plugin::PlanningContext& context, const Settings& settings, const WorldState& initial)
-      : context_(context), settings_(settings), state_(initial) {
+      : context_(context), settings_(settings), initial_(initial), checker_(context, initial, settings.region) {
     const Scene& scene = context.scene();
     target_ = scene.target;
-    const robot::RobotDescription& robot = context.robot();
-    const SceneObject& t = scene.objects[target_];
-    const double radius = std::holds_alternative<Cylinder>(t.shape) ? std::get<Cylinder>(t.shape).radius
-                                                                     : std::get<Box>(t.shape).size.head<2>().norm() / 2;
-    const Eigen::AlignedBox3d bounds = world_bounds(t.shape, initial.world_T_objects[target_]);
-    footprint_ = {robot.gripper().footprint_radius(radius), bounds.min().z(), bounds.max().z()};
+    footprint_ = retrieval::held_footprint(context, initial, target_);
     Eigen::AlignedBox2d area(scene.world_T_exit.translation().head<2>());
     for (const SceneObject& o : scene.objects) area.extend(o.world_T_object.translation().head<2>());
     area.min().array() -= footprint_.radius;
     area.max().array() += footprint_.radius;
     world_ = context.world;
-    world_->sync(state_);
+    world_->sync(initial_);
     roadmap_ = std::make_unique<retrieval::Roadmap>(*world_, footprint_, area, scene.world_T_exit.translation().head<2>(),
                                                     initial.world_T_objects[target_].translation().head<2>(), target_,
                                                     context.seed);
@@ -88,8 +85,8 @@ class Search {
   // The graph of the current roadmap with every feedback node; objects already removed
   // do not count.
   retrieval::RetrievalGraph graph() {
-    auto position = [&](ObjectIndex o) -> Eigen::Vector2d { return state_.world_T_objects[o].translation().head<2>(); };
-    retrieval::RetrievalGraph g = roadmap_->cluster(state_.removed, position, node_of_);
+    auto position = [&](ObjectIndex o) -> Eigen::Vector2d { return initial_.world_T_objects[o].translation().head<2>(); };
+    retrieval::RetrievalGraph g = roadmap_->cluster(initial_.removed, position, node_of_);
     std::vector<int> feedback_node;
     auto resolve = [&](const Endpoint& e) {
       return std::holds_alternative<std::size_t>(e) ? node_of_[std::get<std::size_t>(e)] : feedback_node[std::get<int>(e)];
@@ -165,6 +162,7 @@ class Search {
         retrieval::RetrievalGraph g = graph();
         const auto removal = g.removal_sequence();
         if (!removal || static_cast<int>(removal->objects_in_order.size()) > limit) break;
+        ++result.counters["planning_sequences"];
         const Attempt attempt_result = execute(g, *removal, result);
         if (attempt_result == Attempt::solved) {
           result.solved = true;
@@ -194,49 +192,20 @@ class Search {
   }
 
   void finish(Result& result, Clock::time_point start) {
-    result.time.motion_planning = motion_seconds_;
-    result.time.task_planning = std::max(0.0, std::chrono::duration<double>(Clock::now() - start).count() - motion_seconds_);
+    const double motion = checker_.motion_seconds();
+    result.time.motion_planning = motion;
+    result.time.task_planning = std::max(0.0, std::chrono::duration<double>(Clock::now() - start).count() - motion);
+    result.counters["actions_planned"] = checker_.actions_planned();
     result.counters["roadmap_nodes"] = roadmap_->size();
     result.counters["feedback_nodes"] = feedback_.size();
-  }
-
-  template <class F>
-  manipulation::ActionOutcome timed_action(F&& f) {
-    const auto t0 = Clock::now();
-    manipulation::ActionOutcome out = f();
-    motion_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
-    return out;
-  }
-
-  static Trajectory join(const std::vector<manipulation::Segment>& segments) {
-    Trajectory t;
-    double offset = 0.0;
-    for (const manipulation::Segment& s : segments) {
-      t.joint_names = s.trajectory.joint_names;
-      for (std::size_t k = 0; k < s.trajectory.positions.size(); ++k) {
-        if (!t.positions.empty() && k == 0) continue;  // shared endpoint
-        t.times.push_back(offset + s.trajectory.times[k]);
-        t.positions.push_back(s.trajectory.positions[k]);
-      }
-      offset = t.times.empty() ? 0.0 : t.times.back();
-    }
-    return t;
-  }
-
-  void record(Result& result, const std::string& action, ObjectIndex object, const manipulation::ActionOutcome& out) {
-    PlanStep step;
-    step.action = action;
-    step.objects = {object};
-    step.trajectory = join(out.segments);
-    result.plan.push_back(step);
   }
 
   // Feedback for a failure while removing `object` on `removal`: new nodes with the
   // robot's collisions replace the edge into the failing node. Returns false when the
   // failure teaches the graph nothing new (so the same sequence would come back).
   bool feed_back(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, ObjectIndex object,
-                 const Failure& failure, Result& result) {
-    record_failure(result, failure);
+                 const Failure& failure, const WorldState& at_failure, Result& result) {
+    retrieval::record_failure_once(result, failure);
     ObjectSet blocking = removable(failure.blocking_objects);
     std::size_t fail = removal.nodes.size() - 1;
     for (std::size_t i = 0; i < removal.nodes.size(); ++i) {
@@ -251,7 +220,7 @@ class Search {
       // The same object blocked by the same objects again: removing them first did not
       // help (objects blocking each other's least blocked grasps). Feed back the next
       // least blocked grasp instead; avoid the object once every grasp has been tried.
-      const auto other = other_grasp_blockers(object, failure);
+      const auto other = other_grasp_blockers(object, failure, at_failure);
       if (!other) return avoid(object);
       blocking = *other;
       seen_failures_[object].insert(blocking);
@@ -272,7 +241,7 @@ class Search {
   ObjectSet removable(const std::vector<ObjectIndex>& objects) const {
     ObjectSet out;
     for (ObjectIndex o : objects) {
-      if (o != target_ && !state_.removed[o]) out.push_back(o);
+      if (o != target_ && !initial_.removed[o]) out.push_back(o);
     }
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -286,19 +255,11 @@ class Search {
     return true;
   }
 
-  // Failures repeat as the graph retries; each distinct one is kept once.
-  static void record_failure(Result& result, const Failure& failure) {
-    for (const Failure& f : result.failures) {
-      if (f.stage == failure.stage && f.reason == failure.reason && f.blocking_objects == failure.blocking_objects) return;
-    }
-    result.failures.push_back(failure);
-  }
-
   // The smallest set of removable objects blocking a grasp of `object` that has not
   // been fed back yet, or nothing. Only grasp failures have alternatives.
-  std::optional<ObjectSet> other_grasp_blockers(ObjectIndex object, const Failure& failure) {
+  std::optional<ObjectSet> other_grasp_blockers(ObjectIndex object, const Failure& failure, const WorldState& at_failure) {
     if (failure.stage != "grasp" || !context_.samplers.grasp) return std::nullopt;
-    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &state_});
+    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &at_failure});
     std::optional<ObjectSet> best;
     for (const plugin::BlockedGrasp& b : answer.blocked) {
       if (!b.freeable) continue;
@@ -314,44 +275,20 @@ class Search {
 
   Attempt execute(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, Result& result) {
     // After an attempt that taught nothing (a motion failed within its budget with
-    // nothing to blame), sample afresh, deterministically, rather than draw the same.
-    plugin::PlanningContext attempt{context_.problem, context_.deadline, context_.seed + 0x9e3779b97f4a7c15ull * reseeds_,
-                                    context_.counters, context_.samplers, context_.world};
-    bool moved = false;
-    auto failed = [&](bool learned) { return learned || moved ? Attempt::retry : Attempt::stuck; };
-    for (ObjectIndex o : removal.objects_in_order) {
-      if (context_.deadline.expired()) return Attempt::retry;
-      const manipulation::ActionOutcome picked = timed_action([&] { return manipulation::pick(attempt, state_, o); });
-      if (!picked.ok) return failed(feed_back(g, removal, o, *picked.failure, result));
-      WorldState after = picked.after;
-      manipulation::ActionOutcome placed = timed_action([&] { return manipulation::place(attempt, picked.after, settings_.region); });
-      record(result, "pick", o, picked);
-      if (placed.ok) {
-        record(result, "place", o, placed);
-        after = placed.after;
-      } else {
-        // Nowhere to put it: carried out of the workspace (Tian et al., assumption 4).
-        result.failures.push_back({"place", "'" + context_.scene().objects[o].id + "' could not be placed in '" +
-                                                settings_.region + "' and was taken out of the workspace: " +
-                                                (placed.failure ? placed.failure->reason : ""), {}});
-        after.held.reset();
-      }
-      after.removed[o] = true;
-      state_ = after;
-      result.moved_objects.push_back(o);
-      moved = true;
+    // nothing to blame), the samplers draw afresh, deterministically.
+    const retrieval::RemovalCheck check = checker_.retrieve(removal.objects_in_order, reseeds_);
+    if (check.ok) {
+      checker_.write_plan(removal.objects_in_order, reseeds_, result);
+      return Attempt::solved;
     }
-    const manipulation::ActionOutcome retrieved = timed_action([&] { return manipulation::retrieve(attempt, state_); });
-    if (!retrieved.ok) return failed(feed_back(g, removal, target_, *retrieved.failure, result));
-    record(result, "retrieve", target_, retrieved);
-    result.moved_objects.push_back(target_);
-    state_ = retrieved.after;
-    return Attempt::solved;
+    if (context_.deadline.expired()) return Attempt::retry;
+    return feed_back(g, removal, *check.failed_object, *check.failure, check.state, result) ? Attempt::retry
+                                                                                          : Attempt::stuck;
   }
 
   plugin::PlanningContext& context_;
   const Settings& settings_;
-  WorldState state_;
+  const WorldState initial_;  // every check starts here: a failed sequence moves nothing
   ObjectIndex target_ = 0;
   collision::Footprint footprint_;
   collision::CollisionWorld* world_ = nullptr;
@@ -361,24 +298,15 @@ class Search {
   std::vector<int> node_of_;
   std::vector<ObjectIndex> blocked_;
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;
-  double motion_seconds_ = 0.0;
+  retrieval::RemovalChecker checker_;
   std::uint64_t reseeds_ = 0;
 };
-
-std::optional<std::string> missing(const plugin::PlanningContext& context) {
-  if (!context.world || !context.problem.robot.loaded) return "the problem has no robot";
-  if (!std::holds_alternative<RetrievalTask>(context.problem.task)) return "retrieval_graph plans retrieve tasks only";
-  if (!context.samplers.grasp || !context.samplers.motion || !context.samplers.placement) {
-    return "retrieval_graph needs a grasp_sampler, a motion_sampler and a placement_sampler in the problem's plugins block";
-  }
-  return std::nullopt;
-}
 
 class RetrievalGraphPlanner final : public plugin::TaskPlanner {
  public:
   void configure(const Parameters& p) override { settings_.read(p); }
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
-    if (auto why = missing(context)) {
+    if (auto why = retrieval::retrieval_inputs_missing(context, "retrieval_graph")) {
       Result r;
       r.reason = *why;
       return r;

@@ -13,7 +13,8 @@ namespace cluttertamp::scenes {
 struct ShelfSpec {
   int objects = 12;
   /// Cabinet interior; zero means "from the object count": 0.9 x 0.6 x 0.5 m for 12
-  /// objects up to 1.2 x 0.7 x 0.5 m for 20, interpolated linearly and held beyond.
+  /// objects up to 1.2 x 0.7 x 0.5 m for 20 (the paper's), interpolated linearly;
+  /// beyond 20, 1 cm wider per object (2.0 x 0.7 m for 100; the paper gives no size).
   double width = 0.0;   ///< along y
   double depth = 0.0;   ///< along x
   double height = 0.5;  ///< along z

@@ -1,0 +1,171 @@
+#include "cluttertamp/retrieval/removal_checker.hpp"
+
+#include <chrono>
+
+#include "cluttertamp/core/geometry.hpp"
+#include "cluttertamp/manipulation/actions.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
+
+namespace cluttertamp::retrieval {
+
+namespace {
+
+// One trajectory through an action's motions (they share their endpoints).
+Trajectory join(const std::vector<manipulation::Segment>& segments) {
+  Trajectory t;
+  double offset = 0.0;
+  for (const manipulation::Segment& s : segments) {
+    t.joint_names = s.trajectory.joint_names;
+    for (std::size_t k = 0; k < s.trajectory.positions.size(); ++k) {
+      if (!t.positions.empty() && k == 0) continue;
+      t.times.push_back(offset + s.trajectory.times[k]);
+      t.positions.push_back(s.trajectory.positions[k]);
+    }
+    offset = t.times.empty() ? 0.0 : t.times.back();
+  }
+  return t;
+}
+
+PlanStep plan_step(const std::string& action, ObjectIndex object, const manipulation::ActionOutcome& out) {
+  PlanStep step;
+  step.action = action;
+  step.objects = {object};
+  step.trajectory = join(out.segments);
+  return step;
+}
+
+}  // namespace
+
+RemovalChecker::RemovalChecker(plugin::PlanningContext& context, const WorldState& initial, std::string placement_region)
+    : context_(context), initial_(initial), region_(std::move(placement_region)) {}
+
+plugin::PlanningContext RemovalChecker::attempt(std::uint64_t salt) const {
+  return {context_.problem, context_.deadline, context_.seed + 0x9e3779b97f4a7c15ull * salt, context_.counters,
+          context_.samplers, context_.world};
+}
+
+const RemovalChecker::Step& RemovalChecker::step(std::span<const ObjectIndex> prefix, ObjectIndex object,
+                                                 std::uint64_t salt) {
+  Key key{{prefix.begin(), prefix.end()}, salt};
+  key.first.push_back(object);
+  if (const auto it = steps_.find(key); it != steps_.end()) return it->second;
+  const WorldState& before = prefix.empty() ? initial_ : step(prefix.first(prefix.size() - 1), prefix.back(), salt).after;
+
+  ++actions_planned_;
+  plugin::PlanningContext context = attempt(salt);
+  const auto t0 = std::chrono::steady_clock::now();
+  Step s;
+  if (object == context_.scene().target) {
+    const manipulation::ActionOutcome out = manipulation::retrieve(context, before);
+    s.ok = out.ok;
+    s.failure = out.failure;
+    if (out.ok) {
+      s.after = out.after;
+      s.steps.push_back(plan_step("retrieve", object, out));
+    }
+  } else {
+    const manipulation::ActionOutcome picked = manipulation::pick(context, before, object);
+    s.ok = picked.ok;
+    s.failure = picked.failure;
+    if (picked.ok) {
+      s.steps.push_back(plan_step("pick", object, picked));
+      s.after = picked.after;
+      const manipulation::ActionOutcome placed = manipulation::place(context, picked.after, region_);
+      if (placed.ok) {
+        s.steps.push_back(plan_step("place", object, placed));
+        s.after = placed.after;
+      } else {
+        s.note = Failure{"place", "'" + context_.scene().objects[object].id + "' could not be placed in '" + region_ +
+                                      "' and was taken out of the workspace: " +
+                                      (placed.failure ? placed.failure->reason : ""),
+                         {}};
+        s.after.held.reset();
+      }
+      s.after.removed[object] = true;
+    }
+  }
+  motion_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return steps_.emplace(std::move(key), std::move(s)).first->second;
+}
+
+RemovalCheck RemovalChecker::remove(std::span<const ObjectIndex> order, std::uint64_t salt) {
+  RemovalCheck check;
+  check.state = initial_;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (context_.deadline.expired()) {
+      check.failed_object = order[i];
+      check.failure = Failure{"plan", "time limit reached", {}};
+      return check;
+    }
+    const Step& s = step(order.first(i), order[i], salt);
+    if (!s.ok) {
+      check.failed_object = order[i];
+      check.failure = s.failure;
+      return check;
+    }
+    check.state = s.after;
+    check.removed = i + 1;
+  }
+  check.ok = true;
+  return check;
+}
+
+RemovalCheck RemovalChecker::retrieve(std::span<const ObjectIndex> order, std::uint64_t salt) {
+  RemovalCheck check = remove(order, salt);
+  if (!check.ok) return check;
+  check.ok = false;
+  const ObjectIndex target = context_.scene().target;
+  if (context_.deadline.expired()) {
+    check.failed_object = target;
+    check.failure = Failure{"plan", "time limit reached", {}};
+    return check;
+  }
+  const Step& s = step(order, target, salt);
+  check.ok = s.ok;
+  if (!s.ok) {
+    check.failed_object = target;
+    check.failure = s.failure;
+  } else {
+    check.state = s.after;
+  }
+  return check;
+}
+
+void RemovalChecker::write_plan(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const {
+  std::vector<ObjectIndex> key{};
+  auto add = [&](ObjectIndex object) {
+    key.push_back(object);
+    const Step& s = steps_.at({key, salt});
+    result.plan.insert(result.plan.end(), s.steps.begin(), s.steps.end());
+    if (s.note) result.failures.push_back(*s.note);
+    result.moved_objects.push_back(object);
+  };
+  for (ObjectIndex o : order) add(o);
+  add(context_.scene().target);
+}
+
+collision::Footprint held_footprint(const plugin::PlanningContext& context, const WorldState& state, ObjectIndex object) {
+  const SceneObject& o = context.scene().objects[object];
+  const double radius = std::holds_alternative<Cylinder>(o.shape) ? std::get<Cylinder>(o.shape).radius
+                                                                   : std::get<Box>(o.shape).size.head<2>().norm() / 2;
+  const Eigen::AlignedBox3d bounds = world_bounds(o.shape, state.world_T_objects[object]);
+  return {context.robot().gripper().footprint_radius(radius), bounds.min().z(), bounds.max().z()};
+}
+
+void record_failure_once(Result& result, const Failure& failure) {
+  for (const Failure& f : result.failures) {
+    if (f.stage == failure.stage && f.reason == failure.reason && f.blocking_objects == failure.blocking_objects) return;
+  }
+  result.failures.push_back(failure);
+}
+
+std::optional<std::string> retrieval_inputs_missing(const plugin::PlanningContext& context, const std::string& planner) {
+  if (!context.world || !context.problem.robot.loaded) return "the problem has no robot";
+  if (!std::holds_alternative<RetrievalTask>(context.problem.task)) return planner + " plans retrieve tasks only";
+  if (!context.samplers.grasp || !context.samplers.motion || !context.samplers.placement) {
+    return planner + " needs a grasp_sampler, a motion_sampler and a placement_sampler in the problem's plugins block";
+  }
+  return std::nullopt;
+}
+
+}  // namespace cluttertamp::retrieval

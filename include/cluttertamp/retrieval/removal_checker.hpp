@@ -1,0 +1,94 @@
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/core/result.hpp"
+#include "cluttertamp/core/world_state.hpp"
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/plugin/context.hpp"
+
+namespace cluttertamp::retrieval {
+
+/// How a removal sequence fared with the robot.
+struct RemovalCheck {
+  bool ok = false;  ///< every object removed (and the target retrieved, when asked)
+  /// The objects of the sequence removed before the failure (all of them when ok).
+  std::size_t removed = 0;
+  /// The object that could not be removed, or the target when only retrieving failed.
+  std::optional<ObjectIndex> failed_object;
+  std::optional<Failure> failure;  ///< why, with the objects in the robot's way
+  WorldState state;  ///< the world after the removals that worked
+};
+
+/// The feasibility check of a retrieval planner (Tian et al., Section IV-D): removes a
+/// sequence of objects with the robot — pick, then place in the buffer region or, when
+/// nothing there fits, carry it out of the workspace (the paper's assumption 4) — and
+/// retrieves the target, always from the initial world: a sequence that fails is
+/// planning, not execution, and leaves nothing moved. Actions are remembered by
+/// the prefix they follow, so sequences that share a prefix plan it once.
+///
+/// The time spent in the actions is the planner's motion-planning time. Uses the
+/// context's grasp, placement and motion samplers; `context` and `initial` must outlive
+/// the checker.
+class CLUTTERTAMP_API RemovalChecker {
+ public:
+  RemovalChecker(plugin::PlanningContext& context, const WorldState& initial, std::string placement_region);
+
+  /// Removes `order` from the initial world, in order. `salt` varies the samplers'
+  /// seed (0: the context's seed), for a fresh draw after an attempt that taught nothing.
+  RemovalCheck remove(std::span<const ObjectIndex> order, std::uint64_t salt = 0);
+
+  /// remove(order), then the target out to the exit pose.
+  RemovalCheck retrieve(std::span<const ObjectIndex> order, std::uint64_t salt = 0);
+
+  /// The plan of a successful retrieve(order, salt): pick and place steps with their
+  /// trajectories, then the retrieval; moved objects in order, target last; and a
+  /// note in `failures` for each object carried out of the workspace.
+  /// Precondition: retrieve(order, salt) returned ok.
+  void write_plan(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const;
+
+  double motion_seconds() const { return motion_seconds_; }  ///< spent planning actions, s
+  std::uint64_t actions_planned() const { return actions_planned_; }  ///< cache misses
+
+ private:
+  struct Step {  // removing one object after a prefix
+    bool ok = false;
+    std::optional<Failure> failure;
+    WorldState after;
+    std::vector<PlanStep> steps;
+    std::optional<Failure> note;  // carried out of the workspace
+  };
+  using Key = std::pair<std::vector<ObjectIndex>, std::uint64_t>;
+
+  const Step& step(std::span<const ObjectIndex> prefix, ObjectIndex object, std::uint64_t salt);
+  plugin::PlanningContext attempt(std::uint64_t salt) const;
+
+  plugin::PlanningContext& context_;
+  WorldState initial_;
+  std::string region_;
+  std::map<Key, Step> steps_;  // key: the prefix then the object removed after it
+  double motion_seconds_ = 0.0;
+  std::uint64_t actions_planned_ = 0;
+};
+
+/// The disc `object` sweeps in the shelf plane while the gripper holds it (radius r_b
+/// of Tian et al., Appendix B) and the height band it occupies at its pose in `state`.
+CLUTTERTAMP_API collision::Footprint held_footprint(const plugin::PlanningContext& context, const WorldState& state,
+                                                    ObjectIndex object);
+
+/// Appends `failure` to `result.failures` unless an equal one (stage, reason, blocking
+/// objects) is there: checks repeat as planners retry.
+CLUTTERTAMP_API void record_failure_once(Result& result, const Failure& failure);
+
+/// Why a retrieval planner named `planner` cannot run in `context` (no robot, not a
+/// retrieve task, a sampler missing), or nothing.
+CLUTTERTAMP_API std::optional<std::string> retrieval_inputs_missing(const plugin::PlanningContext& context,
+                                                                    const std::string& planner);
+
+}  // namespace cluttertamp::retrieval
