@@ -1,5 +1,7 @@
 // The retrieval graph's greedy PathCol search on hand-built graphs, including the
 // feedback insertion of Tian et al., Figs. 5 and 6.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "cluttertamp/retrieval/retrieval_graph.hpp"
@@ -65,6 +67,34 @@ TEST(RetrievalGraph, FeedbackNodesReplaceTheFailedEdge) {
   EXPECT_EQ(r->nodes, (std::vector<int>{s, n8, n42, n4, goal}));
   EXPECT_EQ(g.node(n41).path_col->size(), 2u);
   EXPECT_EQ(g.node(n4).path_col->size(), 3u);
+}
+
+// Feedback about an object (O4 cannot be picked while O3 stands) guards every way into
+// the nodes that hold O4, not only the edge the failed path took.
+TEST(RetrievalGraph, AGuardGoesOnEveryEdgeIntoTheObjectsNodes) {
+  RetrievalGraph g(position);
+  const int s = g.add_node({}, {0.4, 0.0});
+  const int n8 = g.add_node({8}, {0.7, 0.0});
+  const int n7 = g.add_node({7}, {0.7, 0.2});
+  const int n4 = g.add_node({4}, {0.9, 0.0});
+  const int n46 = g.add_node({4, 6}, {0.9, 0.1});
+  const int goal = g.add_node({}, {1.0, 0.0});
+  for (auto [a, b] : {std::pair{s, n8}, {n8, n4}, {s, n7}, {n7, n46}, {n46, n4}, {n4, goal}}) g.add_edge(a, b);
+  g.set_start(s);
+  g.set_goal(goal);
+  const std::vector<int> guards = g.guard_object(4, {3}, position(3));
+  ASSERT_EQ(guards.size(), 3u);  // n8-n4, n7-n46 and n4-goal
+  EXPECT_FALSE(g.has_edge(n8, n4));
+  EXPECT_FALSE(g.has_edge(n7, n46));
+  EXPECT_FALSE(g.has_edge(n4, goal));
+  EXPECT_TRUE(g.has_edge(n46, n4));  // inside to inside: no guard
+  for (int guard : guards) EXPECT_EQ(g.node(guard).node_col, (ObjectSet{3}));
+  g.update();
+  const auto r = g.removal_sequence();
+  ASSERT_TRUE(r.has_value());
+  ASSERT_EQ(r->objects_in_order.size(), 3u);
+  const auto at = [&](ObjectIndex o) { return std::find(r->objects_in_order.begin(), r->objects_in_order.end(), o); };
+  EXPECT_LT(at(3), at(4));  // the blocker before the object
 }
 
 TEST(RetrievalGraph, UnreachableGoalsAndBlockedObjects) {

@@ -145,7 +145,7 @@ class Bench {
   void set_total(int runs) { total_ = runs; }
 
   static void header() {
-    std::cout << std::left << std::setw(6) << "table" << std::setw(14) << "scenes" << std::setw(22) << "planner (L init)"
+    std::cout << std::left << std::setw(6) << "table" << std::setw(14) << "scenes" << std::setw(27) << "planner (L init)"
               << std::setw(13) << "|O_r|" << std::setw(13) << "paper" << std::setw(15) << "total s" << std::setw(8)
               << "median" << std::setw(14) << "paper" << std::setw(14) << "task s" << std::setw(13) << "paper"
               << std::setw(14) << "motion s" << std::setw(14) << "paper" << std::setw(7) << "iter" << std::setw(6)
@@ -218,7 +218,7 @@ class Bench {
       return std::string(out);
     };
     const Figure iterations = of(m.iterations);
-    std::cout << std::left << std::setw(6) << row.table << std::setw(14) << row.scenes << std::setw(22) << name
+    std::cout << std::left << std::setw(6) << row.table << std::setw(14) << row.scenes << std::setw(27) << name
               << std::setw(13) << text(of(m.removed)) << std::setw(13) << text(row.paper.removed) << std::setw(15)
               << text(of(m.total)) << std::setw(8) << number(m.total.empty() ? kNone : median(m.total), 2) << std::setw(14)
               << text(row.paper.total) << std::setw(14) << text(of(m.task)) << std::setw(13) << text(row.paper.task)
@@ -306,6 +306,11 @@ int bench_retrieval(const BenchArgs& args) {
     if (dynamic_cast<const InputError*>(&e)) throw;
     std::cerr << "bench retrieval: " << e.what() << "\n";
     return run::ExitCode::bad_input;
+  }
+  if (!args.planners.empty()) {
+    std::erase_if(rows, [&](const Row& row) {
+      return std::find(args.planners.begin(), args.planners.end(), row.planner) == args.planners.end();
+    });
   }
   int total = 0;
   for (Row& row : rows) {

@@ -86,6 +86,7 @@ struct BenchArgs {
   std::vector<int> sizes;                ///< bench retrieval: object counts (default 12 16 20)
   std::filesystem::path csv;             ///< bench retrieval
   std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
+  std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
   std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml
   Verbosity verbosity = Verbosity::normal;
   int runs = 3;                          ///< bench pddl

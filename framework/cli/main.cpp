@@ -170,6 +170,12 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(CLI::IsMember({"I", "V", "VI"}));
+  bench->add_option("--planner", bench_args.planners,
+                    "retrieval: run only this planner's rows (repeatable; retrieval_graph, traversability_graph, exhaustive)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->check(CLI::IsMember({"retrieval_graph", "traversability_graph", "exhaustive"}));
   bench_args.table_vi_scenes = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems/table6";
   bench->add_option("--table6-scenes", bench_args.table_vi_scenes, "retrieval: directory of shelf16-min{2,3,4}.yaml")
       ->capture_default_str()

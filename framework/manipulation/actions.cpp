@@ -56,6 +56,39 @@ bool straight_free(plugin::PlanningContext& context, const WorldState& state, co
   return straight_contacts(context, state, a, b, ignored).valid();
 }
 
+// How far behind the pre-grasp the transfer into clutter aims first, m.
+constexpr double kStagingDistance = 0.25;
+// The motion budget per grasp in pick's first, quick pass over the usable grasps, s.
+constexpr double kQuickTransfer = 0.15;
+
+// A transfer to a grasp's pre-grasp `pregrasp` through a staging pose further back
+// along the approach, when the straight segment from there is free: a planned motion
+// to the staging pose (usually in the open, in front of the clutter), then that
+// segment — the planner's trees find narrow ways into clutter slowly. Otherwise a
+// planned motion straight to the pre-grasp.
+std::optional<Trajectory> transfer_to_grasp(plugin::PlanningContext& context, const WorldState& state,
+                                            const plugin::Grasp& grasp, const Eigen::VectorXd& pregrasp,
+                                            std::optional<Failure>& failure) {
+  const robot::RobotDescription& robot = context.robot();
+  const Eigen::Vector3d back = grasp.world_T_pregrasp.translation() - grasp.world_T_gripper.translation();
+  if (back.norm() > 1e-6) {
+    Eigen::Isometry3d staging = grasp.world_T_pregrasp;
+    staging.translation() += back.normalized() * kStagingDistance;
+    const auto ik = robot.ik().solve(context.scene().world_T_robot_base.inverse() * staging, pregrasp);
+    if (!ik.empty() && (ik[0] - pregrasp).cwiseAbs().maxCoeff() < 0.8 && straight_free(context, state, ik[0], pregrasp, {})) {
+      auto to_staging = move(context, state, ik[0], failure);
+      if (to_staging) {
+        const Trajectory in = timed(robot, {ik[0], pregrasp});
+        const double offset = to_staging->times.back();
+        to_staging->times.push_back(offset + in.times.back());
+        to_staging->positions.push_back(pregrasp);
+      }
+      return to_staging;
+    }
+  }
+  return move(context, state, pregrasp, failure);
+}
+
 }  // namespace
 
 Trajectory timed(const robot::RobotDescription& robot, const std::vector<Eigen::VectorXd>& waypoints, double scale) {
@@ -71,6 +104,44 @@ Trajectory timed(const robot::RobotDescription& robot, const std::vector<Eigen::
   return t;
 }
 
+namespace {
+
+// The rest of a pick once the transfer to `grasp`'s pre-grasp is planned: approach,
+// close the fingers, lift, and retreat when the way back is free.
+ActionOutcome grasped(plugin::PlanningContext& context, const WorldState& state, ObjectIndex object,
+                      const plugin::Grasp& grasp, const Trajectory& transfer) {
+  const robot::RobotDescription& robot = context.robot();
+  const plugin::GraspMotion& m = grasp.motions.front();
+  ActionOutcome out;
+  out.grasp = grasp;
+  out.segments.push_back({"transfer", transfer});
+  out.segments.push_back({"approach", timed(robot, {m.pregrasp, m.grasp})});
+  Eigen::VectorXd closed = m.grasp;
+  if (robot.finger_variable()) closed[*robot.finger_variable()] = grasp.finger_closed;
+  out.segments.push_back({"grasp", timed(robot, {m.grasp, closed})});
+  out.segments.push_back({"lift", timed(robot, {closed, m.lift})});
+  WorldState holding = state;
+  holding.held = object;
+  holding.robot_configuration = m.lift;
+  holding.world_T_objects[object] = held_pose(context, m.lift, grasp.gripper_T_object);
+  // Retreat: back out along the approach, as far as the pre-grasp was in front.
+  Eigen::Isometry3d retreat_pose = grasp.world_T_lift;
+  retreat_pose.translation() -= (grasp.world_T_gripper.translation() - grasp.world_T_pregrasp.translation());
+  const auto retreat = robot.ik().solve(context.scene().world_T_robot_base.inverse() * retreat_pose, m.lift);
+  if (!retreat.empty() && (retreat[0] - m.lift).cwiseAbs().maxCoeff() < 0.8 &&
+      straight_free(context, holding, m.lift, retreat[0], {})) {
+    out.segments.push_back({"retreat", timed(robot, {m.lift, retreat[0]})});
+    holding.robot_configuration = retreat[0];
+    holding.world_T_objects[object] = held_pose(context, retreat[0], grasp.gripper_T_object);
+  }
+  out.after = holding;
+  out.ok = true;
+  context.world->sync(state);
+  return out;
+}
+
+}  // namespace
+
 ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, ObjectIndex object) {
   if (!context.world || !context.samplers.grasp || !context.samplers.motion) {
     return failed("pick", "pick needs a robot, a grasp_sampler and a motion_sampler");
@@ -84,9 +155,10 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
   }
   std::optional<Failure> last;
   const ObjectIndex self[] = {object};
+  // Whatever the grasp sampler checked, the straight segments are checked densely here.
+  std::vector<const plugin::Grasp*> free;
   for (const plugin::Grasp& grasp : grasps.usable) {
     const plugin::GraspMotion& m = grasp.motions.front();
-    // Whatever the grasp sampler checked, the straight segments are checked densely here.
     Eigen::VectorXd closed_check = m.grasp;
     if (robot.finger_variable()) closed_check[*robot.finger_variable()] = grasp.finger_closed;
     WorldState lifted = state;
@@ -100,38 +172,23 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
                      contacts.self || contacts.fixed ? std::vector<ObjectIndex>{} : contacts.objects};
       continue;
     }
-    std::optional<Failure> why;
-    const auto transfer = move(context, state, m.pregrasp, why);
-    if (!transfer) {
-      last = why;
-      continue;
+    free.push_back(&grasp);
+  }
+  // Two passes over the grasps: a quick one (kQuickTransfer per transfer, through a
+  // staging pose), so that one hard-to-reach grasp does not take the motion planner's
+  // whole budget while another is easy; then each with the full budget, straight to
+  // the pre-grasp, whose failure names the objects in the way.
+  plugin::PlanningContext quick{context.problem, plugin::Deadline::after(std::min(kQuickTransfer, context.deadline.remaining())),
+                                context.seed, context.counters, context.samplers, context.world};
+  for (const bool quick_pass : {true, false}) {
+    for (const plugin::Grasp* grasp : free) {
+      std::optional<Failure> why;
+      const Eigen::VectorXd& pregrasp = grasp->motions.front().pregrasp;
+      if (quick_pass) quick.deadline = plugin::Deadline::after(std::min(kQuickTransfer, context.deadline.remaining()));
+      const auto transfer = quick_pass ? transfer_to_grasp(quick, state, *grasp, pregrasp, why) : move(context, state, pregrasp, why);
+      if (transfer) return grasped(context, state, object, *grasp, *transfer);
+      if (!quick_pass) last = why;
     }
-    ActionOutcome out;
-    out.grasp = grasp;
-    out.segments.push_back({"transfer", *transfer});
-    out.segments.push_back({"approach", timed(robot, {m.pregrasp, m.grasp})});
-    Eigen::VectorXd closed = m.grasp;
-    if (robot.finger_variable()) closed[*robot.finger_variable()] = grasp.finger_closed;
-    out.segments.push_back({"grasp", timed(robot, {m.grasp, closed})});
-    out.segments.push_back({"lift", timed(robot, {closed, m.lift})});
-    WorldState holding = state;
-    holding.held = object;
-    holding.robot_configuration = m.lift;
-    holding.world_T_objects[object] = held_pose(context, m.lift, grasp.gripper_T_object);
-    // Retreat: back out along the approach, as far as the pre-grasp was in front.
-    Eigen::Isometry3d retreat_pose = grasp.world_T_lift;
-    retreat_pose.translation() -= (grasp.world_T_gripper.translation() - grasp.world_T_pregrasp.translation());
-    const auto retreat = robot.ik().solve(context.scene().world_T_robot_base.inverse() * retreat_pose, m.lift);
-    if (!retreat.empty() && (retreat[0] - m.lift).cwiseAbs().maxCoeff() < 0.8 &&
-        straight_free(context, holding, m.lift, retreat[0], {})) {
-      out.segments.push_back({"retreat", timed(robot, {m.lift, retreat[0]})});
-      holding.robot_configuration = retreat[0];
-      holding.world_T_objects[object] = held_pose(context, retreat[0], grasp.gripper_T_object);
-    }
-    out.after = holding;
-    out.ok = true;
-    context.world->sync(state);
-    return out;
   }
   context.world->sync(state);
   return failed("motion", last ? "no motion reaches a usable grasp: " + last->reason : "no motion reaches a usable grasp",

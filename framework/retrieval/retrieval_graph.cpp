@@ -44,6 +44,28 @@ void RetrievalGraph::block_object(ObjectIndex object) {
   }
 }
 
+std::vector<int> RetrievalGraph::guard_object(ObjectIndex object, const ObjectSet& blockers, const Eigen::Vector2d& position) {
+  auto holds = [&](std::size_t v) {
+    const ObjectSet& col = graph_[v].node_col;
+    return std::binary_search(col.begin(), col.end(), object);
+  };
+  std::vector<std::pair<std::size_t, std::size_t>> entries;  // (outside, inside)
+  for (auto [e, end] = boost::edges(graph_); e != end; ++e) {
+    const std::size_t a = boost::source(*e, graph_), b = boost::target(*e, graph_);
+    if (holds(a) != holds(b)) entries.emplace_back(holds(a) ? b : a, holds(a) ? a : b);
+  }
+  // One node per edge: a shared one would join the outside nodes to each other.
+  std::vector<int> guards;
+  for (const auto& [outside, inside] : entries) {
+    boost::remove_edge(outside, inside, graph_);
+    const int guard = add_node(blockers, position);
+    add_edge(static_cast<int>(outside), guard);
+    add_edge(guard, static_cast<int>(inside));
+    guards.push_back(guard);
+  }
+  return guards;
+}
+
 void RetrievalGraph::update() {
   const std::size_t n = boost::num_vertices(graph_);
   for (std::size_t v = 0; v < n; ++v) {

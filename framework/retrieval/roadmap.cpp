@@ -44,6 +44,20 @@ bool Roadmap::hits_fixed(const Eigen::Vector2d& a, const Eigen::Vector2d& b) con
   return world_.sweep_hits_fixed(a, b, footprint_);
 }
 
+bool Roadmap::end_hits_fixed(const Eigen::Vector2d& end, const Eigen::Vector2d& other) const {
+  if (!hits_fixed(end, end)) return hits_fixed(end, other);
+  // The footprint at the end already touches fixed geometry (an object standing less
+  // than a finger's width from a wall): its edges need only not come closer.
+  collision::Footprint inside = footprint_;
+  double free = 0.0, touching = footprint_.radius;
+  for (int i = 0; i < 30; ++i) {
+    inside.radius = (free + touching) / 2;
+    (world_.sweep_hits_fixed(end, end, inside) ? touching : free) = inside.radius;
+  }
+  inside.radius = free;
+  return world_.sweep_hits_fixed(end, other, inside);
+}
+
 std::size_t Roadmap::add_node(const Eigen::Vector2d& x, ObjectSet c) {
   const std::size_t id = boost::add_vertex(RoadmapNode{x, std::move(c)}, graph_);
   index_->tree.insert({Point(x.x(), x.y()), id});
@@ -108,7 +122,7 @@ void Roadmap::expand(int limit, const RoadmapOptions& o) {
     for (const Entry& e : around) {
       const std::size_t other = e.second;
       if (other == end || (graph_[other].x - x).norm() >= o.step || boost::edge(end, other, graph_).second) continue;
-      if (!hits_fixed(x, graph_[other].x) && edge_col(x, graph_[other].x).size() == unite(graph_[end].col, graph_[other].col).size()) {
+      if (!end_hits_fixed(x, graph_[other].x) && edge_col(x, graph_[other].x).size() == unite(graph_[end].col, graph_[other].col).size()) {
         boost::add_edge(end, other, graph_);
       }
     }

@@ -78,6 +78,8 @@ class OmplMotion final : public plugin::MotionSampler {
     resolution_ = p.get_double("resolution", resolution_);
     shortcuts_ = p.get_int("shortcuts", shortcuts_);
     velocity_scale_ = p.get_double("velocity_scale", velocity_scale_);
+    relaxed_share_ = p.get_double("relaxed_share", relaxed_share_);
+    p.require(relaxed_share_ > 0 && relaxed_share_ < 1, "relaxed_share", "must be in (0, 1)");
     p.require(planner_ == "rrtconnect" || planner_ == "rrt" || planner_ == "rrtstar" || planner_ == "prm", "planner",
               "must be rrtconnect, rrt, rrtstar or prm");
     p.require(time_limit_ > 0, "time_limit", "must be positive (seconds)");
@@ -122,32 +124,38 @@ class OmplMotion final : public plugin::MotionSampler {
       answer.failure = failure;
       return answer;
     }
-    if (budget > 0 && solve(context, robot, joints, query, 0.75 * budget, {}, valid, path)) {
-      answer.trajectory = manipulation::timed(robot, path, velocity_scale_);
-      return answer;
-    }
-    // No path: which movable objects would a path have to pass through?
+    // First the search through movable objects: in clutter it finds its way where the
+    // strict search's trees get stuck, and its path, checked densely, is either a
+    // solution (it touched nothing) or names what is in the way. Then, with the rest of
+    // the budget, the strict search.
     std::vector<ObjectIndex> all(context.scene().objects.size());
     for (ObjectIndex i = 0; i < all.size(); ++i) all[i] = i;
-    Failure failure{"motion", "no collision-free path within " + std::to_string(budget) + " s", {}};
     std::vector<Eigen::VectorXd> relaxed;
-    if (left() > 1e-3 && solve(context, robot, joints, query, left(), all, valid, relaxed)) {
-      bool other_contact = false;  // fixed geometry or the arm itself
+    std::vector<ObjectIndex> through;
+    bool relaxed_found = false, other_contact = false;  // fixed geometry or the arm itself
+    if (budget > 0 && solve(context, robot, joints, query, relaxed_share_ * budget, all, valid, relaxed)) {
+      relaxed_found = true;
       for (std::size_t k = 0; k + 1 < relaxed.size(); ++k) {
         const int steps = std::max(1, static_cast<int>(std::ceil((relaxed[k + 1] - relaxed[k]).cwiseAbs().maxCoeff() / resolution_)));
         for (int s = 0; s <= steps; ++s) {
           context.count(counter::collision_checks);
           const collision::CollisionReport r = world.check(relaxed[k] + (relaxed[k + 1] - relaxed[k]) * (double(s) / steps), *checker);
-          failure.blocking_objects.insert(failure.blocking_objects.end(), r.objects.begin(), r.objects.end());
+          through.insert(through.end(), r.objects.begin(), r.objects.end());
           other_contact = other_contact || r.self || r.fixed;
         }
       }
-      normalize(failure.blocking_objects);
-      if (failure.blocking_objects.empty() && !other_contact) {
-        // The easier search found a path that touches nothing after all: it is a solution.
+      normalize(through);
+      if (through.empty() && !other_contact) {
         answer.trajectory = manipulation::timed(robot, relaxed, velocity_scale_);
         return answer;
       }
+    }
+    if (left() > 1e-3 && solve(context, robot, joints, query, left(), {}, valid, path)) {
+      answer.trajectory = manipulation::timed(robot, path, velocity_scale_);
+      return answer;
+    }
+    Failure failure{"motion", "no collision-free path within " + std::to_string(budget) + " s", std::move(through)};
+    if (relaxed_found) {
       failure.reason += "; ignoring movable objects a path exists, through " +
                         std::to_string(failure.blocking_objects.size()) + " of them";
     } else {
@@ -271,6 +279,7 @@ class OmplMotion final : public plugin::MotionSampler {
 
   std::string planner_ = "rrtconnect";
   double time_limit_ = 1.0;
+  double relaxed_share_ = 0.25;  // of time_limit for the search through movable objects
   double resolution_ = 0.02;
   std::int64_t shortcuts_ = 50;
   double velocity_scale_ = 0.5;

@@ -12,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <variant>
 
 #include "cluttertamp/collision/collision_world.hpp"
@@ -54,14 +55,17 @@ struct Settings {
 // or an earlier feedback node (by its index), so the graph can be rebuilt after the
 // roadmap grows.
 using Endpoint = std::variant<std::size_t, int>;
-// A feedback node goes on the edge before → after; or before the start node (an object
-// every path meets first is blocked); or after the goal node, the target's position
-// (the target itself cannot be reached): on every path, and nothing to rebuild from.
+// A feedback node goes on the edge before → after (carrying the target out failed
+// there); or on every edge into the nodes holding `object` (the robot could not remove
+// it: whichever way a path comes, the blockers go first); or before the start node (an
+// object every path meets first is blocked); or after the goal node, the target's
+// position (the target itself cannot be reached): on every path.
 struct Feedback {
-  enum class Where { edge, before_start, after_goal };
+  enum class Where { edge, object, before_start, after_goal };
   Endpoint before, after;
   ObjectSet objects;
   Where where = Where::edge;
+  ObjectIndex object = 0;  ///< Where::object: the object the blockers must precede
 };
 
 class Search {
@@ -88,16 +92,23 @@ class Search {
     auto position = [&](ObjectIndex o) -> Eigen::Vector2d { return initial_.world_T_objects[o].translation().head<2>(); };
     retrieval::RetrievalGraph g = roadmap_->cluster(initial_.removed, position, node_of_);
     std::vector<int> feedback_node;
+    guard_of_.clear();
     auto resolve = [&](const Endpoint& e) {
       return std::holds_alternative<std::size_t>(e) ? node_of_[std::get<std::size_t>(e)] : feedback_node[std::get<int>(e)];
     };
     for (const Feedback& f : feedback_) {
       using Where = Feedback::Where;
-      const int a = f.where == Where::edge ? resolve(f.before) : f.where == Where::before_start ? g.start() : g.goal();
-      const int b = f.where == Where::edge ? resolve(f.after) : a;
-      const ObjectSet live = removable(f.objects);
+      const ObjectSet live = with_blockers(removable(f.objects), f.where == Where::object ? f.object : target_);
       Eigen::Vector2d where = Eigen::Vector2d::Zero();
       for (ObjectIndex o : live) where += position(o) / double(live.size());
+      if (f.where == Where::object) {
+        const auto guards = g.guard_object(f.object, live, live.empty() ? position(f.object) : where);
+        for (int guard : guards) guard_of_[guard] = static_cast<int>(feedback_node.size());
+        feedback_node.push_back(guards.empty() ? g.goal() : guards.front());
+        continue;
+      }
+      const int a = f.where == Where::edge ? resolve(f.before) : f.where == Where::before_start ? g.start() : g.goal();
+      const int b = f.where == Where::edge ? resolve(f.after) : a;
       const int n = g.add_node(live, live.empty() ? g.node(b).position : where);
       if (f.where != Where::edge) {
         g.add_edge(n, a);
@@ -116,10 +127,12 @@ class Search {
   }
 
   Endpoint endpoint(int node) const {
+    if (const auto it = guard_of_.find(node); it != guard_of_.end()) return it->second;
     for (std::size_t i = 0; i < feedback_nodes_.size(); ++i) {
       if (feedback_nodes_[i] == node) return static_cast<int>(i);
     }
     const auto it = std::find(node_of_.begin(), node_of_.end(), node);
+    if (it == node_of_.end()) throw std::logic_error("retrieval_graph: a graph node that is neither a cluster nor feedback");
     return static_cast<std::size_t>(it - node_of_.begin());
   }
 
@@ -133,7 +146,7 @@ class Search {
       retrieval::RetrievalGraph g = graph();
       const auto removal = g.removal_sequence();
       if (removal && static_cast<int>(removal->objects_in_order.size()) <= limit) {
-        answer.removal_sequences.push_back(removal->objects_in_order);
+        answer.removal_sequences.push_back(in_precedence_order(removal->objects_in_order));
         return answer;
       }
     }
@@ -160,8 +173,9 @@ class Search {
       result.counters["iterations"] = ++iterations;
       for (int attempt = 0; attempt < settings_.max_feedback && !context_.deadline.expired(); ++attempt) {
         retrieval::RetrievalGraph g = graph();
-        const auto removal = g.removal_sequence();
+        auto removal = g.removal_sequence();
         if (!removal || static_cast<int>(removal->objects_in_order.size()) > limit) break;
+        removal->objects_in_order = in_precedence_order(std::move(removal->objects_in_order));
         ++result.counters["planning_sequences"];
         const Attempt attempt_result = execute(g, *removal, result);
         if (attempt_result == Attempt::solved) {
@@ -185,6 +199,51 @@ class Search {
   }
 
  private:
+  // `set` with the objects fed back as blocking its objects, and theirs, but never
+  // `except` (the object a guard node guards): a feedback node that holds an object
+  // must hold what has to go before it, as the object's guard is passed only on the
+  // way into the roadmap's nodes that hold it.
+  ObjectSet with_blockers(ObjectSet set, ObjectIndex except) const {
+    std::vector<ObjectIndex> todo = set;
+    while (!todo.empty()) {
+      const ObjectIndex o = todo.back();
+      todo.pop_back();
+      for (const Feedback& f : feedback_) {
+        if (f.where != Feedback::Where::object || f.object != o) continue;
+        for (ObjectIndex b : removable(f.objects)) {
+          if (b == except || std::find(set.begin(), set.end(), b) != set.end()) continue;
+          set.push_back(b);
+          todo.push_back(b);
+        }
+      }
+    }
+    std::sort(set.begin(), set.end());
+    return set;
+  }
+
+  // The path's objects in the path's order, except that the objects fed back as
+  // blocking one go before it (a guard node can be passed before a node holding the
+  // object that a later guard added); objects blocking each other keep the path's order.
+  ObjectSet in_precedence_order(ObjectSet remaining) const {
+    auto waits = [&](ObjectIndex o) {
+      for (const Feedback& f : feedback_) {
+        if (f.where != Feedback::Where::object || f.object != o) continue;
+        for (ObjectIndex b : f.objects) {
+          if (b != o && std::find(remaining.begin(), remaining.end(), b) != remaining.end()) return true;
+        }
+      }
+      return false;
+    };
+    ObjectSet order;
+    while (!remaining.empty()) {
+      auto next = std::find_if_not(remaining.begin(), remaining.end(), waits);
+      if (next == remaining.end()) next = remaining.begin();
+      order.push_back(*next);
+      remaining.erase(next);
+    }
+    return order;
+  }
+
   int initial_limit() {
     if (settings_.initial_limit == "objects") return static_cast<int>(context_.scene().objects.size());
     if (settings_.initial_limit == "nodecol") return std::max(1, static_cast<int>(roadmap_->col(roadmap_->graph()[1].x).size()));
@@ -230,6 +289,8 @@ class Search {
       feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal});
     } else if (fail == 0) {
       feedback_.push_back({{}, {}, blocking, Feedback::Where::before_start});
+    } else if (object != target_) {
+      feedback_.push_back({{}, {}, blocking, Feedback::Where::object, object});
     } else {
       feedback_.push_back({endpoint(removal.nodes[fail - 1]), endpoint(removal.nodes[fail]), blocking});
     }
@@ -295,6 +356,7 @@ class Search {
   std::unique_ptr<retrieval::Roadmap> roadmap_;
   std::vector<Feedback> feedback_;
   std::vector<int> feedback_nodes_;
+  std::map<int, int> guard_of_;  // every guard node of the last graph: its feedback's index
   std::vector<int> node_of_;
   std::vector<ObjectIndex> blocked_;
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;

@@ -60,6 +60,7 @@ class CLUTTERTAMP_API Roadmap {
 
  private:
   std::size_t add_node(const Eigen::Vector2d& x, ObjectSet col);
+  bool end_hits_fixed(const Eigen::Vector2d& end, const Eigen::Vector2d& other) const;
 
   const collision::CollisionWorld& world_;
   collision::Footprint footprint_;
