@@ -34,6 +34,7 @@ struct Settings {
   std::string initial_limit = "one";  // Table I: 1, |n_g.NodeCol| or |O|
   std::string region = "buffer";
   int max_feedback = 200;
+  bool shorten = true;  // drop objects the found order does not need
 
   void read(const Parameters& p) {
     roadmap.samples = static_cast<int>(p.get_int("T", roadmap.samples));
@@ -42,6 +43,7 @@ struct Settings {
     roadmap.neighbours = static_cast<int>(p.get_int("k", roadmap.neighbours));
     initial_limit = p.get_string("initial_L", initial_limit);
     region = p.get_string("region", region);
+    shorten = p.get_bool("shorten", shorten);
     p.require(roadmap.samples >= 10, "T", "must be at least 10");
     p.require(roadmap.raise_every >= 1 && roadmap.raise_every <= roadmap.samples, "T_raise", "must be 1 to T");
     p.require(roadmap.step > 0 && roadmap.step < 1, "delta", "must be in (0, 1) m");
@@ -199,6 +201,23 @@ class Search {
   }
 
  private:
+  // A working removal order with every object dropped that the target comes out
+  // without (last first; each try reuses the checked prefix): the graph's sequence
+  // can hold objects only an earlier, failed way needed.
+  ObjectSet shortened(ObjectSet order, Result& result) {
+    std::uint64_t dropped = 0;
+    for (std::size_t i = order.size(); i-- > 0 && !context_.deadline.expired();) {
+      ObjectSet shorter = order;
+      shorter.erase(shorter.begin() + static_cast<std::ptrdiff_t>(i));
+      if (checker_.retrieve(shorter, reseeds_).ok) {
+        order = std::move(shorter);
+        ++dropped;
+      }
+    }
+    result.counters["removals_dropped"] = dropped;
+    return order;
+  }
+
   // `set` with the objects fed back as blocking its objects, and theirs, but never
   // `except` (the object a guard node guards): a feedback node that holds an object
   // must hold what has to go before it, as the object's guard is passed only on the
@@ -339,7 +358,8 @@ class Search {
     // nothing to blame), the samplers draw afresh, deterministically.
     const retrieval::RemovalCheck check = checker_.retrieve(removal.objects_in_order, reseeds_);
     if (check.ok) {
-      checker_.write_plan(removal.objects_in_order, reseeds_, result);
+      const ObjectSet order = settings_.shorten ? shortened(removal.objects_in_order, result) : removal.objects_in_order;
+      checker_.write_plan(order, reseeds_, result);
       return Attempt::solved;
     }
     if (context_.deadline.expired()) return Attempt::retry;
