@@ -251,6 +251,19 @@ TEST_F(Cli, GeneratedSceneWithAKnownMinimumAndThePlannersOnIt) {
   EXPECT_NE(missing.output.find("exhaustive"), std::string::npos) << missing.output;  // lists what exists
 }
 
+// self-collisions counts touching link pairs; pairs the description disables are not
+// checked, and those never touching are listed for disabled_collisions.
+TEST_F(Cli, SelfCollisionsCountsPairsAndSkipsDisabledOnes) {
+  const std::string robot = (fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml").string();
+  const CliRun r = run("self-collisions " + robot + " --samples 3000");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("3000 random configurations"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("forearm_link          gripper_base"), std::string::npos) << r.output;  // folds onto itself
+  EXPECT_EQ(r.output.find("left_finger           right_finger"), std::string::npos) << r.output;  // disabled
+  EXPECT_NE(r.output.find("never touched"), std::string::npos);
+  EXPECT_EQ(run("self-collisions " + (dir_ / "missing.yaml").string()).exit_code, 2);
+}
+
 TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
   EXPECT_EQ(run("generate --objects 12").exit_code, 2);                      // no --output
   EXPECT_EQ(run("generate --objects 0 --output x.yaml").exit_code, 2);       // out of range

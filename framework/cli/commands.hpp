@@ -72,6 +72,15 @@ struct GenerateArgs {
 /// Exit code 0 when a scene was written, 1 when no attempt needed a removal.
 int generate(const GenerateArgs& args);
 
+struct SelfCollisionArgs {
+  std::filesystem::path robot;  ///< robot description file
+  std::size_t samples = 20000;
+  std::uint64_t seed = 1;
+  Verbosity verbosity = Verbosity::normal;
+};
+/// Counts self contacts per link pair over random configurations; exit code 0.
+int self_collisions(const SelfCollisionArgs& args);
+
 struct BenchArgs {
   std::string what;  ///< "collision" or "pddl"
   std::uint64_t seed = 1;

@@ -134,6 +134,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
   add_verbosity(*generate, generate_args.verbosity, "Also say which seeds were rejected");
 
+  cli::SelfCollisionArgs self_args;
+  auto* self = app.add_subcommand(
+      "self-collisions",
+      "Count which pairs of a robot's links touch over random configurations; list those that never do, for disabled_collisions");
+  self->add_option("robot", self_args.robot, "Robot description file")->required()->check(CLI::ExistingFile);
+  self->add_option("--samples", self_args.samples, "Random configurations")->capture_default_str()->check(CLI::Range(100, 10000000));
+  self->add_option("--seed", self_args.seed, "Seed of the configurations")->capture_default_str();
+  add_verbosity(*self, self_args.verbosity, "Also list the pairs that never touched with their counts");
+
   cli::BenchArgs bench_args;
   auto* bench = app.add_subcommand(
       "bench",
@@ -212,6 +221,7 @@ int main(int argc, char** argv) {
     if (*pddl) return cli::pddl(pddl_args);
     if (*generate) return cli::generate(generate_args);
     if (*validate_plan) return cli::validate_plan(validate_plan_args);
+    if (*self) return cli::self_collisions(self_args);
   } catch (const cluttertamp::InputError& e) {
     std::cerr << e.diagnostics().str();
     return ExitCode::bad_input;

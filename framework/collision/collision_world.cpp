@@ -357,6 +357,23 @@ CollisionReport CollisionWorld::check(const Eigen::VectorXd& q, Context& context
   return report;
 }
 
+std::vector<std::pair<std::size_t, std::size_t>> CollisionWorld::self_contacts(const Eigen::VectorXd& q,
+                                                                               Context& context) const {
+  const Impl& w = *impl_;
+  Context::State& c = *context.state_;
+  w.pose_robot(q, c);
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (const auto& [a, b] : w.self_pairs) {
+    if (c.shapes[a]->getAABB().overlap(c.shapes[b]->getAABB()) && narrow_collide(c.shapes[a].get(), c.shapes[b].get())) {
+      const std::size_t la = w.robot_shapes[a].link, lb = w.robot_shapes[b].link;
+      out.emplace_back(std::min(la, lb), std::max(la, lb));
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 double CollisionWorld::min_distance(const Eigen::VectorXd& q, Context& context,
                                     std::span<const ObjectIndex> ignored) const {
   const Impl& w = *impl_;

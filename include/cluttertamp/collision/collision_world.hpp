@@ -94,6 +94,9 @@ class CLUTTERTAMP_API CollisionWorld {
   /// Everything the configuration collides with — the full set of movable objects,
   /// not the first one hit: the robot-obstacle feedback of the retrieval graph.
   CollisionReport check(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored = {}) const;
+  /// The pairs of robot links (lower index first, sorted) in contact at q, among the
+  /// pairs the description does not disable: what `cluttertamp self-collisions` counts.
+  std::vector<std::pair<std::size_t, std::size_t>> self_contacts(const Eigen::VectorXd& q, Context& context) const;
   /// Smallest distance (m) from the robot and held object to fixed bodies and movable
   /// objects; 0 when touching or overlapping (penetration depth is not computed).
   double min_distance(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored = {}) const;
