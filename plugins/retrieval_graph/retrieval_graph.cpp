@@ -35,6 +35,7 @@ struct Settings {
   std::string region = "buffer";
   int max_feedback = 200;
   bool shorten = true;  // drop objects the found order does not need
+  double shorten_time = 0.5;  // s per object tried
 
   void read(const Parameters& p) {
     roadmap.samples = static_cast<int>(p.get_int("T", roadmap.samples));
@@ -44,6 +45,8 @@ struct Settings {
     initial_limit = p.get_string("initial_L", initial_limit);
     region = p.get_string("region", region);
     shorten = p.get_bool("shorten", shorten);
+    shorten_time = p.get_double("shorten_time", shorten_time);
+    p.require(shorten_time > 0, "shorten_time", "must be positive (seconds)");
     p.require(roadmap.samples >= 10, "T", "must be at least 10");
     p.require(roadmap.raise_every >= 1 && roadmap.raise_every <= roadmap.samples, "T_raise", "must be 1 to T");
     p.require(roadmap.step > 0 && roadmap.step < 1, "delta", "must be in (0, 1) m");
@@ -203,12 +206,20 @@ class Search {
  private:
   // A working removal order with every object dropped that the target comes out
   // without (last first; each try reuses the checked prefix): the graph's sequence
-  // can hold objects only an earlier, failed way needed.
+  // can hold objects only an earlier, failed way needed. Each try gets at most
+  // `shorten_time` seconds: dropping is an improvement, not worth a long motion search.
   ObjectSet shortened(ObjectSet order, Result& result) {
+    const plugin::Deadline run_deadline = context_.deadline;
+    struct Restore {
+      plugin::PlanningContext& context;
+      plugin::Deadline deadline;
+      ~Restore() { context.deadline = deadline; }
+    } restore{context_, run_deadline};
     std::uint64_t dropped = 0;
-    for (std::size_t i = order.size(); i-- > 0 && !context_.deadline.expired();) {
+    for (std::size_t i = order.size(); i-- > 0 && !run_deadline.expired();) {
       ObjectSet shorter = order;
       shorter.erase(shorter.begin() + static_cast<std::ptrdiff_t>(i));
+      context_.deadline = plugin::Deadline::after(std::min(settings_.shorten_time, run_deadline.remaining()));
       if (checker_.retrieve(shorter, reseeds_).ok) {
         order = std::move(shorter);
         ++dropped;
