@@ -83,7 +83,7 @@ TEST(RetrievalGraph, AGuardGoesOnEveryEdgeIntoTheObjectsNodes) {
   g.set_start(s);
   g.set_goal(goal);
   const std::vector<int> guards = g.guard_object(4, {3}, position(3));
-  ASSERT_EQ(guards.size(), 3u);  // n8-n4, n7-n46 and n4-goal
+  ASSERT_EQ(guards.size(), 3u);  // one per outside node: n8, n7 and the goal
   EXPECT_FALSE(g.has_edge(n8, n4));
   EXPECT_FALSE(g.has_edge(n7, n46));
   EXPECT_FALSE(g.has_edge(n4, goal));

@@ -1,6 +1,7 @@
 #include "cluttertamp/retrieval/retrieval_graph.hpp"
 
 #include <algorithm>
+#include <map>
 #include <queue>
 #include <tuple>
 
@@ -49,18 +50,25 @@ std::vector<int> RetrievalGraph::guard_object(ObjectIndex object, const ObjectSe
     const ObjectSet& col = graph_[v].node_col;
     return std::binary_search(col.begin(), col.end(), object);
   };
-  std::vector<std::pair<std::size_t, std::size_t>> entries;  // (outside, inside)
-  for (auto [e, end] = boost::edges(graph_); e != end; ++e) {
-    const std::size_t a = boost::source(*e, graph_), b = boost::target(*e, graph_);
-    if (holds(a) != holds(b)) entries.emplace_back(holds(a) ? b : a, holds(a) ? a : b);
+  // The edges from each node outside the object's nodes into them. One guard per
+  // outside node: a guard shared by two outside nodes would join them past the object.
+  std::map<std::size_t, std::vector<std::size_t>> inside_of;
+  const std::size_t n = boost::num_vertices(graph_);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!holds(v)) continue;
+    for (auto [e, end] = boost::out_edges(v, graph_); e != end; ++e) {
+      const std::size_t u = boost::target(*e, graph_);
+      if (!holds(u)) inside_of[u].push_back(v);
+    }
   }
-  // One node per edge: a shared one would join the outside nodes to each other.
   std::vector<int> guards;
-  for (const auto& [outside, inside] : entries) {
-    boost::remove_edge(outside, inside, graph_);
+  for (const auto& [outside, insides] : inside_of) {
     const int guard = add_node(blockers, position);
     add_edge(static_cast<int>(outside), guard);
-    add_edge(guard, static_cast<int>(inside));
+    for (std::size_t inside : insides) {
+      boost::remove_edge(outside, inside, graph_);
+      add_edge(guard, static_cast<int>(inside));
+    }
     guards.push_back(guard);
   }
   return guards;

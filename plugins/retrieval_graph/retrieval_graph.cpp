@@ -95,7 +95,12 @@ class Search {
   // do not count.
   retrieval::RetrievalGraph graph() {
     auto position = [&](ObjectIndex o) -> Eigen::Vector2d { return initial_.world_T_objects[o].translation().head<2>(); };
-    retrieval::RetrievalGraph g = roadmap_->cluster(initial_.removed, position, node_of_);
+    // Clustering depends on the roadmap only: once per expansion.
+    if (!clustered_ || clustered_size_ != roadmap_->size()) {
+      clustered_ = roadmap_->cluster(initial_.removed, position, node_of_);
+      clustered_size_ = roadmap_->size();
+    }
+    retrieval::RetrievalGraph g = *clustered_;
     std::vector<int> feedback_node;
     guard_of_.clear();
     auto resolve = [&](const Endpoint& e) {
@@ -304,7 +309,9 @@ class Search {
         break;
       }
     }
-    if (blocking.empty()) return avoid(object);  // nothing to remove would help
+    // Nothing to remove would help — or the motion search ran out of time: only a second
+    // such failure, after a fresh draw, keeps the graph away from the object.
+    if (blocking.empty()) return ++unexplained_[object] >= 2 && avoid(object);
     if (!seen_failures_[object].insert(blocking).second) {
       // The same object blocked by the same objects again: removing them first did not
       // help (objects blocking each other's least blocked grasps). Feed back the next
@@ -387,7 +394,10 @@ class Search {
   std::unique_ptr<retrieval::Roadmap> roadmap_;
   std::vector<Feedback> feedback_;
   std::vector<int> feedback_nodes_;
-  std::map<int, int> guard_of_;  // every guard node of the last graph: its feedback's index
+  std::map<int, int> guard_of_;
+  std::map<ObjectIndex, int> unexplained_;  // failures with nothing to blame, per object
+  std::optional<retrieval::RetrievalGraph> clustered_;  // the roadmap's clusters, no feedback
+  std::size_t clustered_size_ = 0;  // every guard node of the last graph: its feedback's index
   std::vector<int> node_of_;
   std::vector<ObjectIndex> blocked_;
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;

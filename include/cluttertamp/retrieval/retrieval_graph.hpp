@@ -47,8 +47,9 @@ class CLUTTERTAMP_API RetrievalGraph {
   int start() const { return start_; }
   int goal() const { return goal_; }
   /// Puts a node with NodeCol `blockers` on every edge between a node holding `object`
-  /// and one that does not, so that every path meets the blockers before the object
-  /// (robot feedback about the object itself, not about one edge). Returns the new nodes.
+  /// and one that does not (one such node per outside node), so that every path meets
+  /// the blockers before the object (robot feedback about the object itself, not about
+  /// one edge). Returns the new nodes.
   std::vector<int> guard_object(ObjectIndex object, const ObjectSet& blockers, const Eigen::Vector2d& position);
   /// Marks every node whose NodeCol holds `object` as impassable.
   void block_object(ObjectIndex object);
