@@ -278,7 +278,7 @@ class OmplMotion final : public plugin::MotionSampler {
   }
 
   std::string planner_ = "rrtconnect";
-  double time_limit_ = 0.5;
+  double time_limit_ = 1.0;
   double relaxed_share_ = 0.25;  // of time_limit for the search through movable objects
   double resolution_ = 0.02;
   std::int64_t shortcuts_ = 50;
