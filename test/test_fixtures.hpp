@@ -34,6 +34,15 @@ inline ObjectIndex add_cylinder(Scene& scene, const std::string& id, double x, d
   return static_cast<ObjectIndex>(scene.objects.size() - 1);
 }
 
+/// Adds a fixed box of `size` centred at `centre` (a table, a shelf board).
+inline void add_box(Scene& scene, const std::string& id, const Eigen::Vector3d& size, const Eigen::Vector3d& centre) {
+  FixedBody body;
+  body.id = id;
+  body.shape = Box{size};
+  body.world_T_body = at(centre.x(), centre.y(), centre.z());
+  scene.fixed.push_back(body);
+}
+
 /// grasp_side, motion_ompl and placement_region from `registry`.
 inline plugin::Samplers shipped_samplers(const plugin::Registry& registry) {
   plugin::Samplers samplers;

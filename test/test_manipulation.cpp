@@ -21,11 +21,7 @@ class Manipulation : public ::testing::Test {
  protected:
   void SetUp() override {
     problem_.robot.loaded = test::ur10();
-    FixedBody table;
-    table.id = "table";
-    table.shape = Box{{0.8, 1.4, 0.02}};
-    table.world_T_body = at(1.0, 0.0, 0.39);
-    problem_.scene.fixed.push_back(table);
+    test::add_box(problem_.scene, "table", {0.8, 1.4, 0.02}, {1.0, 0.0, 0.39});
     Region buffer;
     buffer.id = "buffer";
     buffer.size = {0.25, 0.25, 0.32};

@@ -1,7 +1,6 @@
 // The retrieval_graph planner end to end on hand-built and generated shelves: it removes
 // exactly the objects that must go, its trajectories join up, same seed same plan.
 // (The motions themselves are re-checked densely in test_manipulation.)
-#include <functional>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -31,12 +30,8 @@ class RetrievalPlanner : public ::testing::Test {
     problem_.robot.loaded = test::ur10();
     problem_.task = RetrievalTask{"target"};
     Scene& s = problem_.scene;
-    auto board = [&](const std::string& id, Eigen::Vector3d size, Eigen::Vector3d c) {
-      FixedBody b;
-      b.id = id;
-      b.shape = Box{size};
-      b.world_T_body = at(c.x(), c.y(), c.z());
-      s.fixed.push_back(b);
+    auto board = [&](const std::string& id, const Eigen::Vector3d& size, const Eigen::Vector3d& c) {
+      test::add_box(s, id, size, c);
     };
     board("floor", {0.5, 0.6, 0.02}, {0.95, 0, 0.39});
     board("back", {0.02, 0.6, 0.5}, {1.21, 0, 0.65});
@@ -53,6 +48,13 @@ class RetrievalPlanner : public ::testing::Test {
   }
 
   ObjectIndex add(const std::string& id, double x, double y) { return test::add_cylinder(problem_.scene, id, x, y, 0.0375); }
+
+  // A row of five cylinders across the shelf at x = 0.9, gaps too narrow for the target.
+  std::vector<ObjectIndex> add_wall() {
+    std::vector<ObjectIndex> wall;
+    for (double y : {-0.22, -0.11, 0.0, 0.11, 0.22}) wall.push_back(add("w" + std::to_string(wall.size()), 0.9, y));
+    return wall;
+  }
 
   Result plan(std::uint64_t seed = 1, const std::string& name = "retrieval_graph") {
     auto planner = registry_.create<plugin::TaskPlanner>(name);
@@ -98,8 +100,7 @@ TEST_F(RetrievalPlanner, RemovesTheWallBeforeTheTarget) {
   problem_.scene.target = add("target", 1.1, 0.0);
   // A row of cylinders across the shelf in front of the target, each graspable, with
   // gaps too narrow for the target, and one cylinder off to the side.
-  std::vector<ObjectIndex> wall;
-  for (double y : {-0.22, -0.11, 0.0, 0.11, 0.22}) wall.push_back(add("w" + std::to_string(wall.size()), 0.9, y));
+  const std::vector<ObjectIndex> wall = add_wall();
   const ObjectIndex aside = add("aside", 1.12, 0.22);
   const Result r = plan();
   ASSERT_TRUE(r.solved) << r.reason;
@@ -115,7 +116,7 @@ TEST_F(RetrievalPlanner, RemovesTheWallBeforeTheTarget) {
 
 TEST_F(RetrievalPlanner, SameSeedSamePlan) {
   problem_.scene.target = add("target", 1.1, 0.0);
-  for (double y : {-0.22, -0.11, 0.0, 0.11, 0.22}) add("w" + std::to_string(y), 0.9, y);
+  add_wall();
   const Result a = plan(9), b = plan(9);
   ASSERT_TRUE(a.solved && b.solved);
   EXPECT_EQ(a.moved_objects, b.moved_objects);
@@ -125,8 +126,7 @@ TEST_F(RetrievalPlanner, SameSeedSamePlan) {
 
 TEST_F(RetrievalPlanner, PrunesToTheObjectsOfTheRemovalSequence) {
   problem_.scene.target = add("target", 1.1, 0.0);
-  std::vector<ObjectIndex> wall;
-  for (double y : {-0.22, -0.11, 0.0, 0.11, 0.22}) wall.push_back(add("w" + std::to_string(wall.size()), 0.9, y));
+  const std::vector<ObjectIndex> wall = add_wall();
   const ObjectIndex aside = add("aside", 1.12, 0.22);
   auto pruner = registry_.create<plugin::ObjectPruner>("retrieval_graph");
   world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
@@ -167,16 +167,9 @@ TEST_F(RetrievalPlanner, SolvesGeneratedShelvesWithMutuallyBlockingObjects) {
   }
 }
 
-// The wall of RemovesTheWallBeforeTheTarget: one cylinder of the row must go.
-std::vector<ObjectIndex> build_wall(const std::function<ObjectIndex(const std::string&, double, double)>& add) {
-  std::vector<ObjectIndex> wall;
-  for (double y : {-0.22, -0.11, 0.0, 0.11, 0.22}) wall.push_back(add("w" + std::to_string(wall.size()), 0.9, y));
-  return wall;
-}
-
 TEST_F(RetrievalPlanner, BaselinesClearTheWallAndExhaustiveIsMinimal) {
   problem_.scene.target = add("target", 1.1, 0.0);
-  const auto wall = build_wall([&](const std::string& id, double x, double y) { return add(id, x, y); });
+  const auto wall = add_wall();
   std::map<std::string, Result> results;
   for (const std::string name : {"exhaustive", "traversability_graph"}) {
     const Result r = results[name] = plan(1, name);
@@ -229,7 +222,7 @@ TEST_F(RetrievalPlanner, ExhaustiveRemovesNoMoreThanTheOthers) {
 // initial world, and a prefix checked once is not planned again.
 TEST_F(RetrievalPlanner, RemovalCheckerStartsEveryCheckFromTheInitialWorld) {
   problem_.scene.target = add("target", 1.1, 0.0);
-  const auto wall = build_wall([&](const std::string& id, double x, double y) { return add(id, x, y); });
+  const auto wall = add_wall();
   retrieval::RemovalChecker& checker = removal_checker();
 
   const retrieval::RemovalCheck direct = checker.retrieve({});

@@ -21,11 +21,7 @@ class SamplerScene : public ::testing::Test {
  protected:
   void SetUp() override {
     problem_.robot.loaded = test::ur10();
-    FixedBody table;
-    table.id = "table";
-    table.shape = Box{{0.8, 1.2, 0.02}};
-    table.world_T_body = at(1.0, 0.0, 0.39);
-    problem_.scene.fixed.push_back(table);
+    test::add_box(problem_.scene, "table", {0.8, 1.2, 0.02}, {1.0, 0.0, 0.39});
   }
 
   ObjectIndex add(const std::string& id, double x, double y, double radius = 0.035) {
