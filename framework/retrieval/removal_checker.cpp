@@ -1,5 +1,6 @@
 #include "cluttertamp/retrieval/removal_checker.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "cluttertamp/core/geometry.hpp"
@@ -129,6 +130,13 @@ RemovalCheck RemovalChecker::retrieve(std::span<const ObjectIndex> order, std::u
     check.state = s.after;
   }
   return check;
+}
+
+void RemovalChecker::record_times(Result& result, std::chrono::steady_clock::time_point start) const {
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.time.motion_planning = motion_seconds_;
+  result.time.task_planning = std::max(0.0, total - motion_seconds_);
+  result.counters["actions_planned"] = actions_planned_;
 }
 
 void RemovalChecker::write_plan(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const {

@@ -62,11 +62,8 @@ class Exhaustive final : public plugin::TaskPlanner {
       level = next_level(context, checker, level, target);
     }
 
-    const double motion = checker.motion_seconds();
-    result.time.motion_planning = motion;
-    result.time.task_planning = std::max(0.0, std::chrono::duration<double>(Clock::now() - start).count() - motion);
+    checker.record_times(result, start);
     result.counters["removal_sets_checked"] = sets_checked;
-    result.counters["actions_planned"] = checker.actions_planned();
     result.solved = solved;
     if (!solved) {
       const std::string size = std::to_string(k);

@@ -286,10 +286,7 @@ class Search {
   }
 
   void finish(Result& result, Clock::time_point start) {
-    const double motion = checker_.motion_seconds();
-    result.time.motion_planning = motion;
-    result.time.task_planning = std::max(0.0, std::chrono::duration<double>(Clock::now() - start).count() - motion);
-    result.counters["actions_planned"] = checker_.actions_planned();
+    checker_.record_times(result, start);
     result.counters["roadmap_nodes"] = roadmap_->size();
     result.counters["feedback_nodes"] = feedback_.size();
   }

@@ -71,11 +71,8 @@ class TraversabilityGraph final : public plugin::TaskPlanner {
       boost::remove_edge(head, tail, graph);
     }
     if (!result.solved && result.reason.empty()) result.reason = "time limit reached before the target was retrieved";
-    const double motion = checker.motion_seconds();
-    result.time.motion_planning = motion;
-    result.time.task_planning = std::max(0.0, std::chrono::duration<double>(Clock::now() - start).count() - motion);
+    checker.record_times(result, start);
     result.counters["planning_sequences"] = sequences;
-    result.counters["actions_planned"] = checker.actions_planned();
     return result;
   }
 

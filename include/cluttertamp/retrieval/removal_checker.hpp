@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -54,6 +55,10 @@ class CLUTTERTAMP_API RemovalChecker {
   void write_plan(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const;
 
   double motion_seconds() const { return motion_seconds_; }  ///< spent planning actions, s
+
+  /// Fills `result.time` — motion planning: motion_seconds(); task planning: the rest
+  /// of the time since `start` — and the `actions_planned` counter.
+  void record_times(Result& result, std::chrono::steady_clock::time_point start) const;
   std::uint64_t actions_planned() const { return actions_planned_; }  ///< cache misses
 
  private:
