@@ -18,7 +18,6 @@
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
 #include "cli/statistics.hpp"
-#include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -168,21 +167,12 @@ class Bench {
 
  private:
   void measure(const Row& row, const Scene& scene, std::size_t instance, int run, Measured& m) {
-    Problem problem;
-    problem.scene = scene;
-    problem.robot.loaded = robot_;
-    problem.task = RetrievalTask{scene.objects[scene.target].id};
     Parameters parameters;
     if (!row.initial_limit.empty()) parameters.set("initial_L", row.initial_limit);
     const auto planner = registry_.create<plugin::TaskPlanner>(row.planner, parameters);
-    collision::CollisionWorld world(problem.scene, robot_);
-    std::map<std::string, std::uint64_t> counters;
     const std::uint64_t seed = args_.seed + static_cast<std::uint64_t>(run);
-    plugin::PlanningContext context{problem, plugin::Deadline::after(args_.time_limit), seed, counters, samplers_, &world};
-    WorldState state = WorldState::initial(problem.scene);
-    state.robot_configuration = robot_->home();
     const auto t0 = std::chrono::steady_clock::now();
-    const Result r = planner->solve(context, state);
+    const Result r = plan_scene(scene, robot_, *planner, samplers_, seed, args_.time_limit);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++m.runs;
     if (r.solved) {

@@ -29,6 +29,20 @@ plugin::Samplers shipped_samplers(const plugin::Registry& registry) {
   return samplers;
 }
 
+Result plan_scene(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
+                  plugin::TaskPlanner& planner, const plugin::Samplers& samplers, std::uint64_t seed, double seconds) {
+  Problem problem;
+  problem.scene = scene;
+  problem.robot.loaded = robot;
+  problem.task = RetrievalTask{scene.objects[scene.target].id};
+  collision::CollisionWorld world(scene, robot);
+  std::map<std::string, std::uint64_t> counters;
+  plugin::PlanningContext context{problem, plugin::Deadline::after(seconds), seed, counters, samplers, &world};
+  WorldState state = WorldState::initial(scene);
+  state.robot_configuration = robot->home();
+  return planner.solve(context, state);
+}
+
 bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
                                const plugin::Samplers& samplers, std::uint64_t seed) {
   Problem problem;
@@ -44,22 +58,6 @@ bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const r
 
 namespace {
 
-// The run of task planner `name` on `scene` with `seed` within `seconds`.
-Result plan_scene(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
-                  const plugin::Registry& registry, const plugin::Samplers& samplers, const std::string& name,
-                  const Parameters& parameters, std::uint64_t seed, double seconds) {
-  Problem problem;
-  problem.scene = scene;
-  problem.robot.loaded = robot;
-  problem.task = RetrievalTask{scene.objects[scene.target].id};
-  collision::CollisionWorld world(scene, robot);
-  std::map<std::string, std::uint64_t> counters;
-  plugin::PlanningContext context{problem, plugin::Deadline::after(seconds), seed, counters, samplers, &world};
-  WorldState state = WorldState::initial(scene);
-  state.robot_configuration = robot->home();
-  return registry.create<plugin::TaskPlanner>(name, parameters)->solve(context, state);
-}
-
 // Seeds the exhaustive search runs with: motion planning is randomized, so a set one
 // draw finds no motion for may work with another; the minimum must hold for all.
 constexpr std::uint64_t kProofSeeds = 3;
@@ -70,14 +68,15 @@ constexpr std::uint64_t kProofSeeds = 3;
 std::optional<std::string> min_removals_differ(const Scene& scene, const GenerateArgs& args,
                                                const std::shared_ptr<const robot::RobotDescription>& robot,
                                                const plugin::Registry& registry, const plugin::Samplers& samplers) {
-  const Result quick = plan_scene(scene, robot, registry, samplers, "retrieval_graph", {}, 0, 10);
+  const Result quick = plan_scene(scene, robot, *registry.create<plugin::TaskPlanner>("retrieval_graph"), samplers, 0, 10);
   if (quick.solved && static_cast<int>(quick.moved_objects.size()) < args.min_removals) {
     return "retrieval_graph moves only " + std::to_string(quick.moved_objects.size());
   }
   Parameters limit;
   limit.set("max_removals", static_cast<std::int64_t>(args.min_removals - 1));
   for (std::uint64_t seed = 0; seed < kProofSeeds; ++seed) {
-    const Result best = plan_scene(scene, robot, registry, samplers, "exhaustive", limit, seed, args.check_time);
+    const Result best =
+        plan_scene(scene, robot, *registry.create<plugin::TaskPlanner>("exhaustive", limit), samplers, seed, args.check_time);
     const std::string with = "exhaustive (seed " + std::to_string(seed) + ")";
     if (!best.solved) return with + ": " + best.reason;
     if (static_cast<int>(best.moved_objects.size()) != args.min_removals) {
