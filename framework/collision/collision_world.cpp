@@ -434,4 +434,14 @@ bool CollisionWorld::sweep_hits_fixed(const Eigen::Vector2d& from, const Eigen::
   return false;
 }
 
+double CollisionWorld::fixed_clearance(const Eigen::Vector2d& centre, const Footprint& footprint) const {
+  double clearance = std::numeric_limits<double>::infinity();
+  for (const detail::Outline& o : impl_->fixed_outlines) {
+    if (detail::bands_overlap(o, footprint.z_min, footprint.z_max)) {
+      clearance = std::min(clearance, detail::segment_distance(centre, centre, o));
+    }
+  }
+  return clearance;
+}
+
 }  // namespace cluttertamp::collision

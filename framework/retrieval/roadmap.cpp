@@ -44,18 +44,15 @@ bool Roadmap::hits_fixed(const Eigen::Vector2d& a, const Eigen::Vector2d& b) con
   return world_.sweep_hits_fixed(a, b, footprint_);
 }
 
-bool Roadmap::end_hits_fixed(const Eigen::Vector2d& end, const Eigen::Vector2d& other) const {
-  if (!hits_fixed(end, end)) return hits_fixed(end, other);
-  // The footprint at the end already touches fixed geometry (an object standing less
-  // than a finger's width from a wall): its edges need only not come closer.
+bool Roadmap::leaves_hitting_fixed(std::size_t node, const Eigen::Vector2d& to) const {
+  const Eigen::Vector2d& from = graph_[node].x;
+  if (node > 1) return hits_fixed(from, to);
+  // x_s and x_g may already touch fixed geometry (an object standing less than a
+  // finger's width from a wall): their edges need only not come closer.
+  constexpr double kTouch = 1e-9;  // what the end already touches does not count
   collision::Footprint inside = footprint_;
-  double free = 0.0, touching = footprint_.radius;
-  for (int i = 0; i < 30; ++i) {
-    inside.radius = (free + touching) / 2;
-    (world_.sweep_hits_fixed(end, end, inside) ? touching : free) = inside.radius;
-  }
-  inside.radius = free;
-  return world_.sweep_hits_fixed(end, other, inside);
+  inside.radius = std::min(footprint_.radius, world_.fixed_clearance(from, footprint_) - kTouch);
+  return world_.sweep_hits_fixed(from, to, inside);
 }
 
 std::size_t Roadmap::add_node(const Eigen::Vector2d& x, ObjectSet c) {
@@ -84,7 +81,7 @@ void Roadmap::expand(int limit, const RoadmapOptions& o) {
       // EXTEND: bisect until the edge meets at most K objects and no fixed geometry.
       bool ok = false;
       for (int halvings = 0; halvings < 8 && (x_new - near).norm() > 1e-4; ++halvings) {
-        if (!hits_fixed(near, x_new) && edge_col(near, x_new).size() <= k) {
+        if (!leaves_hitting_fixed(from, x_new) && edge_col(near, x_new).size() <= k) {
           ok = true;
           break;
         }
@@ -101,7 +98,7 @@ void Roadmap::expand(int limit, const RoadmapOptions& o) {
         for (const Entry& e : around) {
           const std::size_t other = e.second;
           if (other == id || other == from || (graph_[other].x - x_new).norm() >= o.step) continue;
-          if (hits_fixed(x_new, graph_[other].x)) continue;
+          if (leaves_hitting_fixed(other, x_new)) continue;
           if (edge_col(x_new, graph_[other].x).size() == unite(graph_[id].col, graph_[other].col).size()) {
             boost::add_edge(id, other, graph_);
           }
@@ -122,7 +119,7 @@ void Roadmap::expand(int limit, const RoadmapOptions& o) {
     for (const Entry& e : around) {
       const std::size_t other = e.second;
       if (other == end || (graph_[other].x - x).norm() >= o.step || boost::edge(end, other, graph_).second) continue;
-      if (!end_hits_fixed(x, graph_[other].x) && edge_col(x, graph_[other].x).size() == unite(graph_[end].col, graph_[other].col).size()) {
+      if (!leaves_hitting_fixed(end, graph_[other].x) && edge_col(x, graph_[other].x).size() == unite(graph_[end].col, graph_[other].col).size()) {
         boost::add_edge(end, other, graph_);
       }
     }

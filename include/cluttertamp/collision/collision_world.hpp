@@ -120,6 +120,9 @@ class CLUTTERTAMP_API CollisionWorld {
                           std::span<const ObjectIndex> ignored = {}) const;
   /// True when the swept footprint touches fixed geometry in its height band.
   bool sweep_hits_fixed(const Eigen::Vector2d& from, const Eigen::Vector2d& to, const Footprint& footprint) const;
+  /// Distance (m) in the plane from `centre` to the nearest fixed geometry in the
+  /// footprint's height band (its radius is not subtracted); infinity when there is none.
+  double fixed_clearance(const Eigen::Vector2d& centre, const Footprint& footprint) const;
 
  private:
   struct Impl;

@@ -60,7 +60,8 @@ class CLUTTERTAMP_API Roadmap {
 
  private:
   std::size_t add_node(const Eigen::Vector2d& x, ObjectSet col);
-  bool end_hits_fixed(const Eigen::Vector2d& end, const Eigen::Vector2d& other) const;
+  // The fixed-geometry test of an edge from roadmap node `node` to `to`.
+  bool leaves_hitting_fixed(std::size_t node, const Eigen::Vector2d& to) const;
 
   const collision::CollisionWorld& world_;
   collision::Footprint footprint_;
