@@ -178,8 +178,7 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
   // staging pose), so that one hard-to-reach grasp does not take the motion planner's
   // whole budget while another is easy; then each with the full budget, straight to
   // the pre-grasp, whose failure names the objects in the way.
-  plugin::PlanningContext quick{context.problem, plugin::Deadline::after(std::min(kQuickTransfer, context.deadline.remaining())),
-                                context.seed, context.counters, context.samplers, context.world};
+  plugin::PlanningContext quick = context;  // its deadline set per grasp
   for (const bool quick_pass : {true, false}) {
     for (const plugin::Grasp* grasp : free) {
       std::optional<Failure> why;
