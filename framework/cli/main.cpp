@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(1, 500));
   generate->add_option("--width", generate_args.width,
-                       "Cabinet interior width, m (default: 0.9 for 12 objects to 1.2 for 20, +0.01 per object beyond)")
+                       "Cabinet interior width, m (default: 0.9 for 12 objects to 1.2 for 20, +0.0225 per object beyond)")
       ->check(CLI::Range(0.1, 10.0));
   generate->add_option("--depth", generate_args.depth, "Cabinet interior depth, m (default: 0.6 for 12 objects to 0.7 for 20 and beyond)")
       ->check(CLI::Range(0.1, 2.0));

@@ -36,6 +36,7 @@ struct Settings {
   int max_feedback = 200;
   bool shorten = true;  // drop objects the found order does not need
   double shorten_time = 0.5;  // s per object tried
+  bool restart = true;  // after every limit failed: forget the feedback, draw afresh
 
   void read(const Parameters& p) {
     roadmap.samples = static_cast<int>(p.get_int("T", roadmap.samples));
@@ -46,6 +47,7 @@ struct Settings {
     region = p.get_string("region", region);
     shorten = p.get_bool("shorten", shorten);
     shorten_time = p.get_double("shorten_time", shorten_time);
+    restart = p.get_bool("restart", restart);
     p.require(shorten_time > 0, "shorten_time", "must be positive (seconds)");
     p.require(roadmap.samples >= 10, "T", "must be at least 10");
     p.require(roadmap.raise_every >= 1 && roadmap.raise_every <= roadmap.samples, "T_raise", "must be 1 to T");
@@ -175,11 +177,27 @@ class Search {
     constexpr int kRoundsAtFullLimit = 3;
     int rounds_at_full_limit = 0;
     bool stuck = false;
-    while (!context_.deadline.expired() &&
-           (limit <= objects || (stuck && ++rounds_at_full_limit < kRoundsAtFullLimit))) {
+    std::uint64_t sequences_at_restart = 0;
+    int explored_limit = 0;  // the roadmap has been expanded for every L up to this
+    for (;;) {
+      if (context_.deadline.expired()) break;
+      if (limit > objects && !(stuck && ++rounds_at_full_limit < kRoundsAtFullLimit)) {
+        // Every limit tried: the feedback collected with these draws (grasps blocked by
+        // objects that only other grasps could free) leaves no sequence. Start over with
+        // fresh draws and no feedback, keeping the roadmap, while time remains, but
+        // only if this round checked a sequence (else the next would do the same).
+        if (!settings_.restart || result.counters["planning_sequences"] == sequences_at_restart) break;
+        sequences_at_restart = result.counters["planning_sequences"];
+        forget_feedback();
+        ++result.counters["restarts"];
+        limit = initial_limit();
+        rounds_at_full_limit = 0;
+      }
       limit = std::min(limit, objects);
       stuck = false;
-      roadmap_->expand(limit, settings_.roadmap);
+      // After a restart, the limits already explored keep their roadmap.
+      if (result.counters["restarts"] == 0 || limit > explored_limit) roadmap_->expand(limit, settings_.roadmap);
+      explored_limit = std::max(explored_limit, limit);
       result.counters["iterations"] = ++iterations;
       for (int attempt = 0; attempt < settings_.max_feedback && !context_.deadline.expired(); ++attempt) {
         retrieval::RetrievalGraph g = graph();
@@ -298,6 +316,12 @@ class Search {
                  const Failure& failure, const WorldState& at_failure, Result& result) {
     retrieval::record_failure_once(result, failure);
     ObjectSet blocking = removable(failure.blocking_objects);
+    // A grasp the target or an avoided object blocks cannot be freed: blame another.
+    if (!freeable_for(object, failure.blocking_objects)) {
+      const auto other = other_grasp_blockers(object, failure, at_failure);
+      if (!other) return avoid(object);
+      blocking = *other;
+    }
     std::size_t fail = removal.nodes.size() - 1;
     for (std::size_t i = 0; i < removal.nodes.size(); ++i) {
       const ObjectSet& col = g.node(removal.nodes[i]).node_col;
@@ -343,6 +367,24 @@ class Search {
     return out;
   }
 
+  // False when `blocking` holds an object that cannot leave before `object` does: the
+  // target (for any other object) or one the graph avoids.
+  bool freeable_for(ObjectIndex object, const std::vector<ObjectIndex>& blocking) const {
+    return std::none_of(blocking.begin(), blocking.end(), [&](ObjectIndex b) {
+      return (b == target_ && object != target_) || std::find(blocked_.begin(), blocked_.end(), b) != blocked_.end();
+    });
+  }
+
+  void forget_feedback() {
+    ++reseeds_;
+    feedback_.clear();
+    feedback_nodes_.clear();
+    guard_of_.clear();
+    unexplained_.clear();
+    blocked_.clear();
+    seen_failures_.clear();
+  }
+
   // Keeps the retrieval graph away from `object`; the target cannot be avoided.
   bool avoid(ObjectIndex object) {
     if (object == target_ || std::find(blocked_.begin(), blocked_.end(), object) != blocked_.end()) return false;
@@ -357,7 +399,7 @@ class Search {
     const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &at_failure});
     std::optional<ObjectSet> best;
     for (const plugin::BlockedGrasp& b : answer.blocked) {
-      if (!b.freeable) continue;
+      if (!b.freeable || !freeable_for(object, b.blocking_objects)) continue;
       ObjectSet set = removable(b.blocking_objects);
       if (set.empty() || seen_failures_[object].count(set)) continue;
       if (!best || set.size() < best->size()) best = std::move(set);

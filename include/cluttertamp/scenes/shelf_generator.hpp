@@ -14,7 +14,7 @@ struct ShelfSpec {
   int objects = 12;
   /// Cabinet interior; zero means "from the object count": 0.9 x 0.6 x 0.5 m for 12
   /// objects up to 1.2 x 0.7 x 0.5 m for 20 (the paper's), interpolated linearly;
-  /// beyond 20, 1 cm wider per object (2.0 x 0.7 m for 100; the paper gives no size).
+  /// beyond 20, 2.25 cm wider per object (3.0 x 0.7 m for 100; the paper gives no size).
   double width = 0.0;   ///< along y
   double depth = 0.0;   ///< along x
   double height = 0.5;  ///< along z
