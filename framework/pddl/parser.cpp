@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cluttertamp/pddl/sexpr.hpp"
+#include "pddl/read_atom.hpp"
 
 namespace cluttertamp::pddl {
 
@@ -29,17 +30,6 @@ const std::map<std::string, std::string> kRefused = {
     {":continuous-effects", "continuous effects are not supported"},
 };
 
-std::string read_file(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
-    throw InputError({file.string(), 0, 0}, std::filesystem::exists(file, ec) ? "not a regular file" : "no such file");
-  }
-  if (std::filesystem::file_size(file, ec) > (64u << 20)) throw InputError({file.string(), 0, 0}, "larger than 64 MiB");
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Shared machinery: error collection with excerpts, typed lists, formulas and effects.
 class Reader {
@@ -115,20 +105,12 @@ class Reader {
   }
 
   std::optional<Atom> atom(const SExpr& e, const char* what) {
-    if (!e.is_list || e.items.empty() || !e.items[0].is_atom() || e.items[0].text[0] == '?' || e.items[0].text[0] == ':') {
-      error(e.where, std::string("expected ") + what + " (predicate arg...)");
-      return std::nullopt;
-    }
-    Atom a;
-    a.predicate = e.items[0].text;
-    a.where = e.where;
-    for (std::size_t i = 1; i < e.items.size(); ++i) {
-      const SExpr& arg = e.items[i];
-      if (!arg.is_atom()) {
-        error(arg.where, "arguments must be names or ?variables; nested terms are not supported");
-        return std::nullopt;
-      }
-      a.args.push_back({arg.text, arg.text[0] == '?', arg.where});
+    detail::NotAnAtom why{};
+    SourceLocation where;
+    auto a = detail::read_atom(e, why, where);
+    if (!a && why == detail::NotAnAtom::head) error(where, std::string("expected ") + what + " (predicate arg...)");
+    if (!a && why == detail::NotAnAtom::argument) {
+      error(where, "arguments must be names or ?variables; nested terms are not supported");
     }
     return a;
   }
@@ -391,9 +373,6 @@ class Checker {
                                  "an action's cost must not depend on the state");
         }
         if (!e.cost.number && !e.cost.function.predicate.empty()) check_atom(e.cost.function, scope, objects, false, true);
-        if (!domain_.functions.count("total-cost")) {
-          reader_.error(e.where, "(increase (total-cost) ...) needs (total-cost) in :functions");
-        }
         break;
       case Effect::Kind::conjunction:
         for (const Effect& c : e.children) check_effect(c, scope, objects, derived, nested);
@@ -441,6 +420,8 @@ class DomainReader : public Reader {
       else if (key == ":constraints") error(section.where, "state-trajectory constraints are not supported");
       else error(section.items[0].where, "unknown domain section '" + key + "'");
     }
+    // (total-cost) needs no declaration, as in Fast Downward and PDDLStream's domains.
+    if (!domain_.functions.count("total-cost")) domain_.functions["total-cost"] = PredicateDecl{"total-cost", {}, def.where};
     Checker checker(domain_, *this);
     checker.check_types_exist(domain_.constants);
     for (const auto& [name, decl] : domain_.predicates) checker.check_types_exist(decl.parameters);
@@ -798,14 +779,14 @@ bool Domain::is_subtype(const std::string& type, const std::string& ancestor) co
 
 Domain parse_domain(const std::string& text, const std::string& file) { return DomainReader({file, text}).read(); }
 
-Domain load_domain(const std::filesystem::path& file) { return parse_domain(read_file(file), file.string()); }
+Domain load_domain(const std::filesystem::path& file) { return parse_domain(read_text_file(file), file.string()); }
 
 Problem parse_problem(const std::string& text, const std::string& file, const Domain& domain) {
   return ProblemReader({file, text}, domain).read();
 }
 
 Problem load_problem(const std::filesystem::path& file, const Domain& domain) {
-  return parse_problem(read_file(file), file.string(), domain);
+  return parse_problem(read_text_file(file), file.string(), domain);
 }
 
 std::string to_string(const Atom& atom) {

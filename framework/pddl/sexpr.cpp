@@ -1,6 +1,10 @@
 #include "cluttertamp/pddl/sexpr.hpp"
 
+#include "pddl/read_atom.hpp"
+
 #include <cctype>
+#include <fstream>
+#include <sstream>
 
 namespace cluttertamp::pddl {
 
@@ -95,5 +99,42 @@ std::vector<SExpr> read_sexprs(const SourceText& source) {
   if (!stack.empty()) source.fail(stack.back().where, "this '(' is never closed");
   return top;
 }
+
+std::string read_text_file(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) {
+    throw InputError({file.string(), 0, 0}, std::filesystem::exists(file, ec) ? "not a regular file" : "no such file");
+  }
+  if (std::filesystem::file_size(file, ec) > (64u << 20)) throw InputError({file.string(), 0, 0}, "larger than 64 MiB");
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+namespace detail {
+
+std::optional<Atom> read_atom(const SExpr& e, NotAnAtom& why, SourceLocation& where) {
+  if (!e.is_list || e.items.empty() || !e.items[0].is_atom() || e.items[0].text[0] == '?' || e.items[0].text[0] == ':') {
+    why = NotAnAtom::head;
+    where = e.where;
+    return std::nullopt;
+  }
+  Atom a;
+  a.predicate = e.items[0].text;
+  a.where = e.where;
+  for (std::size_t i = 1; i < e.items.size(); ++i) {
+    const SExpr& arg = e.items[i];
+    if (!arg.is_atom()) {
+      why = NotAnAtom::argument;
+      where = arg.where;
+      return std::nullopt;
+    }
+    a.args.push_back({arg.text, arg.text[0] == '?', arg.where});
+  }
+  return a;
+}
+
+}  // namespace detail
 
 }  // namespace cluttertamp::pddl

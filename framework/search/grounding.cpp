@@ -104,6 +104,7 @@ class Grounder {
 
   // -- relaxed exploration
   bool relaxed(const CFormula& f, std::vector<int>& binding) const;
+  bool witness_values(const CFormula& f, std::size_t k, const std::vector<int>& binding, std::vector<int>& out) const;
   void relaxed_effects(const CEffect& e, std::vector<int>& binding, std::vector<int>& out) const;
   void enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
                  const std::function<void()>& visit);
@@ -142,7 +143,24 @@ class Grounder {
   std::map<std::string, int> function_ids_;
   std::map<std::vector<int>, double> function_values_;  // (function, args...) -> value
 
-  std::unordered_map<std::string, int> atom_ids_;
+  // (predicate, args...) -> atom id.
+  struct KeyHash {
+    std::size_t operator()(const std::vector<int>& key) const noexcept {
+      std::size_t h = key.size();
+      for (int v : key) h ^= static_cast<std::size_t>(v) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+      return h;
+    }
+  };
+  std::unordered_map<std::vector<int>, int, KeyHash> atom_ids_;
+  /// The id of an atom already interned, or -1.
+  int find_atom(int predicate, const std::vector<int>& args) const {
+    std::vector<int> key;
+    key.reserve(args.size() + 1);
+    key.push_back(predicate);
+    key.insert(key.end(), args.begin(), args.end());
+    const auto it = atom_ids_.find(key);
+    return it == atom_ids_.end() ? -1 : it->second;
+  }
   std::vector<std::pair<int, std::vector<int>>> atoms_;  // predicate, args
   std::vector<bool> reached_;
   std::vector<bool> initially_;  // atoms true in the initial state (static or not)
@@ -172,9 +190,9 @@ const std::vector<int>* Grounder::objects_of(const std::vector<std::string>& typ
 }
 
 int Grounder::atom_id(int predicate, const std::vector<int>& args) {
-  std::string key = std::to_string(predicate);
-  for (int a : args) key += "," + std::to_string(a);
-  auto [it, inserted] = atom_ids_.emplace(key, static_cast<int>(atoms_.size()));
+  std::vector<int> key{predicate};
+  key.insert(key.end(), args.begin(), args.end());
+  auto [it, inserted] = atom_ids_.emplace(std::move(key), static_cast<int>(atoms_.size()));
   if (inserted) {
     atoms_.emplace_back(predicate, args);
     reached_.push_back(false);
@@ -256,20 +274,16 @@ bool Grounder::relaxed(const CFormula& f, std::vector<int>& b) const {
     case Formula::Kind::truth: return true;
     case Formula::Kind::atom: {
       if (f.atom.predicate < 0) return ground_args(f.atom, b)[0] == ground_args(f.atom, b)[1];
-      std::string key = std::to_string(f.atom.predicate);
-      for (int a : ground_args(f.atom, b)) key += "," + std::to_string(a);
-      auto it = atom_ids_.find(key);
-      return it != atom_ids_.end() && reached_[it->second];
+      const int id = find_atom(f.atom.predicate, ground_args(f.atom, b));
+      return id >= 0 && reached_[id];
     }
     case Formula::Kind::negation: {
       const CFormula& c = f.children[0];
       if (c.kind != Formula::Kind::atom) return true;
       if (c.atom.predicate < 0) return ground_args(c.atom, b)[0] != ground_args(c.atom, b)[1];
       if (fluent_[c.atom.predicate]) return true;
-      std::string key = std::to_string(c.atom.predicate);
-      for (int a : ground_args(c.atom, b)) key += "," + std::to_string(a);
-      auto it = atom_ids_.find(key);
-      return it == atom_ids_.end() || !initially_[it->second];
+      const int id = find_atom(c.atom.predicate, ground_args(c.atom, b));
+      return id < 0 || !initially_[id];
     }
     case Formula::Kind::conjunction:
       return std::all_of(f.children.begin(), f.children.end(), [&](const CFormula& c) { return relaxed(c, b); });
@@ -281,7 +295,10 @@ bool Grounder::relaxed(const CFormula& f, std::vector<int>& b) const {
       const bool all = f.kind == Formula::Kind::forall;
       std::function<bool(std::size_t)> quantify = [&](std::size_t k) -> bool {
         if (k == f.slots.size()) return relaxed(f.children[0], b);
-        for (int o : *f.domains[k]) {
+        const std::vector<int>* objects = f.domains[k];
+        std::vector<int> witnesses;
+        if (!all && witness_values(f, k, b, witnesses)) objects = &witnesses;
+        for (int o : *objects) {
           b[f.slots[k]] = o;
           const bool holds = quantify(k + 1);
           if (holds != all) return holds;
@@ -291,6 +308,49 @@ bool Grounder::relaxed(const CFormula& f, std::vector<int>& b) const {
       return quantify(0);
     }
   }
+  return true;
+}
+
+// An (exists ...) holds in the relaxation only if its body's positive atoms were
+// reached: the values of quantified variable k in reached atoms that agree with the
+// variables bound so far are its only candidates. False when no top-level positive
+// atom of the body mentions the variable (then every object of its type is tried).
+bool Grounder::witness_values(const CFormula& f, std::size_t k, const std::vector<int>& b, std::vector<int>& out) const {
+  const CFormula& body = f.children[0];
+  const int slot = f.slots[k];
+  auto later = [&](int s) { return std::find(f.slots.begin() + static_cast<long>(k) + 1, f.slots.end(), s) != f.slots.end(); };
+  auto mentions = [&](const CFormula& c) {
+    return c.kind == Formula::Kind::atom && c.atom.predicate >= 0 &&
+           std::any_of(c.atom.args.begin(), c.atom.args.end(), [&](const CTerm& t) { return t.variable && t.value == slot; });
+  };
+  const CFormula* witness = nullptr;
+  if (mentions(body)) witness = &body;
+  else if (body.kind == Formula::Kind::conjunction) {
+    for (const CFormula& c : body.children) {
+      if (mentions(c)) {
+        witness = &c;
+        break;
+      }
+    }
+  }
+  if (!witness) return false;
+  const CAtom& a = witness->atom;
+  for (const std::vector<int>& tuple : reached_by_predicate_[a.predicate]) {
+    int value = -1;
+    bool fits = true;
+    for (std::size_t i = 0; i < a.args.size() && fits; ++i) {
+      const CTerm& t = a.args[i];
+      if (!t.variable) fits = t.value == tuple[i];
+      else if (t.value == slot) {
+        fits = value < 0 || value == tuple[i];  // the variable may appear twice
+        value = tuple[i];
+      }
+      else if (!later(t.value)) fits = b[t.value] == tuple[i];
+    }
+    if (fits && std::binary_search(f.domains[k]->begin(), f.domains[k]->end(), value)) out.push_back(value);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
   return true;
 }
 
@@ -466,16 +526,14 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
         value_known = true;
         value = args[0] == args[1];
       } else {
-        std::string key = std::to_string(f.atom.predicate);
-        for (int a : args) key += "," + std::to_string(a);
-        auto it = atom_ids_.find(key);
-        if (it == atom_ids_.end() || !reached_[it->second]) {
+        const int found = find_atom(f.atom.predicate, args);
+        if (found < 0 || !reached_[found]) {
           value_known = true;  // unreachable: false in every reachable state
         } else if (!fluent_[f.atom.predicate]) {
           value_known = true;
-          value = initially_[it->second];
+          value = initially_[found];
         } else {
-          id = it->second;
+          id = found;
         }
       }
       if (value_known) return (value != negated) ? truth : falsity;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,5 +41,9 @@ struct SourceText {
 /// column and an excerpt with a caret) for unbalanced parentheses, stray characters
 /// or nesting deeper than 200 levels. Never recurses deeper than that.
 CLUTTERTAMP_API std::vector<SExpr> read_sexprs(const SourceText& source);
+
+/// The whole text of a PDDL or stream file. Throws InputError naming the file when it
+/// does not exist, is not a regular file or is larger than 64 MiB.
+CLUTTERTAMP_API std::string read_text_file(const std::filesystem::path& file);
 
 }  // namespace cluttertamp::pddl

@@ -1,0 +1,12 @@
+; Block a must go into region goal, where b stands; c, d, e and f stand on the table.
+(define (problem move-a-into-goal)
+  (:domain blocks-line)
+  (:objects a b c d e f table goal pa pb pc pd pe pf)
+  (:init (Region table) (Region goal) (HandEmpty)
+         (Block a) (Pose a pa) (AtPose a pa)
+         (Block b) (Pose b pb) (AtPose b pb) (Contained b pb goal)
+         (Block c) (Pose c pc) (AtPose c pc)
+         (Block d) (Pose d pd) (AtPose d pd)
+         (Block e) (Pose e pe) (AtPose e pe)
+         (Block f) (Pose f pf) (AtPose f pf))
+  (:goal (In a goal)))

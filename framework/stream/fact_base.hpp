@@ -1,0 +1,112 @@
+#pragma once
+// Internal: the objects, facts and stream instances a stream search works on.
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cluttertamp/pddl/ast.hpp"
+#include "cluttertamp/plugin/stream_sampler.hpp"
+#include "cluttertamp/stream/stream_file.hpp"
+
+namespace cluttertamp::stream::detail {
+
+using ObjectId = int;
+/// A ground fact: its predicate's id, then its arguments' object ids.
+using FactKey = std::vector<int>;
+using Env = std::map<std::string, ObjectId>;  ///< ?variable -> object
+
+struct ObjectRecord {
+  std::string name;
+  std::vector<std::string> types{"object"};
+  std::optional<plugin::StreamValue> value;  ///< absent: the object is its name
+  bool optimistic = false;                   ///< stands for a stream output not yet made
+};
+
+/// One stream (or rule, predicate, function) applied to fixed inputs. Real when every
+/// input is a real object; then it may own a generator.
+struct Instance {
+  int stream = 0;  ///< index into StreamFile::streams
+  std::vector<ObjectId> inputs;
+  bool real = true;
+  std::unique_ptr<plugin::StreamGenerator> generator;
+  int calls = 0;
+  bool exhausted = false;
+  bool disabled = false;  ///< adaptive: evaluated at this level; no optimistic outputs
+  std::vector<std::vector<ObjectId>> results;  ///< outputs of each value made
+  std::optional<double> value;                 ///< function: its value once evaluated
+  std::vector<ObjectId> optimistic_outputs;    ///< one optimistic object per output
+};
+
+struct FactInfo {
+  bool optimistic = false;
+  int complexity = 0;   ///< 0 for initial facts; grows with the streams behind a fact
+  int certifier = -1;   ///< the instance that certified it; -1 for initial facts
+};
+
+/// Objects, predicates, facts (real ones and, for the adaptive search, optimistic ones)
+/// and the stream instances made so far.
+class FactBase {
+ public:
+  FactBase(const pddl::Domain& domain, const StreamFile& streams);
+
+  // Objects.
+  ObjectId add_object(ObjectRecord record);
+  std::optional<ObjectId> find(const std::string& name) const;
+  const ObjectRecord& object(ObjectId id) const { return objects_[static_cast<std::size_t>(id)]; }
+  std::size_t object_count() const { return objects_.size(); }
+  /// Objects whose type is `type` or descends from it (optimistic ones only if asked).
+  std::vector<ObjectId> objects_of(const std::vector<std::string>& types, bool with_optimistic) const;
+
+  // Facts.
+  int predicate_id(const std::string& name);
+  const std::string& predicate_name(int id) const { return predicate_names_[static_cast<std::size_t>(id)]; }
+  /// The fact of `atom` under `env`; nothing when a constant is unknown or a variable unbound.
+  std::optional<FactKey> ground(const pddl::Atom& atom, const Env& env);
+  std::string str(const FactKey& fact) const;
+  /// Adds a fact unless it is already real; a real fact replaces an optimistic one.
+  /// Returns true when the fact is new or became real.
+  bool add_fact(const FactKey& fact, const FactInfo& info);
+  const FactInfo* fact(const FactKey& fact) const;
+  void clear_optimistic();
+  const std::map<FactKey, FactInfo>& facts() const { return facts_; }
+
+  /// Calls `visit` for every binding of `inputs` under which each atom of `domain` is a
+  /// fact (optimistic ones only if allowed); inputs no atom mentions range over the
+  /// real objects. `visit` receives the inputs' objects and the highest complexity of
+  /// the matched facts.
+  void bindings(const std::vector<pddl::Term>& inputs, const std::vector<pddl::Atom>& domain, bool with_optimistic,
+                const std::function<void(const std::vector<ObjectId>&, int)>& visit);
+
+  // Instances.
+  /// The instance of `stream` on `inputs`, made on first use.
+  int instance(int stream, const std::vector<ObjectId>& inputs);
+  Instance& instance_at(int id) { return *instances_[static_cast<std::size_t>(id)]; }
+  std::size_t instance_count() const { return instances_.size(); }
+  /// The environment of an instance's declaration for its inputs and, when given, outputs.
+  Env env_of(const Instance& instance, const std::vector<ObjectId>* outputs = nullptr) const;
+
+  const StreamFile& streams() const { return streams_; }
+  const StreamDecl& decl(int stream) const { return streams_.streams[static_cast<std::size_t>(stream)]; }
+
+ private:
+  void match(const std::vector<pddl::Atom>& domain, std::size_t i, Env& env, int complexity, bool with_optimistic,
+             const std::function<void(const Env&, int)>& visit);
+
+  const pddl::Domain& domain_;
+  const StreamFile& streams_;
+  std::vector<ObjectRecord> objects_;
+  std::map<std::string, ObjectId> by_name_;
+  std::vector<std::string> predicate_names_;
+  std::map<std::string, int> predicate_ids_;
+  std::map<FactKey, FactInfo> facts_;
+  std::map<int, std::vector<FactKey>> by_predicate_;  // every fact, optimistic ones too
+  std::vector<std::unique_ptr<Instance>> instances_;
+  std::map<std::pair<int, std::vector<ObjectId>>, int> instance_ids_;
+};
+
+}  // namespace cluttertamp::stream::detail

@@ -1,0 +1,785 @@
+#include "cluttertamp/stream/stream_search.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <deque>
+#include <functional>
+#include <sstream>
+
+#include "cluttertamp/search/grounding.hpp"
+#include "cluttertamp/search/planner.hpp"
+#include "stream/fact_base.hpp"
+#include "stream/support.hpp"
+
+namespace cluttertamp::stream {
+
+const char* algorithm_name(Algorithm algorithm) {
+  return algorithm == Algorithm::adaptive ? "adaptive" : "incremental";
+}
+
+std::optional<Algorithm> algorithm_from_name(std::string_view name) {
+  if (name == "adaptive" || name == "focused") return Algorithm::adaptive;
+  if (name == "incremental") return Algorithm::incremental;
+  return std::nullopt;
+}
+
+namespace {
+
+using namespace detail;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+/// An action of a plan with its arguments as objects.
+struct Step {
+  const pddl::Action* action = nullptr;
+  std::vector<ObjectId> args;
+};
+
+/// One stream instance of a stream plan; `negated`: a test that must come out false.
+struct PlannedInstance {
+  int instance = 0;
+  bool negated = false;
+};
+
+/// A node of the binding tree: optimistic objects bound so far, the next instance of
+/// the stream plan to evaluate, and how many of that instance's values became children.
+struct Binding {
+  std::map<ObjectId, ObjectId> mapping;
+  std::size_t index = 0;
+  std::size_t consumed = 0;
+};
+
+/// An optimistic plan waiting for its streams: actions, stream plan, binding tree
+/// (depth first: the last binding is the deepest).
+struct Skeleton {
+  std::string key;
+  std::vector<Step> actions;
+  std::vector<PlannedInstance> stream_plan;
+  std::vector<Binding> stack;
+  bool waiting = false;  ///< every binding waits for the level to rise
+};
+
+// Predicates used negated (through derived predicates too) and never positively.
+std::set<std::string> negated_predicates(const pddl::Domain& domain, const pddl::Problem& problem) {
+  std::map<std::string, std::set<bool>> uses;
+  std::function<void(const pddl::Formula&, bool)> visit = [&](const pddl::Formula& f, bool polarity) {
+    using K = pddl::Formula::Kind;
+    if (f.kind == K::atom) uses[f.atom.predicate].insert(polarity);
+    for (std::size_t i = 0; i < f.children.size(); ++i) {
+      const bool flip = f.kind == K::negation || (f.kind == K::implication && i == 0);
+      visit(f.children[i], flip ? !polarity : polarity);
+    }
+  };
+  std::function<void(const pddl::Effect&)> conditions = [&](const pddl::Effect& e) {
+    if (e.kind == pddl::Effect::Kind::when) {
+      visit(e.condition, true);
+      visit(e.condition, false);
+    }
+    for (const pddl::Effect& c : e.children) conditions(c);
+  };
+  for (const pddl::Action& a : domain.actions) {
+    visit(a.precondition, true);
+    conditions(a.effect);
+  }
+  visit(problem.goal, true);
+  // Derived predicates pass the polarity of their uses on to their bodies.
+  std::set<std::pair<std::string, bool>> done;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const pddl::DerivedRule& r : domain.derived) {
+      for (bool polarity : {true, false}) {
+        if (!uses[r.head.name].count(polarity) || !done.insert({r.head.name, polarity}).second) continue;
+        visit(r.body, polarity);
+        changed = true;
+      }
+    }
+  }
+  std::set<std::string> out;
+  for (const auto& [predicate, polarities] : uses) {
+    if (polarities.count(false) && !polarities.count(true)) out.insert(predicate);
+  }
+  return out;
+}
+
+class StreamSearch {
+ public:
+  StreamSearch(const StreamProblem& problem, plugin::PlanningContext& context, const StreamSearchOptions& options)
+      : problem_(problem), domain_(*problem.domain), context_(context), options_(options),
+        base_(*problem.domain, *problem.streams) {
+    check_bindings();
+    load_initial();
+    std::set<std::string> negated;
+    for (const std::string& p : negated_predicates(domain_, *problem.problem)) {
+      if (certified_by_test(p)) negated.insert(p);
+    }
+    negated_tests_ = negated;
+  }
+
+  StreamSolution run() {
+    try {
+      if (options_.algorithm == Algorithm::incremental) incremental();
+      else adaptive();
+    } catch (const search::TimeLimit&) {
+      out_.reason = "time limit reached";
+    }
+    if (!out_.solved && out_.reason.empty()) out_.reason = "time limit reached";
+    return std::move(out_);
+  }
+
+ private:
+  // ---- setup ----------------------------------------------------------------
+
+  void check_bindings() const {
+    Diagnostics d;
+    for (const StreamDecl& s : problem_.streams->streams) {
+      if (!s.fluents.empty()) {
+        d.error(s.where, "'" + s.name + "' reads :fluents, which the stream search does not support yet");
+      }
+      if (s.kind == StreamDecl::Kind::rule) continue;
+      const auto it = problem_.bindings.find(s.name);
+      if (it == problem_.bindings.end() || !it->second) {
+        d.error(s.where, "'" + s.name + "' has no code behind it: bind it to a stream_sampler plugin under plugins: streams:");
+      }
+    }
+    d.throw_if_any();
+  }
+
+  void load_initial() {
+    for (const pddl::TypedName& c : domain_.constants) add_named(c);
+    for (const pddl::TypedName& o : problem_.problem->objects) add_named(o);
+    SupportEvaluator evaluator(domain_, base_, {}, false);
+    for (const pddl::Atom& a : problem_.problem->init) {
+      const auto fact = base_.ground(a, {});
+      if (!fact) continue;
+      if (evaluator.is_fluent(a.predicate)) initial_state_.insert(*fact);
+      else base_.add_fact(*fact, FactInfo{});
+    }
+  }
+
+  void add_named(const pddl::TypedName& named) {
+    if (base_.find(named.name)) return;
+    ObjectRecord r;
+    r.name = named.name;
+    r.types = named.types;
+    if (const auto it = problem_.values.find(named.name); it != problem_.values.end()) r.value = it->second;
+    base_.add_object(std::move(r));
+  }
+
+  bool certified_by_test(const std::string& predicate) const {
+    for (const StreamDecl& s : problem_.streams->streams) {
+      if (!s.is_test()) continue;
+      for (const pddl::Atom& c : s.certified) {
+        if (c.predicate == predicate) return true;
+      }
+    }
+    return false;
+  }
+
+  // ---- evaluating streams ---------------------------------------------------
+
+  int domain_complexity(const Instance& inst) {
+    int c = 0;
+    const Env env = base_.env_of(inst);
+    for (const pddl::Atom& a : base_.decl(inst.stream).domain) {
+      const auto fact = base_.ground(a, env);
+      const FactInfo* info = fact ? base_.fact(*fact) : nullptr;
+      if (info) c = std::max(c, info->complexity);
+    }
+    return c;
+  }
+
+  bool domain_holds(const Instance& inst) {
+    const Env env = base_.env_of(inst);
+    for (const pddl::Atom& a : base_.decl(inst.stream).domain) {
+      const auto fact = base_.ground(a, env);
+      const FactInfo* info = fact ? base_.fact(*fact) : nullptr;
+      if (!info || info->optimistic) return false;
+    }
+    return true;
+  }
+
+  plugin::StreamValue value_of(ObjectId id) const {
+    const ObjectRecord& o = base_.object(id);
+    return o.value ? *o.value : plugin::StreamValue(o.name);
+  }
+
+  // One call of a real instance's generator; its outputs become objects and its
+  // certified facts real. Returns whether it produced anything.
+  bool call(int id) {
+    Instance& inst = base_.instance_at(id);
+    const StreamDecl& d = base_.decl(inst.stream);
+    if (inst.exhausted) return false;
+    const int complexity = domain_complexity(inst) + 1 + inst.calls;
+    if (d.kind == StreamDecl::Kind::rule) {
+      inst.exhausted = true;
+      inst.results.push_back({});
+      certify(id, {}, complexity);
+      return true;
+    }
+    const auto start = Clock::now();
+    if (!inst.generator) {
+      std::vector<plugin::StreamValue> inputs;
+      for (ObjectId o : inst.inputs) inputs.push_back(value_of(o));
+      inst.generator = problem_.bindings.at(d.name)->instantiate(context_, d.name, inputs);
+      ++out_.statistics.stream_instances;
+      if (!inst.generator) {
+        inst.exhausted = true;
+        fail(d, "its sampler made no generator for these inputs");
+        return false;
+      }
+    }
+    const plugin::StreamBatch batch = inst.generator->next(context_);
+    ++inst.calls;
+    ++out_.statistics.stream_calls;
+    ++out_.statistics.calls_per_stream[d.name];
+    out_.statistics.stream_seconds += since(start);
+    bool produced = false;
+    for (const auto& values : batch.outputs) {
+      if (d.kind == StreamDecl::Kind::function) {
+        if (values.size() != 1 || !std::holds_alternative<double>(values[0])) {
+          fail(d, "a function must yield one number");
+          continue;
+        }
+        inst.value = std::get<double>(values[0]);
+        inst.exhausted = produced = true;
+        break;
+      }
+      if (values.size() != d.outputs.size()) {
+        fail(d, "yielded " + std::to_string(values.size()) + " value(s) for " + std::to_string(d.outputs.size()) +
+                    " output(s)");
+        continue;
+      }
+      std::vector<ObjectId> ids;
+      for (std::size_t i = 0; i < values.size(); ++i) ids.push_back(object_for(values[i], d.outputs[i].name));
+      inst.results.push_back(ids);
+      certify(id, ids, complexity);
+      produced = true;
+    }
+    if (d.is_test() || batch.exhausted) inst.exhausted = true;
+    if (batch.failure) fail(d, batch.failure->reason, batch.failure->blocking_objects);
+    return produced;
+  }
+
+  ObjectId object_for(const plugin::StreamValue& value, const std::string& variable) {
+    // A stream may answer with an existing object's name (a discrete value).
+    if (const auto* name = std::get_if<std::string>(&value)) {
+      if (const auto id = base_.find(*name)) return *id;
+    }
+    ++out_.statistics.values;
+    ObjectRecord r;
+    r.name = variable;  // "?p" -> "#p3"
+    r.name[0] = '#';
+    r.name += std::to_string(++generated_);
+    r.value = value;
+    return base_.add_object(std::move(r));
+  }
+
+  void certify(int id, const std::vector<ObjectId>& outputs, int complexity) {
+    const Instance& inst = base_.instance_at(id);
+    const Env env = base_.env_of(inst, &outputs);
+    for (const pddl::Atom& a : base_.decl(inst.stream).certified) {
+      if (const auto fact = base_.ground(a, env)) base_.add_fact(*fact, FactInfo{false, complexity, id});
+    }
+  }
+
+  void fail(const StreamDecl& d, const std::string& reason, std::vector<ObjectIndex> blocking = {}) {
+    Failure f{"stream " + d.name, reason, std::move(blocking)};
+    const bool seen = std::any_of(out_.failures.begin(), out_.failures.end(), [&](const Failure& g) {
+      return g.stage == f.stage && g.reason == f.reason && g.blocking_objects == f.blocking_objects;
+    });
+    if (!seen && out_.failures.size() < 100) out_.failures.push_back(std::move(f));
+  }
+
+  // Rules and functions whose domains hold with real facts: evaluated at once.
+  void close_real() {
+    for (bool changed = true; changed && !context_.deadline.expired();) {
+      changed = false;
+      for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
+        const StreamDecl& d = base_.decl(s);
+        if (d.kind != StreamDecl::Kind::rule && d.kind != StreamDecl::Kind::function) continue;
+        for (int id : real_instances(s)) {
+          if (!base_.instance_at(id).exhausted) changed |= call(id) && d.kind == StreamDecl::Kind::rule;
+        }
+      }
+    }
+  }
+
+  std::vector<int> real_instances(int stream) {
+    std::vector<std::vector<ObjectId>> found;
+    const StreamDecl& d = base_.decl(stream);
+    base_.bindings(d.inputs, d.domain, false, [&](const std::vector<ObjectId>& inputs, int) { found.push_back(inputs); });
+    std::vector<int> ids;
+    for (const auto& inputs : found) ids.push_back(base_.instance(stream, inputs));
+    return ids;
+  }
+
+  // ---- symbolic search --------------------------------------------------------
+
+  // Plans with the real facts, and the optimistic ones if asked.
+  std::optional<std::vector<Step>> plan_symbolic(bool optimistic) {
+    const auto start = Clock::now();
+    pddl::Problem p = *problem_.problem;
+    p.objects.clear();
+    p.init.clear();
+    std::set<std::string> constants;
+    for (const pddl::TypedName& c : domain_.constants) constants.insert(c.name);
+    for (std::size_t i = 0; i < base_.object_count(); ++i) {
+      const ObjectRecord& o = base_.object(static_cast<ObjectId>(i));
+      if ((o.optimistic && !optimistic) || constants.count(o.name)) continue;
+      p.objects.push_back({o.name, o.types, {}});
+    }
+    auto atom_of = [&](const FactKey& f) {
+      pddl::Atom a;
+      a.predicate = base_.predicate_name(f[0]);
+      for (std::size_t i = 1; i < f.size(); ++i) a.args.push_back({base_.object(f[i]).name, false, {}});
+      return a;
+    };
+    for (const FactKey& f : initial_state_) p.init.push_back(atom_of(f));
+    for (const auto& [fact, info] : base_.facts()) {
+      if (!info.optimistic || optimistic) p.init.push_back(atom_of(fact));
+    }
+    add_function_values(p, optimistic);
+    ++out_.statistics.searches;
+    std::optional<std::vector<Step>> steps;
+    try {
+      const search::Task task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
+      search::SearchOptions so;
+      so.algorithm = options_.search;
+      so.time_limit = context_.deadline.remaining();
+      const search::SearchResult r = search::plan(task, so);
+      if (r.solved) {
+        steps.emplace();
+        for (search::OperatorId op : r.plan) steps->push_back(step_of(task.operators[static_cast<std::size_t>(op)].name));
+      }
+    } catch (const search::TimeLimit&) {
+      last_search_seconds_ = since(start);
+      out_.statistics.search_seconds += last_search_seconds_;
+      throw;
+    }
+    last_search_seconds_ = since(start);
+    out_.statistics.search_seconds += last_search_seconds_;
+    return steps;
+  }
+
+  // Function values: real ones where evaluated, 0 (a lower bound) where optimistic.
+  void add_function_values(pddl::Problem& p, bool optimistic) {
+    for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
+      const StreamDecl& d = base_.decl(s);
+      if (d.kind != StreamDecl::Kind::function) continue;
+      base_.bindings(d.inputs, d.domain, optimistic, [&](const std::vector<ObjectId>& inputs, int) {
+        const int id = base_.instance(s, inputs);
+        const Instance& inst = base_.instance_at(id);
+        if (!inst.value && !optimistic) return;
+        pddl::NumericFact f;
+        f.function.predicate = d.name;
+        for (ObjectId o : inputs) f.function.args.push_back({base_.object(o).name, false, {}});
+        f.value = inst.value.value_or(0.0);
+        p.numeric_init.push_back(f);
+      });
+    }
+  }
+
+  Step step_of(const std::string& name) {
+    std::istringstream in(name.substr(1, name.size() - 2));
+    std::string word;
+    in >> word;
+    Step step;
+    step.action = domain_.find_action(word);
+    while (in >> word) step.args.push_back(base_.find(word).value());
+    return step;
+  }
+
+  // ---- checking plans ---------------------------------------------------------
+
+  // The support of a plan: every precondition and the goal, state by state.
+  std::optional<Support> plan_support(const std::vector<Step>& steps, bool optimistic) {
+    SupportEvaluator evaluator(domain_, base_, negated_tests_, optimistic);
+    Support total;
+    State state = initial_state_;
+    for (const Step& s : steps) {
+      Env env;
+      for (std::size_t i = 0; i < s.action->parameters.size(); ++i) env[s.action->parameters[i].name] = s.args[i];
+      auto pre = evaluator.support(s.action->precondition, env, state, true);
+      if (!pre) return std::nullopt;
+      total.merge(*pre);
+      State next;
+      if (!evaluator.apply(s.action->effect, env, state, next, total)) return std::nullopt;
+      state = std::move(next);
+    }
+    auto goal = evaluator.support(problem_.problem->goal, {}, state, true);
+    if (!goal) return std::nullopt;
+    total.merge(*goal);
+    return total;
+  }
+
+  // True when the plan holds with real facts, every negated test it relies on
+  // evaluated (now, if need be) and false.
+  bool verify(const std::vector<Step>& steps) {
+    const auto support = plan_support(steps, false);
+    if (!support) return false;
+    for (const FactKey& fact : support->negated) {
+      const auto id = test_instance(fact);
+      if (!id) continue;  // no test applies: false by the closed world
+      Instance& inst = base_.instance_at(*id);
+      if (!domain_holds(inst)) continue;
+      if (inst.calls == 0 && !inst.exhausted) call(*id);
+      if (!inst.results.empty()) return false;
+    }
+    return true;
+  }
+
+  // The test instance that decides a negated fact.
+  std::optional<int> test_instance(const FactKey& fact) {
+    for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
+      const StreamDecl& d = base_.decl(s);
+      if (!d.is_test()) continue;
+      for (const pddl::Atom& c : d.certified) {
+        if (c.predicate != base_.predicate_name(fact[0]) || c.args.size() + 1 != fact.size()) continue;
+        Env env;
+        for (std::size_t i = 0; i < c.args.size(); ++i) env[c.args[i].name] = fact[i + 1];
+        std::vector<ObjectId> inputs;
+        for (const pddl::Term& in : d.inputs) {
+          const auto it = env.find(in.name);
+          if (it == env.end()) break;
+          inputs.push_back(it->second);
+        }
+        if (inputs.size() == d.inputs.size()) return base_.instance(s, inputs);
+      }
+    }
+    return std::nullopt;
+  }
+
+  void solved(const std::vector<Step>& steps) {
+    out_.solved = true;
+    out_.reason.clear();
+    for (const Step& s : steps) {
+      StreamPlanStep out{s.action->name, {}};
+      for (ObjectId o : s.args) {
+        const ObjectRecord& r = base_.object(o);
+        out.arguments.push_back(r.name);
+        if (r.value && r.name[0] == '#') out_.values[r.name] = *r.value;
+      }
+      out_.plan.push_back(std::move(out));
+    }
+    for (const auto& [fact, info] : base_.facts()) {
+      if (info.optimistic || info.certifier < 0) continue;
+      pddl::Atom a;
+      a.predicate = base_.predicate_name(fact[0]);
+      for (std::size_t i = 1; i < fact.size(); ++i) a.args.push_back({base_.object(fact[i]).name, false, {}});
+      out_.certified.push_back(std::move(a));
+    }
+  }
+
+  // ---- incremental --------------------------------------------------------------
+
+  void incremental() {
+    for (;;) {
+      close_real();
+      if (context_.deadline.expired()) return;
+      if (auto steps = plan_symbolic(false); steps && verify(*steps)) return solved(*steps);
+      std::vector<int> open;
+      for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
+        const StreamDecl::Kind kind = base_.decl(s).kind;
+        if (kind == StreamDecl::Kind::rule || kind == StreamDecl::Kind::function) continue;
+        for (int id : real_instances(s)) {
+          if (!base_.instance_at(id).exhausted) open.push_back(id);
+        }
+      }
+      if (open.empty()) {
+        out_.reason = "no plan exists: every stream instance is exhausted";
+        return;
+      }
+      ++out_.statistics.level;
+      for (int id : open) {
+        if (context_.deadline.expired()) return;
+        call(id);
+      }
+    }
+  }
+
+  // ---- adaptive -------------------------------------------------------------------
+
+  // Optimistic facts for every enabled instance within `level`; returns whether an
+  // instance was left out for its complexity.
+  bool instantiate_optimistic(int level) {
+    base_.clear_optimistic();
+    bool pruned = false;
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
+        const StreamDecl& d = base_.decl(s);
+        if (d.kind == StreamDecl::Kind::function) continue;
+        if (d.is_test() && negated_tests_.count(d.certified.front().predicate)) continue;  // false until tested
+        std::vector<std::pair<std::vector<ObjectId>, int>> found;
+        base_.bindings(d.inputs, d.domain, true,
+                       [&](const std::vector<ObjectId>& inputs, int c) { found.emplace_back(inputs, c); });
+        for (const auto& [inputs, domain_complexity] : found) {
+          const int id = base_.instance(s, inputs);
+          Instance& inst = base_.instance_at(id);
+          if (inst.real && (inst.exhausted || inst.disabled)) continue;
+          const int complexity = domain_complexity + 1 + inst.calls;
+          if (complexity > level) {
+            pruned = true;
+            continue;
+          }
+          if (inst.optimistic_outputs.size() != d.outputs.size()) {
+            for (const pddl::Term& o : d.outputs) {
+              ObjectRecord r;
+              r.name = o.name;  // "?p" -> "@p12" (assigned in steps: GCC 12 warns on "@" + string)
+              r.name[0] = '@';
+              r.name += std::to_string(id);
+              r.optimistic = true;
+              inst.optimistic_outputs.push_back(base_.add_object(std::move(r)));
+            }
+          }
+          const Env env = base_.env_of(inst, &inst.optimistic_outputs);
+          for (const pddl::Atom& a : d.certified) {
+            if (const auto fact = base_.ground(a, env)) changed |= base_.add_fact(*fact, FactInfo{true, complexity, id});
+          }
+        }
+      }
+    }
+    return pruned;
+  }
+
+  // The stream plan behind the optimistic facts a plan relies on, in an order where
+  // every instance comes after those making its inputs.
+  std::optional<Skeleton> skeleton_of(const std::vector<Step>& steps) {
+    const auto support = plan_support(steps, true);
+    if (!support) return std::nullopt;
+    Skeleton sk;
+    sk.actions = steps;
+    std::set<int> placed;
+    std::function<void(int, bool)> place = [&](int id, bool negated) {
+      if (!placed.insert(id).second) return;
+      const Instance& inst = base_.instance_at(id);
+      const Env env = base_.env_of(inst);
+      for (const pddl::Atom& a : base_.decl(inst.stream).domain) {
+        const auto fact = base_.ground(a, env);
+        const FactInfo* info = fact ? base_.fact(*fact) : nullptr;
+        if (info && info->optimistic && info->certifier >= 0) place(info->certifier, false);
+      }
+      sk.stream_plan.push_back({id, negated});
+    };
+    for (const FactKey& f : support->facts) {
+      const FactInfo* info = base_.fact(f);
+      if (info && info->optimistic) place(info->certifier, false);
+    }
+    for (const FactKey& f : support->negated) {
+      if (const auto id = test_instance(f)) place(*id, true);
+    }
+    std::ostringstream key;
+    for (const Step& s : steps) {
+      key << s.action->name;
+      for (ObjectId o : s.args) key << ' ' << o;
+      key << ';';
+    }
+    sk.key = key.str();
+    sk.stack.push_back({});
+    return sk;
+  }
+
+  enum class Move { moved, called, waiting };
+
+  // Evaluates one step of a skeleton's binding tree (its deepest binding). Returns a
+  // finished plan, if any. An instance whose next call would exceed the level's
+  // complexity waits, at the bottom of the stack, for the level to rise.
+  std::optional<std::vector<Step>> advance(Skeleton& sk, Move& move) {
+    move = Move::moved;
+    Binding& b = sk.stack.back();
+    if (b.index == sk.stream_plan.size()) {
+      std::vector<Step> steps = sk.actions;
+      for (Step& s : steps) {
+        for (ObjectId& o : s.args) {
+          if (const auto it = b.mapping.find(o); it != b.mapping.end()) o = it->second;
+        }
+      }
+      sk.stack.pop_back();
+      if (verify(steps)) return steps;
+      return std::nullopt;
+    }
+    const PlannedInstance planned = sk.stream_plan[b.index];
+    const Instance& optimistic = base_.instance_at(planned.instance);
+    std::vector<ObjectId> inputs;
+    for (ObjectId o : optimistic.inputs) {
+      const auto it = b.mapping.find(o);
+      inputs.push_back(it == b.mapping.end() ? o : it->second);
+    }
+    const int id = base_.instance(optimistic.stream, inputs);
+    Instance& inst = base_.instance_at(id);
+    if (!inst.real || !domain_holds(inst)) {  // an earlier value broke this branch
+      sk.stack.pop_back();
+      return std::nullopt;
+    }
+    if (planned.negated) {
+      if (inst.calls == 0 && !inst.exhausted) {
+        call(id);
+        move = Move::called;
+      }
+      if (!inst.results.empty()) sk.stack.pop_back();  // the test holds: this branch fails
+      else ++b.index;
+      return std::nullopt;
+    }
+    if (b.consumed < inst.results.size()) {
+      Binding child = b;
+      child.index = b.index + 1;
+      child.consumed = 0;
+      const std::vector<ObjectId>& values = inst.results[b.consumed++];
+      for (std::size_t i = 0; i < values.size() && i < optimistic.optimistic_outputs.size(); ++i) {
+        child.mapping[optimistic.optimistic_outputs[i]] = values[i];
+      }
+      sk.stack.push_back(std::move(child));
+      return std::nullopt;
+    }
+    if (inst.exhausted) {
+      sk.stack.pop_back();
+    } else if (domain_complexity(inst) + 1 + inst.calls > level_) {
+      std::rotate(sk.stack.begin(), sk.stack.end() - 1, sk.stack.end());
+      move = Move::waiting;
+    } else {
+      call(id);
+      inst.disabled = true;
+      move = Move::called;
+    }
+    return std::nullopt;
+  }
+
+  // Works through the skeleton queue for `budget` seconds, shortest plan first: a
+  // skeleton is worked on until all its bindings wait. Returns a plan, if one comes
+  // out; `progress` tells whether a stream was called.
+  std::optional<std::vector<Step>> refine(double budget, bool& progress) {
+    const auto start = Clock::now();
+    progress = false;
+    for (Skeleton& sk : queue_) sk.waiting = false;
+    std::size_t waits = 0;  // bindings in a row of the current skeleton that wait
+    while (since(start) < budget && !context_.deadline.expired()) {
+      const auto it = std::min_element(queue_.begin(), queue_.end(), [](const Skeleton& a, const Skeleton& b) {
+        return std::make_pair(a.waiting, a.actions.size()) < std::make_pair(b.waiting, b.actions.size());
+      });
+      if (it == queue_.end() || it->waiting) break;
+      Move move = Move::moved;
+      if (auto steps = advance(*it, move)) return steps;
+      progress |= move == Move::called;
+      if (it->stack.empty()) {
+        queue_.erase(it);
+        waits = 0;
+      } else if (move != Move::waiting) {
+        waits = 0;
+      } else if (++waits >= it->stack.size()) {
+        it->waiting = true;
+        waits = 0;
+      }
+    }
+    return std::nullopt;
+  }
+
+  void adaptive() {
+    std::set<std::string> queued;
+    while (!context_.deadline.expired()) {
+      close_real();
+      const bool pruned = instantiate_optimistic(level_);
+      const auto steps = plan_symbolic(true);
+      bool fresh = false, too_long = false;
+      if (steps) {
+        // Plans may grow by one action per level above the one of the shortest plan
+        // found: sampling the short skeletons again beats detours through real values.
+        if (!shortest_ || steps->size() < shortest_->first) shortest_ = {steps->size(), level_};
+        too_long = steps->size() > shortest_->first + static_cast<std::size_t>(level_ - shortest_->second);
+      }
+      if (steps && !too_long) {
+        auto sk = skeleton_of(*steps);
+        if (!sk) {
+          out_.reason = "internal error: an optimistic plan does not hold when checked";
+          return;
+        }
+        if (sk->stream_plan.empty() && verify(*steps)) return solved(*steps);
+        if (queued.insert(sk->key).second) {
+          ++out_.statistics.skeletons;
+          queue_.push_back(std::move(*sk));
+          fresh = true;
+        }
+      }
+      if (options_.trace) {
+        std::ostringstream line;
+        line << "level " << level_ << ": " << (steps ? "plan of " + std::to_string(steps->size()) + " steps" : "no plan")
+             << (fresh ? " (queued)" : "") << (too_long ? " (too long)" : "") << ", queue " << queue_.size() << ", calls " << out_.statistics.stream_calls
+             << ", objects " << base_.object_count() << ", facts " << base_.facts().size();
+        if (steps) {
+          line << ":";
+          for (const Step& st : *steps) {
+            line << " (" << st.action->name;
+            for (ObjectId o : st.args) line << ' ' << base_.object(o).name;
+            line << ')';
+          }
+        }
+        options_.trace(line.str());
+      }
+      bool progress = false;
+      const double budget = std::max(options_.min_sampling, last_search_seconds_ * options_.sampling_ratio);
+      if (auto done = refine(budget, progress)) return solved(*done);
+      if (!steps || too_long || (!fresh && !progress)) {
+        bool any_disabled = false;
+        for (std::size_t i = 0; i < base_.instance_count(); ++i) {
+          Instance& inst = base_.instance_at(static_cast<int>(i));
+          any_disabled |= inst.disabled;
+          inst.disabled = false;
+        }
+        if (!steps && !pruned && !any_disabled && queue_.empty()) {
+          out_.reason = "no plan exists: not even with optimistic stream outputs";
+          return;
+        }
+        ++level_;
+        out_.statistics.level = static_cast<std::uint64_t>(level_);
+      }
+    }
+  }
+
+  const StreamProblem& problem_;
+  const pddl::Domain& domain_;
+  plugin::PlanningContext& context_;
+  const StreamSearchOptions& options_;
+  FactBase base_;
+  State initial_state_;
+  std::set<std::string> negated_tests_;
+  std::deque<Skeleton> queue_;
+  double last_search_seconds_ = 0;
+  std::optional<std::pair<std::size_t, int>> shortest_;  // adaptive: shortest plan, its level
+  int level_ = 0;  // adaptive: the complexity bound of optimistic instances and calls
+  int generated_ = 0;
+  StreamSolution out_;
+};
+
+}  // namespace
+
+StreamSolution solve(const StreamProblem& problem, plugin::PlanningContext& context, const StreamSearchOptions& options) {
+  if (!problem.domain || !problem.problem || !problem.streams) {
+    throw std::invalid_argument("stream::solve: domain, problem and streams are required");
+  }
+  return StreamSearch(problem, context, options).run();
+}
+
+pddl::Problem with_certified_facts(const pddl::Problem& problem, const StreamSolution& solution) {
+  pddl::Problem out = problem;
+  std::set<std::string> used;  // generated values the plan uses
+  for (const StreamPlanStep& s : solution.plan) {
+    for (const std::string& arg : s.arguments) {
+      if (!arg.empty() && arg[0] == '#' && used.insert(arg).second) out.objects.push_back({arg, {"object"}, {}});
+    }
+  }
+  for (const pddl::Atom& a : solution.certified) {
+    const bool relevant = std::all_of(a.args.begin(), a.args.end(), [&](const pddl::Term& t) {
+      return t.name.empty() || t.name[0] != '#' || used.count(t.name);
+    });
+    if (relevant) out.init.push_back(a);
+  }
+  return out;
+}
+
+std::vector<pddl::PlanStep> pddl_plan(const StreamSolution& solution) {
+  std::vector<pddl::PlanStep> out;
+  for (const StreamPlanStep& s : solution.plan) out.push_back({s.action, s.arguments, {}});
+  return out;
+}
+
+}  // namespace cluttertamp::stream

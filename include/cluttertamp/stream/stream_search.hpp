@@ -1,0 +1,105 @@
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cluttertamp/core/result.hpp"
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/pddl/ast.hpp"
+#include "cluttertamp/pddl/validator.hpp"
+#include "cluttertamp/plugin/context.hpp"
+#include "cluttertamp/plugin/stream_sampler.hpp"
+#include "cluttertamp/stream/stream_file.hpp"
+
+namespace cluttertamp::stream {
+
+/// The stream search algorithms of PDDLStream (Garrett et al., ICAPS 2020).
+///  - incremental: evaluate every stream instance whose domain facts hold, one call
+///    each per round (level by level), then search with the real facts; repeat.
+///  - adaptive (focused): search with optimistic outputs for the streams not yet
+///    evaluated, evaluate only the streams the optimistic plan needs (its stream plan,
+///    refined as a tree of bindings in a skeleton queue), disable evaluated instances
+///    and re-enable them when the level rises.
+enum class Algorithm { adaptive, incremental };
+
+CLUTTERTAMP_API const char* algorithm_name(Algorithm algorithm);
+CLUTTERTAMP_API std::optional<Algorithm> algorithm_from_name(std::string_view name);
+
+struct StreamSearchOptions {
+  Algorithm algorithm = Algorithm::adaptive;
+  /// The symbolic search (search::search_names()).
+  std::string search = "lazy-gbfs-ff";
+  /// adaptive: seconds of stream evaluation allowed per second of symbolic search
+  /// before searching again (at least `min_sampling` seconds each time).
+  double sampling_ratio = 1.0;
+  double min_sampling = 0.01;
+  /// Called with a line per search iteration (level, plan found, queue, calls), if set.
+  std::function<void(const std::string&)> trace;
+};
+
+/// A stream-based planning problem. Pointers must outlive the call.
+struct StreamProblem {
+  const pddl::Domain* domain = nullptr;
+  const pddl::Problem* problem = nullptr;
+  const StreamFile* streams = nullptr;
+  /// Values of the problem's objects handed to streams; an object without one is
+  /// handed over as its name (a std::string).
+  std::map<std::string, plugin::StreamValue> values;
+  /// The code behind each stream, predicate and function, by name; rules need none.
+  std::map<std::string, plugin::StreamSampler*> bindings;
+};
+
+/// One step of a plan: the action and its arguments, problem objects by name and
+/// stream outputs by their generated names ("#g3": output ?g of the 3rd value made).
+struct StreamPlanStep {
+  std::string action;
+  std::vector<std::string> arguments;
+};
+
+struct StreamStatistics {
+  std::uint64_t stream_calls = 0;      ///< calls of a generator's next()
+  std::uint64_t stream_instances = 0;  ///< generators created
+  std::uint64_t searches = 0;          ///< symbolic searches run
+  std::uint64_t skeletons = 0;         ///< adaptive: optimistic plans queued
+  std::uint64_t level = 0;             ///< adaptive: the final level; incremental: rounds
+  std::uint64_t values = 0;            ///< stream outputs made
+  double search_seconds = 0;
+  double stream_seconds = 0;
+  std::map<std::string, std::uint64_t> calls_per_stream;
+};
+
+struct StreamSolution {
+  bool solved = false;
+  std::string reason;  ///< why not solved
+  std::vector<StreamPlanStep> plan;
+  /// The value of every generated object the plan uses.
+  std::map<std::string, plugin::StreamValue> values;
+  /// Every fact an evaluated stream certified (the plan's static support among them).
+  std::vector<pddl::Atom> certified;
+  StreamStatistics statistics;
+  std::vector<Failure> failures;  ///< what streams said when they produced nothing
+};
+
+/// Solves a stream problem within `context.deadline`. Every returned plan is checked
+/// against the real facts: each precondition and the goal hold with facts the initial
+/// state or an evaluated stream certified. Throws InputError (at the declaration) for
+/// a stream, predicate or function without a binding, or one that uses :fluents (not
+/// supported yet); a planning failure is a solution with solved = false and a reason.
+CLUTTERTAMP_API StreamSolution solve(const StreamProblem& problem, plugin::PlanningContext& context,
+                                     const StreamSearchOptions& options);
+
+/// `problem` with the generated objects a solution's plan uses and the facts its
+/// streams certified about them (and the problem's objects) added: the plan is then a
+/// plain PDDL plan for pddl::validate_plan. Values the plan never uses are left out,
+/// so quantifiers range over the plan's values only.
+CLUTTERTAMP_API pddl::Problem with_certified_facts(const pddl::Problem& problem, const StreamSolution& solution);
+
+/// The solution's plan as PDDL plan steps.
+CLUTTERTAMP_API std::vector<pddl::PlanStep> pddl_plan(const StreamSolution& solution);
+
+}  // namespace cluttertamp::stream

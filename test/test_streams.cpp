@@ -1,0 +1,309 @@
+// Stream files (PDDLStream syntax and validation) and the two stream searches on a
+// pure-symbolic domain with a toy sampler: blocks on a line.
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/pddl/validator.hpp"
+#include "cluttertamp/stream/stream_file.hpp"
+#include "cluttertamp/stream/stream_search.hpp"
+#include "test_support.hpp"
+
+namespace cluttertamp {
+namespace {
+
+using stream::StreamDecl;
+
+std::filesystem::path blocks_line(const std::string& file) {
+  return std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/pddl/blocks-line" / file;
+}
+
+// ---- stream files --------------------------------------------------------------------
+
+const char* kDomain = R"((define (domain d)
+  (:requirements :strips :equality)
+  (:predicates (Conf ?q) (Pose ?p) (Kin ?q ?p) (Motion ?q1 ?t ?q2) (AtConf ?q) (Safe ?t) (Collide ?t ?p))
+  (:functions (Distance ?q1 ?q2))
+  (:action move :parameters (?q1 ?t ?q2)
+    :precondition (and (Motion ?q1 ?t ?q2) (AtConf ?q1) (not (Collide ?t ?q2)))
+    :effect (and (AtConf ?q2) (not (AtConf ?q1)) (increase (total-cost) (Distance ?q1 ?q2)))))
+)";
+
+pddl::Domain domain() { return pddl::parse_domain(kDomain, "d.pddl"); }
+
+TEST(StreamFile, ReadsEveryPddlStreamForm) {
+  const pddl::Domain d = domain();
+  const stream::StreamFile f = stream::parse_stream_file(R"(; comments as in PDDLStream files
+(define (stream s)
+  (:rule :inputs (?q ?p) :domain (Kin ?q ?p) :certified (and (Conf ?q) (Pose ?p)))
+  (:function (Distance ?q1 ?q2) (and (Conf ?q1) (Conf ?q2)))
+  (:predicate (Collide ?t ?p) (Pose ?p))
+  (:stream sample-pose :outputs (?p) :certified (Pose ?p))
+  (:stream inverse-kinematics
+    :inputs (?p) :domain (Pose ?p) :outputs (?q)
+    :certified (and (Conf ?q) (Kin ?q ?p)))
+  (:stream plan-motion
+    :inputs (?q1 ?q2) :domain (and (Conf ?q1) (Conf ?q2))
+    :fluents (AtConf)
+    :outputs (?t) :certified (Motion ?q1 ?t ?q2))
+  (:stream test-safe :inputs (?t ?q1 ?q2) :domain (Motion ?q1 ?t ?q2) :certified (Safe ?t)))
+)",
+                                                         "s.pddl", nullptr);
+  EXPECT_EQ(f.name, "s");
+  ASSERT_EQ(f.streams.size(), 7u);
+  EXPECT_EQ(f.streams[0].kind, StreamDecl::Kind::rule);
+  EXPECT_EQ(f.streams[1].kind, StreamDecl::Kind::function);
+  EXPECT_EQ(f.streams[1].inputs.size(), 2u);
+  EXPECT_TRUE(f.streams[2].is_test());
+  EXPECT_EQ(f.streams[2].certified.at(0).predicate, "collide");
+  EXPECT_TRUE(f.streams[3].inputs.empty());
+  EXPECT_FALSE(f.streams[4].is_test());
+  EXPECT_EQ(f.find("plan-motion")->fluents, std::vector<std::string>{"atconf"});
+  EXPECT_TRUE(f.find("test-safe")->is_test());
+  EXPECT_EQ(f.find("inverse-kinematics")->where.line, 7u);
+  (void)d;
+}
+
+TEST(StreamFile, ValidationErrorsAreLocated) {
+  const pddl::Domain d = domain();
+  const Diagnostics errors = test::expect_input_error([&] {
+    stream::parse_stream_file(R"((define (stream s)
+  (:stream a :inputs (?p) :domain (Kin ?q ?p) :outputs (?q) :certified (Conf ?q))
+  (:stream b :inputs (?p) :domain (Pose ?p) :outputs (?q) :certified (Kin ?x ?p))
+  (:stream c :inputs (?p) :domain (Pose ?p) :outputs (?p) :certified (Pose ?p))
+  (:stream d :inputs (?p) :domain (Pose ?p) :output (?q) :certified (Pose ?p))
+  (:stream e :inputs (?q) :domain (AtConf ?q) :certified (Conf ?q))
+  (:stream f :inputs (?p) :domain (Pose ?p) :outputs (?q) :certified (Unknown ?q))
+  (:stream g :inputs (?p) :domain (Pose ?p) :outputs (?q) :certified (Conf ?q ?p))
+  (:optimizer o)
+  (:stream a :inputs () :outputs (?p) :certified (Pose ?p))
+  (:stream h :inputs (?p ?p) :domain (Pose ?p) :certified (Pose ?p))
+  (:stream i :inputs (?p) :domain (Pose ?p) :outputs (?q)))
+)",
+                              "s.pddl", &d);
+  });
+  EXPECT_TRUE(test::has_error(errors, 2, 40, "'?q' in :domain of stream 'a' is not an input"));
+  EXPECT_TRUE(test::has_error(errors, 3, 75, "'?x' in :certified of stream 'b' is neither an input nor an output"));
+  EXPECT_TRUE(test::has_error(errors, 4, 55, "'?p' is both an input and an output of stream 'c'"));
+  EXPECT_TRUE(test::has_error(errors, 5, 45, "unknown keyword ':output'"));
+  EXPECT_TRUE(test::has_error(errors, 6, 35, "'atconf' in :domain of stream 'e' is changed by actions"));
+  EXPECT_TRUE(test::has_error(errors, 7, 70, "'unknown' in :certified of stream 'f' is not a predicate of domain 'd'"));
+  EXPECT_TRUE(test::has_error(errors, 8, 70, "'conf' takes 1 argument(s), not 2"));
+  EXPECT_TRUE(test::has_error(errors, 9, 3, "optimizers"));
+  EXPECT_TRUE(test::has_error(errors, 10, 3, "'a' is declared twice (first at line 2)"));
+  EXPECT_TRUE(test::has_error(errors, 11, 26, "'?p' appears twice in :inputs of stream 'h'"));
+  EXPECT_TRUE(test::has_error(errors, 12, 3, "stream 'i' has no :certified facts"));
+  for (const Diagnostic& item : errors.items()) EXPECT_EQ(item.location.file, "s.pddl");
+}
+
+TEST(StreamFile, SyntaxErrorsAndTheWrongDefineAreLocated) {
+  EXPECT_TRUE(test::has_error(test::expect_input_error([] { stream::parse_stream_file("(define (stream s)\n  (:stream a", "x.pddl"); }),
+                              2, 3, "never closed"));
+  EXPECT_TRUE(test::has_error(test::expect_input_error([] { stream::parse_stream_file("(define (domain s))", "x.pddl"); }),
+                              1, 1, "expected (define (stream NAME) ...)"));
+  EXPECT_TRUE(test::has_error(test::expect_input_error([] { stream::load_stream_file("/no/such/stream.pddl"); }), 0, 0,
+                              "no such file"));
+}
+
+TEST(StreamFile, FunctionsAndFluentsAreCheckedAgainstTheDomain) {
+  const pddl::Domain d = domain();
+  const Diagnostics errors = test::expect_input_error([&] {
+    stream::parse_stream_file(R"((define (stream s)
+  (:function (Length ?q) (Conf ?q))
+  (:stream m :inputs (?q1 ?q2) :domain (and (Conf ?q1) (Conf ?q2)) :fluents (Conf Nothing) :outputs (?t)
+     :certified (Motion ?q1 ?t ?q2)))
+)",
+                              "s.pddl", &d);
+  });
+  EXPECT_TRUE(test::has_error(errors, 2, 14, "function 'length' is not declared in (:functions ...)"));
+  EXPECT_TRUE(test::has_error(errors, 3, 78, "'conf' in :fluents of stream 'm' is never changed by an action"));
+  EXPECT_TRUE(test::has_error(errors, 3, 83, "'nothing' in :fluents of stream 'm' is not a predicate"));
+}
+
+TEST(StreamFile, TheBundledStreamFilesLoadAgainstTheirDomains) {
+  const pddl::Domain d = pddl::load_domain(blocks_line("domain.pddl"));
+  const stream::StreamFile f = stream::load_stream_file(blocks_line("stream.pddl"), &d);
+  EXPECT_EQ(f.streams.size(), 2u);
+}
+
+// ---- searches on blocks-line -----------------------------------------------------------
+
+constexpr double kWidth = 1.0;  // blocks overlap when their centres are closer
+
+// Positions in a region ([lo, hi] of the centre), and the overlap test.
+class LineStreams final : public plugin::StreamSampler {
+ public:
+  std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext& context, std::string_view stream,
+                                                       const std::vector<plugin::StreamValue>& in) override {
+    if (stream == "sample-pose") {
+      const std::string region = std::get<std::string>(in.at(1));
+      const auto [lo, hi] = region == "goal" ? std::pair(10.0, 11.5) : std::pair(-5.0, 9.5);
+      const std::uint64_t seed = context.seed * 1000003 + std::hash<std::string>{}(std::get<std::string>(in.at(0)) + region);
+      return std::make_unique<Sampler>(lo, hi, seed);
+    }
+    const bool same = std::get<std::string>(in.at(0)) == std::get<std::string>(in.at(2));
+    return std::make_unique<Test>(same || std::abs(std::get<double>(in.at(1)) - std::get<double>(in.at(3))) >= kWidth);
+  }
+
+ private:
+  struct Sampler final : plugin::StreamGenerator {
+    Sampler(double lo, double hi, std::uint64_t seed) : rng(seed), position(lo, hi) {}
+    plugin::StreamBatch next(plugin::PlanningContext&) override { return {{{position(rng)}}, false, std::nullopt}; }
+    std::mt19937_64 rng;
+    std::uniform_real_distribution<double> position;
+  };
+  struct Test final : plugin::StreamGenerator {
+    explicit Test(bool free) : free(free) {}
+    plugin::StreamBatch next(plugin::PlanningContext&) override {
+      if (free) return {{{}}, true, std::nullopt};
+      return {{}, true, Failure{"test-cfree", "the blocks overlap", {}}};
+    }
+    bool free;
+  };
+};
+
+class BlocksLine : public ::testing::Test {
+ protected:
+  BlocksLine()
+      : domain_(pddl::load_domain(blocks_line("domain.pddl"))),
+        pddl_problem_(pddl::load_problem(blocks_line("problem.pddl"), domain_)),
+        streams_(stream::load_stream_file(blocks_line("stream.pddl"), &domain_)) {
+    problem_.domain = &domain_;
+    problem_.problem = &pddl_problem_;
+    problem_.streams = &streams_;
+    const std::map<std::string, double> positions{{"pa", 0}, {"pb", 10.6}, {"pc", 2},
+                                                  {"pd", 4}, {"pe", 6},     {"pf", 8}};
+    for (const auto& [name, x] : positions) problem_.values[name] = x;
+    problem_.bindings = {{"sample-pose", &sampler_}, {"test-cfree", &sampler_}};
+  }
+
+  stream::StreamSolution solve(stream::Algorithm algorithm, std::uint64_t seed, double seconds = 30) {
+    plugin::PlanningContext context{core_problem_, plugin::Deadline::after(seconds), seed, counters_, samplers_};
+    stream::StreamSearchOptions options;
+    options.algorithm = algorithm;
+    if (std::getenv("STREAM_TRACE")) options.trace = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    return stream::solve(problem_, context, options);
+  }
+
+  // The plan replayed on the positions: every block apart from the others after each
+  // place, and a in the goal region at the end.
+  void expect_geometrically_valid(const stream::StreamSolution& s) {
+    std::map<std::string, double> at{{"a", 0}, {"b", 10.6}, {"c", 2}, {"d", 4}, {"e", 6}, {"f", 8}};
+    std::string held;
+    for (const stream::StreamPlanStep& step : s.plan) {
+      if (step.action == "pick") {
+        held = step.arguments.at(0);
+        at.erase(held);
+        continue;
+      }
+      const std::string& p = step.arguments.at(1);
+      const double x = std::get<double>(s.values.count(p) ? s.values.at(p) : problem_.values.at(p));
+      for (const auto& [other, y] : at) EXPECT_GE(std::abs(x - y), kWidth) << held << " placed onto " << other;
+      at[held] = x;
+    }
+    ASSERT_TRUE(at.count("a"));
+    EXPECT_GE(at["a"], 10.0);
+    EXPECT_LE(at["a"], 11.5);
+  }
+
+  void expect_valid_pddl(const stream::StreamSolution& s) {
+    const pddl::Problem with = stream::with_certified_facts(pddl_problem_, s);
+    const pddl::PlanValidation v = pddl::validate_plan(domain_, with, stream::pddl_plan(s));
+    EXPECT_TRUE(v.valid) << v.reason << " at step " << v.step;
+  }
+
+  pddl::Domain domain_;
+  pddl::Problem pddl_problem_;
+  stream::StreamFile streams_;
+  stream::StreamProblem problem_;
+  LineStreams sampler_;
+  Problem core_problem_;
+  std::map<std::string, std::uint64_t> counters_;
+  plugin::Samplers samplers_;
+};
+
+TEST_F(BlocksLine, BothAlgorithmsMoveTheBlockerOutOfTheGoalFirstWithRealValues) {
+  for (stream::Algorithm algorithm : {stream::Algorithm::adaptive, stream::Algorithm::incremental}) {
+    SCOPED_TRACE(stream::algorithm_name(algorithm));
+    const stream::StreamSolution s = solve(algorithm, 1);
+    ASSERT_TRUE(s.solved) << s.reason;
+    std::string plan;
+    for (const stream::StreamPlanStep& step : s.plan) plan += step.action + " " + step.arguments[0] + " " + step.arguments[1] + "; ";
+    // The incremental search takes the first plan its values allow, detours and all.
+    if (algorithm == stream::Algorithm::adaptive) EXPECT_EQ(s.plan.size(), 4u) << plan;
+    EXPECT_EQ(s.plan[0].action, "pick");
+    EXPECT_EQ(s.plan[0].arguments[0], "b");
+    for (const stream::StreamPlanStep& step : s.plan) {
+      for (const std::string& arg : step.arguments) EXPECT_NE(arg[0], '@') << "an optimistic object in the plan";
+    }
+    expect_geometrically_valid(s);
+    expect_valid_pddl(s);
+  }
+}
+
+TEST_F(BlocksLine, AdaptiveEvaluatesFewerStreamsThanIncremental) {
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const stream::StreamSolution adaptive = solve(stream::Algorithm::adaptive, seed);
+    const stream::StreamSolution incremental = solve(stream::Algorithm::incremental, seed);
+    ASSERT_TRUE(adaptive.solved && incremental.solved);
+    EXPECT_LT(adaptive.statistics.stream_calls * 2, incremental.statistics.stream_calls)
+        << "seed " << seed << ": adaptive " << adaptive.statistics.stream_calls << ", incremental "
+        << incremental.statistics.stream_calls;
+  }
+}
+
+TEST_F(BlocksLine, SameSeedSamePlan) {
+  const stream::StreamSolution one = solve(stream::Algorithm::adaptive, 7);
+  const stream::StreamSolution two = solve(stream::Algorithm::adaptive, 7);
+  ASSERT_TRUE(one.solved && two.solved);
+  ASSERT_EQ(one.plan.size(), two.plan.size());
+  for (std::size_t i = 0; i < one.plan.size(); ++i) EXPECT_EQ(one.plan[i].arguments, two.plan[i].arguments);
+  EXPECT_EQ(one.statistics.stream_calls, two.statistics.stream_calls);
+}
+
+// Optimistic bookkeeping: an instance evaluated is disabled until the level rises,
+// and its real outputs stay usable: the pose sampler of b is called again only when
+// its earlier positions collided, and every value in the plan is real.
+TEST_F(BlocksLine, RealOutputsAreReusedAndFailedTestsAreRecorded) {
+  const stream::StreamSolution s = solve(stream::Algorithm::adaptive, 2);
+  ASSERT_TRUE(s.solved) << s.reason;
+  EXPECT_GE(s.statistics.calls_per_stream.at("sample-pose"), 2u);
+  EXPECT_GE(s.statistics.skeletons, 1u);
+  EXPECT_GE(s.statistics.level, 2u);
+  for (const auto& [name, value] : s.values) {
+    EXPECT_EQ(name[0], '#');
+    EXPECT_TRUE(std::holds_alternative<double>(value));
+  }
+}
+
+TEST_F(BlocksLine, AnImpossibleGoalEndsWithAReasonNotAHang) {
+  // The goal region holds no position once the sampler only draws on the table.
+  pddl::Problem impossible = pddl::parse_problem(R"((define (problem p) (:domain blocks-line)
+  (:objects a pa goal) (:init (Region goal) (HandEmpty) (Block a) (Pose a pa) (AtPose a pa))
+  (:goal (and (In a goal) (not (Block a))))))",
+                                                 "p.pddl", domain_);
+  problem_.problem = &impossible;
+  for (stream::Algorithm algorithm : {stream::Algorithm::adaptive, stream::Algorithm::incremental}) {
+    const auto start = std::chrono::steady_clock::now();
+    const stream::StreamSolution s = solve(algorithm, 1, 2.0);
+    EXPECT_FALSE(s.solved);
+    // The adaptive search proves it: no plan even with optimistic values. The
+    // incremental one samples on until the time limit.
+    EXPECT_EQ(s.reason, algorithm == stream::Algorithm::adaptive ? "no plan exists: not even with optimistic stream outputs"
+                                                                 : "time limit reached");
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.5);
+  }
+}
+
+TEST_F(BlocksLine, AStreamWithoutCodeIsBadInput) {
+  problem_.bindings.erase("test-cfree");
+  const Diagnostics errors = test::expect_input_error([&] { solve(stream::Algorithm::adaptive, 1); });
+  EXPECT_TRUE(test::has_error(errors, 8, 3, "'test-cfree' has no code behind it"));
+}
+
+}  // namespace
+}  // namespace cluttertamp
