@@ -78,7 +78,7 @@ TEST(ProblemIo, PddlTaskWithStreamsAndEveryPluginRole) {
   const Problem p = io::load_problem(test::data("problems/pddl_ok.yaml"));
   const auto& task = std::get<PddlTask>(p.task);
   EXPECT_EQ(task.domain.filename(), "domain.pddl");
-  EXPECT_EQ(task.problem.filename(), "problem.pddl");
+  EXPECT_EQ(task.problem->filename(), "problem.pddl");
   ASSERT_TRUE(task.streams.has_value());
   EXPECT_EQ(task.streams->filename(), "stream.pddl");
   EXPECT_EQ(p.samplers.at(SamplerRole::grasp).name, "test_grasp");

@@ -164,7 +164,7 @@ void ProblemReader::read_task(const YAML::Node& node) {
   if (!pddl.valid()) return;
   PddlTask task;
   if (const YAML::Node n = pddl.required("domain"); n.IsDefined()) task.domain = existing_file(file_, n, "PDDL domain").value_or("");
-  if (const YAML::Node n = pddl.required("problem"); n.IsDefined()) task.problem = existing_file(file_, n, "PDDL problem").value_or("");
+  if (pddl.has("problem")) task.problem = existing_file(file_, pddl.optional("problem"), "PDDL problem");
   if (pddl.has("streams")) task.streams = existing_file(file_, pddl.optional("streams"), "stream file");
   problem_.task = task;
 }

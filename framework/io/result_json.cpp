@@ -26,7 +26,8 @@ Json trajectory_json(const Trajectory& t) {
 Json task_json(const Task& task) {
   if (const auto* r = std::get_if<RetrievalTask>(&task)) return Json{{"type", "retrieve"}, {"target", r->target}};
   const auto& p = std::get<PddlTask>(task);
-  Json out{{"type", "pddl"}, {"domain", p.domain.string()}, {"problem", p.problem.string()}};
+  Json out{{"type", "pddl"}, {"domain", p.domain.string()}};
+  out["problem"] = p.problem ? Json(p.problem->string()) : Json(nullptr);
   out["streams"] = p.streams ? Json(p.streams->string()) : Json(nullptr);
   return out;
 }

@@ -210,7 +210,9 @@ class StreamSearch {
     Instance& inst = base_.instance_at(id);
     const StreamDecl& d = base_.decl(inst.stream);
     if (inst.exhausted) return false;
-    const int complexity = domain_complexity(inst) + 1 + inst.calls;
+    // As for optimistic facts, the number of calls does not count: the k-th value of a
+    // stream is as usable as its first (advance() bounds the calls per level).
+    const int complexity = domain_complexity(inst) + 1;
     if (d.kind == StreamDecl::Kind::rule) {
       inst.exhausted = true;
       inst.results.push_back({});
@@ -518,7 +520,9 @@ class StreamSearch {
           const int id = base_.instance(s, inputs);
           Instance& inst = base_.instance_at(id);
           if (inst.real && (inst.exhausted || inst.disabled)) continue;
-          const int complexity = domain_complexity + 1 + inst.calls;
+          // Not counting calls here: a stream that keeps failing must not starve every
+          // fact that depends on its next output (advance() bounds calls per level).
+          const int complexity = domain_complexity + 1;
           if (complexity > level) {
             pruned = true;
             continue;
@@ -634,7 +638,7 @@ class StreamSearch {
     }
     if (inst.exhausted) {
       sk.stack.pop_back();
-    } else if (domain_complexity(inst) + 1 + inst.calls > level_) {
+    } else if (domain_complexity(inst) + inst.calls > level_) {
       std::rotate(sk.stack.begin(), sk.stack.end() - 1, sk.stack.end());
       move = Move::waiting;
     } else {

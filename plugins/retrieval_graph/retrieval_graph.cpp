@@ -460,27 +460,48 @@ class RetrievalGraphPlanner final : public plugin::TaskPlanner {
   Settings settings_;
 };
 
-// The same planner's task level as an object pruner: the objects of its best removal
-// sequence, so that a symbolic search moves only those.
+// The same planner as an object pruner, so that a symbolic search moves only the
+// objects of its candidate removal sequences: with `checked` (default), first the
+// objects a full run with robot feedback moved (within `checked_time` seconds), then
+// the best sequence of the task level alone (no robot checks), which is all there is
+// without `checked`.
 class RetrievalGraphPruner final : public plugin::ObjectPruner {
  public:
-  void configure(const Parameters& p) override { settings_.read(p); }
+  void configure(const Parameters& p) override {
+    settings_.read(p);
+    checked_ = p.get_bool("checked", checked_);
+    checked_time_ = p.get_double("checked_time", checked_time_);
+    p.require(checked_time_ > 0, "checked_time", "must be positive (seconds)");
+  }
+
   plugin::PruneAnswer prune(plugin::PlanningContext& context, const WorldState& state) override {
+    plugin::PruneAnswer answer;
     if (!context.world || !context.problem.robot.loaded) {
-      plugin::PruneAnswer answer;
       answer.failure = Failure{"object_pruner", "the problem has no robot", {}};
       return answer;
     }
-    return Search(context, settings_, state).prune();
+    if (checked_) {
+      plugin::PlanningContext run = context;
+      run.deadline = plugin::Deadline::after(std::min(checked_time_, context.deadline.remaining()));
+      const Result r = Search(run, settings_, state).run();
+      if (r.solved) answer.removal_sequences.push_back(r.moved_objects);
+    }
+    plugin::PruneAnswer unchecked = Search(context, settings_, state).prune();
+    answer.removal_sequences.insert(answer.removal_sequences.end(), unchecked.removal_sequences.begin(),
+                                    unchecked.removal_sequences.end());
+    if (answer.removal_sequences.empty()) answer.failure = unchecked.failure;
+    return answer;
   }
 
  private:
   Settings settings_;
+  bool checked_ = true;
+  double checked_time_ = 5.0;
 };
 
 }  // namespace
 
 CLUTTERTAMP_EXPORT_OBJECT_PRUNER(RetrievalGraphPruner, retrieval_graph,
-                                 "The retrieval graph's removal sequence, unchecked, to focus a symbolic search", "0.1.0")
+                                 "The retrieval graph's removal sequences (checked with the robot, and unchecked) to focus a symbolic search", "0.1.0")
 CLUTTERTAMP_EXPORT_TASK_PLANNER(RetrievalGraphPlanner, retrieval_graph,
                                 "Roadmap + retrieval graph with robot-collision feedback (Tian et al. 2023)", "0.1.0")

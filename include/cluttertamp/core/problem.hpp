@@ -29,7 +29,8 @@ struct RetrievalTask {
 /// Plan in a PDDL domain whose continuous parameters come from streams.
 struct PddlTask {
   std::filesystem::path domain;
-  std::filesystem::path problem;
+  /// Absent: the facts are derived from the scene (stream::scene_problem).
+  std::optional<std::filesystem::path> problem;
   std::optional<std::filesystem::path> streams;  ///< PDDLStream-style stream file
 };
 

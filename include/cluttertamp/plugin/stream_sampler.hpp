@@ -15,9 +15,23 @@
 
 namespace cluttertamp::plugin {
 
+/// A value a stream makes that is none of the plain kinds: a grasp, a trajectory.
+/// Plugins derive from it; the stream search only passes it around.
+class CLUTTERTAMP_API StreamPayload {
+ public:
+  virtual ~StreamPayload();
+  /// The robot motion the value stands for, if any: a plan step's trajectory.
+  virtual const Trajectory* trajectory() const;
+  /// Numbers describing the value in result.json (e.g. a pose as x y z qx qy qz qw).
+  virtual std::vector<double> numbers() const;
+  /// The scene objects the value concerns (a trajectory: the object it moves).
+  virtual std::vector<ObjectIndex> objects() const;
+};
+
 /// A value flowing through streams: a PDDL object name, a number, a vector (a
-/// configuration) or a pose.
-using StreamValue = std::variant<std::string, double, Eigen::VectorXd, Eigen::Isometry3d>;
+/// configuration), a pose, or a payload.
+using StreamValue =
+    std::variant<std::string, double, Eigen::VectorXd, Eigen::Isometry3d, std::shared_ptr<const StreamPayload>>;
 
 /// What one call of a generator produced.
 struct StreamBatch {

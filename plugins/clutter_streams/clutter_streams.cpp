@@ -1,0 +1,430 @@
+// clutter_streams: the streams of domains/pddl/clutter-streams/stream.pddl over the
+// run's grasp, placement and motion samplers.
+//  - plan-pick (?o ?p) -> (?g ?t): a grasp of o standing at p and a trajectory from
+//    the robot's home through pre-grasp, approach, grasp, lift and retreat back home.
+//  - plan-place (?o ?g ?r) -> (?p ?t): a stable pose in region r and a trajectory from
+//    home, holding o with g, down to it, releasing it and back home.
+//  - test-cfree-traj-pose (?t ?o2 ?p2): t (robot and held object) misses o2 at p2.
+//  - test-cfree-pose-pose (?o ?p ?o2 ?p2): o at p and o2 at p2 do not overlap.
+// A pick is planned among the other objects where the scene file has them, ignoring
+// those that blocked the tries before (so a trajectory passes through as few of them as
+// it can), at last among the fixed geometry alone; a placement among the fixed geometry
+// alone. The tests then say which objects are in the way where they actually stand,
+// so the symbolic search can move them.
+// Successive calls of a generator draw afresh (seeds derived from the run's) and try
+// the grasps in another order.
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <set>
+#include <string>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/manipulation/actions.hpp"
+#include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/stream_sampler.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
+
+namespace {
+
+using namespace cluttertamp;
+using plugin::StreamBatch;
+using plugin::StreamValue;
+
+std::vector<double> pose_numbers(const Eigen::Isometry3d& pose) {
+  const Eigen::Quaterniond q(pose.linear());
+  const Eigen::Vector3d t = pose.translation();
+  return {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+}
+
+/// How an object is held: its pose in the tool frame and the fingers' closed value.
+class GraspValue final : public plugin::StreamPayload {
+ public:
+  GraspValue(ObjectIndex object, const Eigen::Isometry3d& gripper_T_object)
+      : object_(object), gripper_T_object_(gripper_T_object) {}
+  std::vector<double> numbers() const override { return pose_numbers(gripper_T_object_); }
+  std::vector<ObjectIndex> objects() const override { return {object_}; }
+  const Eigen::Isometry3d& gripper_T_object() const { return gripper_T_object_; }
+
+ private:
+  ObjectIndex object_;
+  Eigen::Isometry3d gripper_T_object_;
+};
+
+/// A home-to-home manipulation: its segments, which of them carry the object, and the
+/// whole as one trajectory for the plan.
+class MotionValue final : public plugin::StreamPayload {
+ public:
+  struct Part {
+    manipulation::Segment segment;
+    bool held = false;
+  };
+  MotionValue(ObjectIndex object, const Eigen::Isometry3d& gripper_T_object, std::vector<Part> parts)
+      : object_(object), gripper_T_object_(gripper_T_object), parts_(std::move(parts)) {
+    double offset = 0;
+    for (const Part& p : parts_) {
+      const Trajectory& t = p.segment.trajectory;
+      whole_.joint_names = t.joint_names;
+      for (std::size_t i = 0; i < t.positions.size(); ++i) {
+        if (!whole_.positions.empty() && i == 0 && (t.positions[0] - whole_.positions.back()).norm() < 1e-12) continue;
+        whole_.times.push_back(offset + t.times[i]);
+        whole_.positions.push_back(t.positions[i]);
+      }
+      if (!t.times.empty()) offset += t.times.back();
+    }
+  }
+  const Trajectory* trajectory() const override { return &whole_; }
+  std::vector<ObjectIndex> objects() const override { return {object_}; }
+  ObjectIndex object() const { return object_; }
+  const Eigen::Isometry3d& gripper_T_object() const { return gripper_T_object_; }
+  const std::vector<Part>& parts() const { return parts_; }
+
+ private:
+  ObjectIndex object_;
+  Eigen::Isometry3d gripper_T_object_;
+  std::vector<Part> parts_;
+  Trajectory whole_;
+};
+
+/// The grasp sampler's usable grasps, shuffled for every call of a pick generator but
+/// the first (which keeps the sampler's order, best first): the k-th call tries the
+/// grasps in another order, so its trajectory comes from another direction.
+class ShuffledGrasps final : public plugin::GraspSampler {
+ public:
+  ShuffledGrasps(std::shared_ptr<plugin::GraspSampler> inner, std::size_t call, std::uint64_t seed)
+      : inner_(std::move(inner)), call_(call), seed_(seed) {}
+  plugin::GraspAnswer sample(plugin::PlanningContext& context, const plugin::GraspQuery& query) override {
+    plugin::GraspAnswer a = inner_->sample(context, query);
+    if (call_ > 0) {
+      std::mt19937_64 rng(seed_);
+      std::shuffle(a.usable.begin(), a.usable.end(), rng);
+    }
+    return a;
+  }
+
+ private:
+  std::shared_ptr<plugin::GraspSampler> inner_;
+  std::size_t call_;
+  std::uint64_t seed_;
+};
+
+std::uint64_t mix(std::uint64_t a, std::uint64_t b) {
+  a ^= b + 0x9e3779b97f4a7c15ull + (a << 6) + (a >> 2);
+  return a;
+}
+
+std::uint64_t pose_hash(const Eigen::Isometry3d& p) {
+  std::uint64_t h = 0;
+  for (double v : pose_numbers(p)) h = mix(h, std::hash<long long>{}(std::llround(v * 1e6)));
+  return h;
+}
+
+struct Settings {
+  double resolution = 0.02;  // rad between collision checks along a trajectory
+  double call_time = 2.0;    // s a generator's call may plan at most
+};
+
+/// What every generator needs: the scene objects by name, the empty world, home.
+class Streams {
+ public:
+  Streams(plugin::PlanningContext& context, const Settings& settings) : settings_(settings) {
+    const Scene& scene = context.scene();
+    home_ = context.problem.robot.initial_configuration();
+    empty_ = WorldState::initial(scene);
+    empty_.robot_configuration = home_;
+    std::fill(empty_.removed.begin(), empty_.removed.end(), true);
+  }
+
+  ObjectIndex object(const plugin::PlanningContext& context, const StreamValue& v) const {
+    const std::string& name = std::get<std::string>(v);
+    for (ObjectIndex i = 0; i < context.scene().objects.size(); ++i) {
+      std::string id = context.scene().objects[i].id;
+      std::transform(id.begin(), id.end(), id.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      if (id == name) return i;
+    }
+    throw std::invalid_argument("clutter_streams: '" + name + "' is no object of the scene");
+  }
+
+  /// Only `object` in the world, at `pose`; the robot at home.
+  WorldState alone(ObjectIndex object, const Eigen::Isometry3d& pose) const {
+    WorldState s = empty_;
+    s.removed[object] = false;
+    s.world_T_objects[object] = pose;
+    return s;
+  }
+
+  /// `object` at `pose`, the others where the scene has them unless `ignored`.
+  WorldState among(const Scene& scene, ObjectIndex object, const Eigen::Isometry3d& pose,
+                   const std::set<ObjectIndex>& ignored) const {
+    WorldState s = alone(object, pose);
+    for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
+      if (o != object && !ignored.count(o)) s.removed[o] = false;
+    }
+    return s;
+  }
+
+  /// A context for one call: its own seed and samplers, a deadline of at most call_time.
+  plugin::PlanningContext call_context(plugin::PlanningContext& context, plugin::Samplers& samplers, std::uint64_t seed) const {
+    plugin::PlanningContext c{context.problem, plugin::Deadline::after(std::min(settings_.call_time, context.deadline.remaining())),
+                              seed, context.counters, samplers, context.world};
+    return c;
+  }
+
+  /// Plans from the end of `outcome` back home, appending a "return" segment. After a
+  /// placement the open fingers may still touch the object they let go of (when no
+  /// retreat was possible): that object is left out of the return's planning.
+  bool return_home(plugin::PlanningContext& context, manipulation::ActionOutcome& outcome, std::optional<Failure>& why,
+                   std::optional<ObjectIndex> released = std::nullopt) const {
+    WorldState from = outcome.after;
+    if (released) from.removed[*released] = true;
+    plugin::MotionQuery q{from.robot_configuration, home_, &from};
+    const plugin::MotionAnswer a = context.samplers.motion->plan(context, q);
+    if (!a.trajectory) {
+      why = a.failure ? a.failure : Failure{"motion", "no way back home", {}};
+      return false;
+    }
+    outcome.segments.push_back({"return", *a.trajectory});
+    return true;
+  }
+
+  const Eigen::VectorXd& home() const { return home_; }
+  const Settings& settings() const { return settings_; }
+
+ private:
+  const Settings& settings_;
+  Eigen::VectorXd home_;
+  WorldState empty_;
+};
+
+std::optional<Failure> failure_of(const manipulation::ActionOutcome& o, const std::string& fallback) {
+  return o.failure ? o.failure : Failure{"stream", fallback, {}};
+}
+
+class PlanPick final : public plugin::StreamGenerator {
+ public:
+  PlanPick(std::shared_ptr<const Streams> streams, ObjectIndex object, Eigen::Isometry3d pose, std::uint64_t seed)
+      : streams_(std::move(streams)), object_(object), pose_(pose), seed_(seed) {}
+
+  StreamBatch next(plugin::PlanningContext& context) override {
+    StreamBatch batch;
+    plugin::Samplers samplers = context.samplers;
+    const std::uint64_t seed = mix(seed_, calls_);
+    samplers.grasp = std::make_shared<ShuffledGrasps>(context.samplers.grasp, calls_++, seed);
+    plugin::PlanningContext c = streams_->call_context(context, samplers, seed);
+    // Among the other objects where the scene has them, ignoring those that blocked the
+    // tries before (so that a trajectory passes through as few objects as it can), and
+    // at last among the fixed geometry alone.
+    manipulation::ActionOutcome picked;
+    std::set<ObjectIndex> ignored;
+    for (int attempt = 0; attempt < 4 && !c.deadline.expired(); ++attempt) {
+      picked = manipulation::pick(c, streams_->among(context.scene(), object_, pose_, ignored), object_);
+      if (picked.ok) break;
+      const std::size_t before = ignored.size();
+      if (picked.failure) ignored.insert(picked.failure->blocking_objects.begin(), picked.failure->blocking_objects.end());
+      if (ignored.size() == before) break;
+    }
+    if (!picked.ok && !c.deadline.expired()) picked = manipulation::pick(c, streams_->alone(object_, pose_), object_);
+    std::optional<Failure> why;
+    if (!picked.ok || !picked.grasp || !streams_->return_home(c, picked, why)) {
+      batch.failure = picked.ok ? why : failure_of(picked, "no pick");
+      return batch;
+    }
+    const Eigen::Isometry3d gripper_T_object = picked.grasp->gripper_T_object;
+    std::vector<MotionValue::Part> parts;
+    bool held = false;
+    for (manipulation::Segment& s : picked.segments) {
+      held = held || s.name == "lift";
+      parts.push_back({std::move(s), held});
+    }
+    batch.outputs.push_back({std::make_shared<const GraspValue>(object_, gripper_T_object),
+                             std::make_shared<const MotionValue>(object_, gripper_T_object, std::move(parts))});
+    return batch;
+  }
+
+ private:
+  std::shared_ptr<const Streams> streams_;
+  ObjectIndex object_;
+  Eigen::Isometry3d pose_;
+  std::uint64_t seed_;
+  std::size_t calls_ = 0;
+};
+
+class PlanPlace final : public plugin::StreamGenerator {
+ public:
+  PlanPlace(std::shared_ptr<const Streams> streams, ObjectIndex object, std::shared_ptr<const GraspValue> grasp,
+            std::string region, std::uint64_t seed)
+      : streams_(std::move(streams)), object_(object), grasp_(std::move(grasp)), region_(std::move(region)), seed_(seed) {}
+
+  StreamBatch next(plugin::PlanningContext& context) override {
+    StreamBatch batch;
+    plugin::Samplers samplers = context.samplers;
+    plugin::PlanningContext c = streams_->call_context(context, samplers, mix(seed_, calls_++));
+    auto checker = c.world->make_context();
+    WorldState state = streams_->alone(object_, Eigen::Isometry3d::Identity());
+    state.world_T_objects[object_] = c.world->tool_pose(streams_->home(), *checker) * grasp_->gripper_T_object();
+    state.held = object_;
+    manipulation::ActionOutcome placed = manipulation::place(c, state, region_);
+    std::optional<Failure> why;
+    if (!placed.ok || !streams_->return_home(c, placed, why, object_)) {
+      batch.failure = placed.ok ? why : failure_of(placed, "no placement");
+      return batch;
+    }
+    const Eigen::Isometry3d pose = placed.after.world_T_objects[object_];
+    std::vector<MotionValue::Part> parts;
+    for (manipulation::Segment& s : placed.segments) {
+      const bool held = s.name == "transfer" || s.name == "place";
+      parts.push_back({std::move(s), held});
+    }
+    batch.outputs.push_back({pose, std::make_shared<const MotionValue>(object_, grasp_->gripper_T_object(), std::move(parts))});
+    return batch;
+  }
+
+ private:
+  std::shared_ptr<const Streams> streams_;
+  ObjectIndex object_;
+  std::shared_ptr<const GraspValue> grasp_;
+  std::string region_;
+  std::uint64_t seed_;
+  std::size_t calls_ = 0;
+};
+
+/// A test: computed once, on the first call.
+class Test final : public plugin::StreamGenerator {
+ public:
+  explicit Test(std::function<std::optional<Failure>(plugin::PlanningContext&)> check) : check_(std::move(check)) {}
+  StreamBatch next(plugin::PlanningContext& context) override {
+    StreamBatch batch;
+    batch.exhausted = true;
+    if (auto failure = check_(context)) batch.failure = failure;
+    else batch.outputs.push_back({});
+    return batch;
+  }
+
+ private:
+  std::function<std::optional<Failure>(plugin::PlanningContext&)> check_;
+};
+
+// Does `motion` (robot, and the object while held) touch `other` standing at `pose`?
+std::optional<Failure> trajectory_hits(plugin::PlanningContext& context, const Streams& streams, const MotionValue& motion,
+                                       ObjectIndex other, const Eigen::Isometry3d& pose) {
+  if (other == motion.object()) return std::nullopt;  // the object it moves
+  collision::CollisionWorld& world = *context.world;
+  auto checker = world.make_context();
+  WorldState state = streams.alone(other, pose);
+  const auto& supports = context.scene().objects[motion.object()].supports;
+  const bool supported_by_other = std::find(supports.begin(), supports.end(), other) != supports.end();
+  for (const MotionValue::Part& part : motion.parts()) {
+    const auto& q = part.segment.trajectory.positions;
+    if (q.empty()) continue;
+    state.held.reset();
+    state.removed[motion.object()] = true;
+    if (part.held) {
+      state.held = motion.object();
+      state.removed[motion.object()] = false;
+      state.robot_configuration = q.front();
+      state.world_T_objects[motion.object()] = world.tool_pose(q.front(), *checker) * motion.gripper_T_object();
+    }
+    world.sync(state);
+    // Lifting off a support starts in contact with it: that touch is no collision.
+    const std::size_t skip = part.held && supported_by_other && part.segment.name == "lift" ? 2 : 0;
+    std::size_t step = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const std::size_t n = i == 0 ? 1 : std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(
+                                                                      (q[i] - q[i - 1]).cwiseAbs().maxCoeff() / streams.settings().resolution)));
+      for (std::size_t k = 1; k <= n; ++k, ++step) {
+        const Eigen::VectorXd at = i == 0 ? q[0] : Eigen::VectorXd(q[i - 1] + (q[i] - q[i - 1]) * (double(k) / double(n)));
+        if (step < skip) continue;
+        context.count(counter::collision_checks);
+        const collision::CollisionReport r = world.check(at, *checker);
+        if (std::find(r.objects.begin(), r.objects.end(), other) != r.objects.end()) {
+          return Failure{"test-cfree-traj-pose", "the " + part.segment.name + " motion of '" +
+                                                     context.scene().objects[motion.object()].id + "' hits '" +
+                                                     context.scene().objects[other].id + "'",
+                         {other}};
+        }
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+class ClutterStreams final : public plugin::StreamSampler {
+ public:
+  void configure(const Parameters& p) override {
+    settings_.resolution = p.get_double("resolution", settings_.resolution);
+    settings_.call_time = p.get_double("call_time", settings_.call_time);
+    p.require(settings_.resolution > 0 && settings_.resolution < 1, "resolution", "must be in (0, 1) rad");
+    p.require(settings_.call_time > 0, "call_time", "must be positive (seconds)");
+  }
+
+  std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext& context, std::string_view stream,
+                                                       const std::vector<StreamValue>& in) override {
+    if (!context.world || !context.problem.robot.loaded || !context.samplers.grasp || !context.samplers.placement ||
+        !context.samplers.motion) {
+      throw std::invalid_argument("clutter_streams needs a robot and grasp, placement and motion samplers");
+    }
+    if (!streams_ || &context.problem != problem_) {
+      streams_ = std::make_shared<const Streams>(context, settings_);
+      problem_ = &context.problem;
+    }
+    const std::uint64_t seed = mix(context.seed, std::hash<std::string_view>{}(stream));
+    if (stream == "plan-pick") {
+      const Eigen::Isometry3d pose = std::get<Eigen::Isometry3d>(in.at(1));
+      const ObjectIndex o = streams_->object(context, in.at(0));
+      return std::make_unique<PlanPick>(streams_, o, pose, mix(mix(seed, o), pose_hash(pose)));
+    }
+    if (stream == "plan-place") {
+      const ObjectIndex o = streams_->object(context, in.at(0));
+      auto grasp = std::dynamic_pointer_cast<const GraspValue>(std::get<std::shared_ptr<const plugin::StreamPayload>>(in.at(1)));
+      const std::string region = std::get<std::string>(in.at(2));
+      return std::make_unique<PlanPlace>(streams_, o, grasp, region_id(context, region),
+                                         mix(mix(seed, o), pose_hash(grasp->gripper_T_object())));
+    }
+    if (stream == "test-cfree-traj-pose") {
+      auto motion = std::dynamic_pointer_cast<const MotionValue>(std::get<std::shared_ptr<const plugin::StreamPayload>>(in.at(0)));
+      const ObjectIndex other = streams_->object(context, in.at(1));
+      const Eigen::Isometry3d pose = std::get<Eigen::Isometry3d>(in.at(2));
+      auto streams = streams_;
+      return std::make_unique<Test>([=](plugin::PlanningContext& c) { return trajectory_hits(c, *streams, *motion, other, pose); });
+    }
+    if (stream == "test-cfree-pose-pose") {
+      const ObjectIndex a = streams_->object(context, in.at(0)), b = streams_->object(context, in.at(2));
+      const Eigen::Isometry3d pa = std::get<Eigen::Isometry3d>(in.at(1)), pb = std::get<Eigen::Isometry3d>(in.at(3));
+      auto streams = streams_;
+      return std::make_unique<Test>([=](plugin::PlanningContext& c) -> std::optional<Failure> {
+        if (a == b) return std::nullopt;
+        c.world->sync(streams->alone(b, pb));
+        const ObjectIndex ignore[] = {a};
+        const auto r = c.world->shape_contacts(c.scene().objects[a].shape, pa, ignore);
+        if (std::find(r.objects.begin(), r.objects.end(), b) == r.objects.end()) return std::nullopt;
+        return Failure{"test-cfree-pose-pose", "'" + c.scene().objects[a].id + "' would overlap '" + c.scene().objects[b].id + "'", {b}};
+      });
+    }
+    throw std::invalid_argument("clutter_streams has no stream '" + std::string(stream) +
+                                "' (it has plan-pick, plan-place, test-cfree-traj-pose, test-cfree-pose-pose)");
+  }
+
+ private:
+  static std::string region_id(const plugin::PlanningContext& context, const std::string& lowered) {
+    for (const Region& r : context.scene().regions) {
+      std::string id = r.id;
+      std::transform(id.begin(), id.end(), id.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      if (id == lowered) return r.id;
+    }
+    throw std::invalid_argument("clutter_streams: '" + lowered + "' is no region of the scene");
+  }
+
+  Settings settings_;
+  std::shared_ptr<const Streams> streams_;
+  const Problem* problem_ = nullptr;
+};
+
+}  // namespace
+
+CLUTTERTAMP_EXPORT_STREAM_SAMPLER(ClutterStreams, clutter_streams,
+                                  "Pick, place and collision-test streams for domains/pddl/clutter-streams", "1.0.0")
