@@ -166,6 +166,9 @@ class Search {
     return answer;
   }
 
+  /// Every removal order run() checked with the robot, first tried first.
+  const std::vector<ObjectSet>& tried() const { return tried_; }
+
   Result run() {
     Result result;
     const auto start = Clock::now();
@@ -413,6 +416,9 @@ class Search {
   Attempt execute(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, Result& result) {
     // After an attempt that taught nothing (a motion failed within its budget with
     // nothing to blame), the samplers draw afresh, deterministically.
+    if (std::find(tried_.begin(), tried_.end(), removal.objects_in_order) == tried_.end()) {
+      tried_.push_back(removal.objects_in_order);
+    }
     const retrieval::RemovalCheck check = checker_.retrieve(removal.objects_in_order, reseeds_);
     if (check.ok) {
       const ObjectSet order = settings_.shorten ? shortened(removal.objects_in_order, result) : removal.objects_in_order;
@@ -440,6 +446,7 @@ class Search {
   std::vector<int> node_of_;
   std::vector<ObjectIndex> blocked_;
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;
+  std::vector<ObjectSet> tried_;  // every removal order checked, in order
   retrieval::RemovalChecker checker_;
   std::uint64_t reseeds_ = 0;
 };
@@ -463,8 +470,8 @@ class RetrievalGraphPlanner final : public plugin::TaskPlanner {
 // The same planner as an object pruner, so that a symbolic search moves only the
 // objects of its candidate removal sequences: with `checked` (default), first the
 // objects a full run with robot feedback moved (within `checked_time` seconds), then
-// the best sequence of the task level alone (no robot checks), which is all there is
-// without `checked`.
+// every other order that run checked, then the best sequence of the task level alone
+// (no robot checks), which is all there is without `checked`.
 class RetrievalGraphPruner final : public plugin::ObjectPruner {
  public:
   void configure(const Parameters& p) override {
@@ -483,8 +490,16 @@ class RetrievalGraphPruner final : public plugin::ObjectPruner {
     if (checked_) {
       plugin::PlanningContext run = context;
       run.deadline = plugin::Deadline::after(std::min(checked_time_, context.deadline.remaining()));
-      const Result r = Search(run, settings_, state).run();
+      Search search(run, settings_, state);
+      const Result r = search.run();
       if (r.solved) answer.removal_sequences.push_back(r.moved_objects);
+      // The orders that failed with the robot's motions may still be what another
+      // planner's motions need.
+      for (const ObjectSet& order : search.tried()) {
+        if (std::find(answer.removal_sequences.begin(), answer.removal_sequences.end(), order) == answer.removal_sequences.end()) {
+          answer.removal_sequences.push_back(order);
+        }
+      }
     }
     plugin::PruneAnswer unchecked = Search(context, settings_, state).prune();
     answer.removal_sequences.insert(answer.removal_sequences.end(), unchecked.removal_sequences.begin(),
