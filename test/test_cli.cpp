@@ -239,6 +239,35 @@ TEST_F(Cli, StackedObjectsAreMovedInOrderWithStreams) {
   EXPECT_GT(json["counters"]["stream_calls"].get<int>(), 0);
 }
 
+// compare: four settings, one seed each, as a table, JSON, CSV and SVG.
+TEST_F(Cli, CompareRunsTheFourSettingsAndWritesTheirFiles) {
+  const fs::path json_file = dir_ / "c.json", csv_file = dir_ / "c.csv", svg_file = dir_ / "c.svg";
+  const CliRun r = run("compare " + (fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked8.yaml").string() +
+                       " --runs 1 --time-limit 30 -q --json " + json_file.string() + " --csv " + csv_file.string() +
+                       " --svg " + svg_file.string());
+  ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.output;  // 1: some run did not solve
+  for (const char* setting : {"adaptive + pruning", "adaptive, all movable", "incremental + pruning", "incremental, all movable"}) {
+    EXPECT_NE(r.output.find(setting), std::string::npos) << r.output;
+  }
+  std::ifstream in(json_file);
+  const auto json = nlohmann::json::parse(in);
+  ASSERT_EQ(json.size(), 4u);
+  for (const auto& row : json) {
+    EXPECT_EQ(row["objects"], 8);
+    EXPECT_EQ(row["runs"], 1);
+    EXPECT_EQ(row["paper_mean_time_s"], row["pruned"].get<bool>() ? "28.82" : ">120");
+  }
+  std::ifstream csv(csv_file);
+  std::string line;
+  int lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  EXPECT_EQ(lines, 5);  // header and four runs
+  std::ifstream svg(svg_file);
+  EXPECT_TRUE(std::getline(svg, line) && line.rfind("<svg", 0) == 0);
+  // A retrieval problem is no stream problem.
+  EXPECT_EQ(run("compare " + (fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/default.yaml").string() + " -q").exit_code, 2);
+}
+
 // generate writes a scene the target cannot leave directly and a problem that plans on it.
 TEST_F(Cli, GeneratedShelfProblemIsSolved) {
   const fs::path scene = dir_ / "shelf.yaml", problem_file = dir_ / "shelf_problem.yaml";

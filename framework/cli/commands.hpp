@@ -101,6 +101,19 @@ struct BenchArgs {
   int runs = 3;                          ///< bench pddl
 };
 /// Exit code 0 when every speed goal is met, 1 when one is missed.
+struct CompareArgs {
+  std::vector<std::filesystem::path> problems;  ///< stream problems (task: pddl)
+  int runs = 5;
+  std::uint64_t seed = 0;
+  std::optional<double> time_limit;  ///< per run; default: each problem's
+  std::optional<std::filesystem::path> json, csv, svg;
+  std::vector<std::filesystem::path> plugin_paths;
+  Verbosity verbosity = Verbosity::normal;
+};
+/// {adaptive, incremental} x {pruned, all movable} on each problem, `runs` seeds each:
+/// a table beside Tian et al.'s Table IV; exit code 0 when every run solved, else 1.
+int compare(const CompareArgs& args);
+
 int bench_collision(const BenchArgs& args);
 /// Prints a table per instance and search; exit code 0.
 int bench_pddl(const BenchArgs& args);

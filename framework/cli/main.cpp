@@ -195,6 +195,25 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::ExistingFile);
 
+  cli::CompareArgs compare_args;
+  auto* compare = app.add_subcommand(
+      "compare", "Stream planning focused and not: {adaptive, incremental} x {pruned, all movable} (Tian et al., Table IV)");
+  compare->add_option("problems", compare_args.problems, "Stream problem files (task: pddl); several give a plot against object count")
+      ->required()
+      ->check(CLI::ExistingFile);
+  compare->add_option("--runs", compare_args.runs, "Seeds per setting (seed, seed+1, ...)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  compare->add_option("--seed", compare_args.seed, "First seed")->capture_default_str();
+  compare->add_option("--time-limit", compare_args.time_limit, "Seconds per run (default: each problem's planner.time_limit)")
+      ->check(CLI::PositiveNumber);
+  compare->add_option("--json", compare_args.json, "Also write the table as JSON to this file");
+  compare->add_option("--csv", compare_args.csv, "Also write every run as CSV to this file");
+  compare->add_option("--svg", compare_args.svg, "Also plot median time against object count (SVG) to this file");
+  compare->add_option("--plugin-path", compare_args.plugin_paths, "Search this plugin directory first (repeatable)")
+      ->allow_extra_args(false);
+  add_verbosity(*compare, compare_args.verbosity, "Same output as the default");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -212,6 +231,7 @@ int main(int argc, char** argv) {
     if (*plan) return cli::plan(plan_args);
     if (*validate) return cli::validate(validate_args);
     if (*plugins) return cli::plugins(plugins_args);
+    if (*compare) return cli::compare(compare_args);
     if (*bench) {
       if (bench_args.what == "pddl") return cli::bench_pddl(bench_args);
       if (bench_args.what == "samplers") return cli::bench_samplers(bench_args);

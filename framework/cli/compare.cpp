@@ -1,0 +1,218 @@
+// `cluttertamp compare`: the stream search focused and unfocused (Tian et al., Section
+// V-C, Table IV): {adaptive, incremental} x {pruned by the object pruner, all objects
+// movable} on each problem, with N seeds each.
+
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/statistics.hpp"
+#include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/plugin/registry.hpp"
+#include "cluttertamp/run/runner.hpp"
+
+namespace cluttertamp::cli {
+
+namespace {
+
+struct Setting {
+  std::string algorithm;
+  bool prune = false;
+  std::string label() const { return algorithm + (prune ? " + pruning" : ", all movable"); }
+};
+
+const Setting kSettings[] = {{"adaptive", true}, {"adaptive", false}, {"incremental", true}, {"incremental", false}};
+
+struct Run {
+  bool solved = false;
+  double seconds = 0;
+  std::uint64_t stream_calls = 0, motion_calls = 0, plan_length = 0, moved = 0;
+};
+
+struct Row {
+  std::string problem;
+  std::size_t objects = 0;
+  Setting setting;
+  std::vector<Run> runs;
+};
+
+// The paper's Table IV (mean planning time, s): with pruning ("Our Method +
+// PDDLStream") and without (PDDLStream), for the 4- and 8-object scenes.
+std::string paper_time(std::size_t objects, bool prune) {
+  if (objects == 4) return prune ? "25.31" : "33.65";
+  if (objects == 8) return prune ? "28.82" : ">120";
+  return "-";
+}
+
+std::uint64_t counter(const Result& r, const char* name) {
+  const auto it = r.counters.find(name);
+  return it == r.counters.end() ? 0 : it->second;
+}
+
+std::vector<double> field(const Row& row, double Run::*member, bool solved_only = true) {
+  std::vector<double> out;
+  for (const Run& r : row.runs) {
+    if (!solved_only || r.solved) out.push_back(r.*member);
+  }
+  return out;
+}
+
+std::vector<double> count_field(const Row& row, std::uint64_t Run::*member) {
+  std::vector<double> out;
+  for (const Run& r : row.runs) {
+    if (r.solved) out.push_back(double(r.*member));
+  }
+  return out;
+}
+
+std::string fixed(double v, int digits = 2) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+double success(const Row& row) {
+  std::size_t n = 0;
+  for (const Run& r : row.runs) n += r.solved;
+  return row.runs.empty() ? 0.0 : 100.0 * double(n) / double(row.runs.size());
+}
+
+// Time against object count, one line per setting: median time of all runs
+// (failures count with the time limit they used).
+void write_svg(const std::vector<Row>& rows, const std::filesystem::path& file) {
+  const double w = 640, h = 400, left = 60, right = 190, top = 20, bottom = 50;
+  double max_t = 1e-3, min_x = 1e9, max_x = 0;
+  for (const Row& r : rows) {
+    max_t = std::max(max_t, median(field(r, &Run::seconds, false)));
+    min_x = std::min(min_x, double(r.objects));
+    max_x = std::max(max_x, double(r.objects));
+  }
+  if (max_x <= min_x) max_x = min_x + 1;
+  auto x = [&](double v) { return left + (v - min_x) / (max_x - min_x) * (w - left - right); };
+  auto y = [&](double t) { return h - bottom - t / max_t * (h - top - bottom); };
+  const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a"};
+  std::ofstream out(file);
+  out << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h << "' font-family='sans-serif' font-size='12'>\n"
+      << "<line x1='" << left << "' y1='" << h - bottom << "' x2='" << w - right << "' y2='" << h - bottom << "' stroke='black'/>\n"
+      << "<line x1='" << left << "' y1='" << top << "' x2='" << left << "' y2='" << h - bottom << "' stroke='black'/>\n"
+      << "<text x='" << (left + w - right) / 2 << "' y='" << h - 10 << "' text-anchor='middle'>objects</text>\n"
+      << "<text x='15' y='" << (top + h - bottom) / 2 << "' transform='rotate(-90 15 " << (top + h - bottom) / 2
+      << ")' text-anchor='middle'>median time (s)</text>\n"
+      << "<text x='" << left - 5 << "' y='" << y(max_t) + 4 << "' text-anchor='end'>" << fixed(max_t, 1) << "</text>\n"
+      << "<text x='" << left - 5 << "' y='" << y(0) + 4 << "' text-anchor='end'>0</text>\n";
+  std::map<std::size_t, bool> ticks;
+  for (const Row& r : rows) ticks[r.objects] = true;
+  for (const auto& [n, unused] : ticks) {
+    out << "<text x='" << x(double(n)) << "' y='" << h - bottom + 16 << "' text-anchor='middle'>" << n << "</text>\n";
+  }
+  for (std::size_t s = 0; s < std::size(kSettings); ++s) {
+    std::ostringstream points;
+    for (const Row& r : rows) {
+      if (r.setting.label() != kSettings[s].label()) continue;
+      const double t = median(field(r, &Run::seconds, false));
+      points << x(double(r.objects)) << ',' << y(t) << ' ';
+      out << "<circle cx='" << x(double(r.objects)) << "' cy='" << y(t) << "' r='3' fill='" << colours[s] << "'/>\n";
+    }
+    out << "<polyline fill='none' stroke='" << colours[s] << "' stroke-width='2' points='" << points.str() << "'/>\n"
+        << "<text x='" << w - right + 10 << "' y='" << top + 20 * double(s + 1) << "' fill='" << colours[s] << "'>"
+        << kSettings[s].label() << "</text>\n";
+  }
+  out << "</svg>\n";
+}
+
+}  // namespace
+
+int compare(const CompareArgs& args) {
+  std::vector<Row> rows;
+  std::size_t total = 0, done = 0;
+  std::vector<Problem> problems;
+  for (const auto& file : args.problems) problems.push_back(io::load_problem(file));
+  total = problems.size() * std::size(kSettings) * static_cast<std::size_t>(args.runs);
+  std::ofstream csv;
+  if (args.csv) {
+    csv.open(*args.csv);
+    if (!csv) throw InputError({args.csv->string(), 0, 0}, "cannot write the CSV file");
+    csv << "problem,objects,algorithm,pruned,seed,solved,time_s,stream_calls,motion_planning_calls,plan_length,objects_moved\n";
+  }
+  for (std::size_t p = 0; p < problems.size(); ++p) {
+    Problem problem = problems[p];
+    if (!std::holds_alternative<PddlTask>(problem.task)) {
+      throw InputError({args.problems[p].string(), 0, 0}, "compare needs a problem with task: pddl (a stream problem)");
+    }
+    problem.planner.name = "stream_planner";
+    run::RunOptions options;
+    options.time_limit = args.time_limit;
+    options.plugin_paths = args.plugin_paths;
+    const plugin::Registry registry(run::plugin_search_paths(problem, options));
+    for (const Setting& setting : kSettings) {
+      Row row{problem.name, problem.scene.objects.size(), setting, {}};
+      problem.planner.parameters = Parameters{};
+      problem.planner.parameters.set("algorithm", setting.algorithm);
+      problem.planner.parameters.set("prune", setting.prune);
+      for (int k = 0; k < args.runs; ++k) {
+        options.seed = args.seed + static_cast<std::uint64_t>(k);
+        if (args.verbosity != Verbosity::quiet) {
+          std::cerr << "\r[" << ++done << "/" << total << "] " << problem.name << ": " << setting.label() << ", seed "
+                    << *options.seed << "          " << std::flush;
+        }
+        const run::RunOutcome outcome = run::plan(problem, registry, options);
+        const Result& r = outcome.result;
+        Run run{r.solved, r.time.total, counter(r, "stream_calls"), counter(r, counter::motion_planning_calls),
+                r.plan.size(), r.moved_objects.size()};
+        row.runs.push_back(run);
+        if (csv) {
+          csv << problem.name << ',' << row.objects << ',' << setting.algorithm << ',' << setting.prune << ','
+              << *options.seed << ',' << run.solved << ',' << run.seconds << ',' << run.stream_calls << ','
+              << run.motion_calls << ',' << run.plan_length << ',' << run.moved << '\n';
+        }
+      }
+      rows.push_back(std::move(row));
+    }
+  }
+  if (args.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(70, ' ') << "\r";
+
+  std::cout << std::left << std::setw(12) << "problem" << std::setw(27) << "setting" << std::setw(9) << "success"
+            << std::setw(9) << "median" << std::setw(15) << "mean(std) s" << std::setw(8) << "paper" << std::setw(9)
+            << "streams" << std::setw(8) << "motion" << std::setw(7) << "steps" << "moved\n";
+  nlohmann::json json = nlohmann::json::array();
+  for (const Row& r : rows) {
+    const auto t = field(r, &Run::seconds);
+    const std::string mean_std = fixed(mean(t)) + "(" + fixed(stddev(t)) + ")";
+    std::cout << std::left << std::setw(12) << r.problem << std::setw(27) << r.setting.label() << std::setw(9)
+              << (fixed(success(r), 0) + "%") << std::setw(9) << fixed(median(t)) << std::setw(15) << mean_std
+              << std::setw(8) << paper_time(r.objects, r.setting.prune) << std::setw(9)
+              << fixed(mean(count_field(r, &Run::stream_calls)), 1) << std::setw(8)
+              << fixed(mean(count_field(r, &Run::motion_calls)), 1) << std::setw(7)
+              << fixed(mean(count_field(r, &Run::plan_length)), 1) << fixed(mean(count_field(r, &Run::moved)), 1) << "\n";
+    json.push_back({{"problem", r.problem},
+                    {"objects", r.objects},
+                    {"algorithm", r.setting.algorithm},
+                    {"pruned", r.setting.prune},
+                    {"runs", r.runs.size()},
+                    {"success_rate", success(r) / 100.0},
+                    {"time_s", {{"median", median(t)}, {"mean", mean(t)}, {"std", stddev(t)}}},
+                    {"stream_calls_mean", mean(count_field(r, &Run::stream_calls))},
+                    {"motion_planning_calls_mean", mean(count_field(r, &Run::motion_calls))},
+                    {"plan_length_mean", mean(count_field(r, &Run::plan_length))},
+                    {"objects_moved_mean", mean(count_field(r, &Run::moved))},
+                    {"paper_mean_time_s", paper_time(r.objects, r.setting.prune)}});
+  }
+  std::cout << "Times of solved runs; paper: Tian et al. Table IV, mean time (their 4- and 8-object scenes).\n";
+  if (args.json) {
+    std::ofstream out(*args.json);
+    if (!out) throw InputError({args.json->string(), 0, 0}, "cannot write the JSON file");
+    out << json.dump(2) << "\n";
+  }
+  if (args.svg) write_svg(rows, *args.svg);
+  bool all = true;
+  for (const Row& r : rows) all = all && success(r) == 100.0;
+  return all ? 0 : 1;
+}
+
+}  // namespace cluttertamp::cli
