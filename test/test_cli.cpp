@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -237,6 +238,25 @@ TEST_F(Cli, StackedObjectsAreMovedInOrderWithStreams) {
     }
   }
   EXPECT_GT(json["counters"]["stream_calls"].get<int>(), 0);
+}
+
+// validate reads the PDDL and stream files of a stream problem and checks its bindings.
+TEST_F(Cli, ValidateChecksTheStreamFilesAndBindingsOfAStreamProblem) {
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked4.yaml";
+  EXPECT_EQ(run("validate " + source.string()).exit_code, 0);
+  std::ifstream in(source);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  yaml.replace(yaml.find("plan-place: clutter_streams"), 27, "plan-plaice: clutter_streams");
+  yaml.replace(yaml.find("scene: scene4.yaml"), 18, "scene: " + (source.parent_path() / "scene4.yaml").string());
+  while (yaml.find("../../") != std::string::npos) yaml.replace(yaml.find("../../"), 6, std::string(CLUTTERTAMP_SOURCE_DIR) + "/");
+  const fs::path file = dir_ / "bad_streams.yaml";
+  std::ofstream(file) << yaml;
+  const CliRun r = run("validate " + file.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("stream.pddl:11:3: error: 'plan-place' is bound to no stream_sampler"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("stream 'plan-plaice' is not declared in"), std::string::npos) << r.output;
 }
 
 // compare: four settings, one seed each, as a table, JSON, CSV and SVG.

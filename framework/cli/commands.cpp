@@ -3,7 +3,12 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <cctype>
+#include <set>
 #include <sstream>
+
+#include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/stream/stream_file.hpp"
 
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/io/result_json.hpp"
@@ -116,12 +121,41 @@ void print_objects(std::ostream& out, const Scene& scene) {
 
 }  // namespace
 
+// The PDDL files of a `task: pddl` problem, and its stream bindings against the stream
+// file: each declaration (rules aside) bound, each binding naming a declaration.
+void check_pddl_task(const Problem& problem) {
+  const auto* task = std::get_if<PddlTask>(&problem.task);
+  if (!task) return;
+  const pddl::Domain domain = pddl::load_domain(task->domain);
+  if (task->problem) pddl::load_problem(*task->problem, domain);
+  if (!task->streams) return;
+  const stream::StreamFile streams = stream::load_stream_file(*task->streams, &domain);
+  auto lower = [](std::string name) {
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return name;
+  };
+  std::set<std::string> bound;  // PDDL names ignore case
+  for (const auto& [name, choice] : problem.streams) bound.insert(lower(name));
+  Diagnostics d;
+  for (const stream::StreamDecl& s : streams.streams) {
+    if (s.kind != stream::StreamDecl::Kind::rule && !bound.count(s.name)) {
+      d.error(s.where, "'" + s.name + "' is bound to no stream_sampler under plugins: streams: of " +
+                           problem.source_file.string());
+    }
+  }
+  for (const auto& [name, choice] : problem.streams) {
+    if (!streams.find(lower(name))) d.error(choice.where, "stream '" + name + "' is not declared in " + task->streams->string());
+  }
+  d.throw_if_any();
+}
+
 int validate(const ValidateArgs& args) {
   int exit_code = ExitCode::solved;
   for (const fs::path& file : args.files) {
     try {
       if (io::detect_file_kind(file) == io::FileKind::problem) {
         const Problem problem = io::load_problem(file);
+        check_pddl_task(problem);
         if (!args.skip_plugins) {
           run::RunOptions options;
           options.plugin_paths = args.plugin_paths;

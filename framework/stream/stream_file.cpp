@@ -262,10 +262,7 @@ class StreamReader {
   void check_atom(const Atom& a, const std::string& what) {
     if (!domain_) return;
     const auto p = domain_->predicates.find(a.predicate);
-    if (p == domain_->predicates.end()) {
-      error(a.where, "'" + a.predicate + "' in " + what + " is not a predicate of domain '" + domain_->name + "'");
-      return;
-    }
+    if (p == domain_->predicates.end()) return;  // a predicate of the streams only (as PDDLStream allows)
     if (p->second.parameters.size() != a.args.size()) {
       error(a.where, "'" + a.predicate + "' takes " + std::to_string(p->second.parameters.size()) + " argument(s), not " +
                          std::to_string(a.args.size()));

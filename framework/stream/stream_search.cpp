@@ -339,7 +339,10 @@ class StreamSearch {
     };
     for (const FactKey& f : initial_state_) p.init.push_back(atom_of(f));
     for (const auto& [fact, info] : base_.facts()) {
-      if (!info.optimistic || optimistic) p.init.push_back(atom_of(fact));
+      // Predicates the domain does not declare are the streams' own: not for the search.
+      if ((!info.optimistic || optimistic) && domain_.predicates.count(base_.predicate_name(fact[0]))) {
+        p.init.push_back(atom_of(fact));
+      }
     }
     add_function_values(p, optimistic);
     ++out_.statistics.searches;
@@ -763,7 +766,8 @@ StreamSolution solve(const StreamProblem& problem, plugin::PlanningContext& cont
   return StreamSearch(problem, context, options).run();
 }
 
-pddl::Problem with_certified_facts(const pddl::Problem& problem, const StreamSolution& solution) {
+pddl::Problem with_certified_facts(const pddl::Domain& domain, const pddl::Problem& problem,
+                                   const StreamSolution& solution) {
   pddl::Problem out = problem;
   std::set<std::string> used;  // generated values the plan uses
   for (const StreamPlanStep& s : solution.plan) {
@@ -772,9 +776,10 @@ pddl::Problem with_certified_facts(const pddl::Problem& problem, const StreamSol
     }
   }
   for (const pddl::Atom& a : solution.certified) {
-    const bool relevant = std::all_of(a.args.begin(), a.args.end(), [&](const pddl::Term& t) {
-      return t.name.empty() || t.name[0] != '#' || used.count(t.name);
-    });
+    const bool relevant = domain.predicates.count(a.predicate) &&
+                          std::all_of(a.args.begin(), a.args.end(), [&](const pddl::Term& t) {
+                            return t.name.empty() || t.name[0] != '#' || used.count(t.name);
+                          });
     if (relevant) out.init.push_back(a);
   }
   return out;

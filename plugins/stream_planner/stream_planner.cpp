@@ -6,6 +6,7 @@
 // movable; all others stay where they are as obstacles (Tian et al., Section V-C).
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <set>
@@ -95,7 +96,11 @@ class StreamPlanner final : public plugin::TaskPlanner {
     sp.domain = &domain;
     sp.problem = &problem;
     sp.streams = &streams;
-    for (const auto& [name, sampler] : context.samplers.streams) sp.bindings[name] = sampler.get();
+    for (const auto& [name, sampler] : context.samplers.streams) {
+      std::string lowered = name;  // PDDL names ignore case
+      for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      sp.bindings[lowered] = sampler.get();
+    }
 
     const stream::StreamSolution s = stream::solve(sp, context, options_);
     result.solved = s.solved;

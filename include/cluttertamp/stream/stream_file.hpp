@@ -48,8 +48,9 @@ struct StreamFile {
 /// Parses a stream file and validates it as PDDLStream does: inputs and outputs are
 /// distinct ?variables, no variable is both an input and an output, every variable of
 /// :domain is an input, every variable of :certified an input or an output. Given a
-/// domain, also: each atom's predicate is declared there with that many arguments;
-/// :domain and :certified facts are static (no action changes them, none is derived);
+/// domain, also: a predicate the domain declares has that many arguments and, in
+/// :domain and :certified, is static (no action changes it, it is not derived);
+/// predicates the domain does not declare are the streams' own (as in PDDLStream);
 /// :fluents names predicates that actions change; a :function's head is declared in
 /// (:functions ...). Throws InputError listing every problem (file:line:column, what
 /// is wrong, an excerpt with a caret). `:optimizer` and other PDDLStream extensions

@@ -93,11 +93,13 @@ struct StreamSolution {
 CLUTTERTAMP_API StreamSolution solve(const StreamProblem& problem, plugin::PlanningContext& context,
                                      const StreamSearchOptions& options);
 
-/// `problem` with the generated objects a solution's plan uses and the facts its
-/// streams certified about them (and the problem's objects) added: the plan is then a
+/// `problem` with the generated objects a solution's plan uses and the facts of the
+/// domain's predicates its streams certified about them (and the problem's objects)
+/// added: the plan is then a
 /// plain PDDL plan for pddl::validate_plan. Values the plan never uses are left out,
 /// so quantifiers range over the plan's values only.
-CLUTTERTAMP_API pddl::Problem with_certified_facts(const pddl::Problem& problem, const StreamSolution& solution);
+CLUTTERTAMP_API pddl::Problem with_certified_facts(const pddl::Domain& domain, const pddl::Problem& problem,
+                                                   const StreamSolution& solution);
 
 /// The solution's plan as PDDL plan steps.
 CLUTTERTAMP_API std::vector<pddl::PlanStep> pddl_plan(const StreamSolution& solution);
