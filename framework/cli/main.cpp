@@ -198,7 +198,7 @@ int main(int argc, char** argv) {
   cli::CompareArgs compare_args;
   auto* compare = app.add_subcommand(
       "compare", "Stream planning focused and not: {adaptive, incremental} x {pruned, all movable} (Tian et al., Table IV)");
-  compare->add_option("problems", compare_args.problems, "Stream problem files (task: pddl); several give a plot against object count")
+  compare->add_option("problems", compare_args.problems, "Stream problem files (task: pddl); with several, --svg plots time against object count")
       ->required()
       ->check(CLI::ExistingFile);
   compare->add_option("--runs", compare_args.runs, "Seeds per setting (seed, seed+1, ...)")
