@@ -487,6 +487,7 @@ class StreamSearch {
       for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
         const StreamDecl::Kind kind = base_.decl(s).kind;
         if (kind == StreamDecl::Kind::rule || kind == StreamDecl::Kind::function) continue;
+        if (context_.deadline.expired()) return;
         for (int id : real_instances(s)) {
           if (!base_.instance_at(id).exhausted) open.push_back(id);
         }
@@ -513,6 +514,8 @@ class StreamSearch {
     for (bool changed = true; changed;) {
       changed = false;
       for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
+        // High levels of a generative domain make many instances: keep the time limit.
+        if (context_.deadline.expired()) throw search::TimeLimit("time limit (optimistic instantiation)");
         const StreamDecl& d = base_.decl(s);
         if (d.kind == StreamDecl::Kind::function) continue;
         if (d.is_test() && negated_tests_.count(d.certified.front().predicate)) continue;  // false until tested
