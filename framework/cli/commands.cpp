@@ -3,11 +3,11 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
-#include <cctype>
 #include <set>
 #include <sstream>
 
 #include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/pddl/sexpr.hpp"
 #include "cluttertamp/stream/stream_file.hpp"
 
 #include "cluttertamp/io/problem_io.hpp"
@@ -130,12 +130,8 @@ void check_pddl_task(const Problem& problem) {
   if (task->problem) pddl::load_problem(*task->problem, domain);
   if (!task->streams) return;
   const stream::StreamFile streams = stream::load_stream_file(*task->streams, &domain);
-  auto lower = [](std::string name) {
-    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return name;
-  };
   std::set<std::string> bound;  // PDDL names ignore case
-  for (const auto& [name, choice] : problem.streams) bound.insert(lower(name));
+  for (const auto& [name, choice] : problem.streams) bound.insert(pddl::lower_name(name));
   Diagnostics d;
   for (const stream::StreamDecl& s : streams.streams) {
     if (s.kind != stream::StreamDecl::Kind::rule && !bound.count(s.name)) {
@@ -144,7 +140,7 @@ void check_pddl_task(const Problem& problem) {
     }
   }
   for (const auto& [name, choice] : problem.streams) {
-    if (!streams.find(lower(name))) d.error(choice.where, "stream '" + name + "' is not declared in " + task->streams->string());
+    if (!streams.find(pddl::lower_name(name))) d.error(choice.where, "stream '" + name + "' is not declared in " + task->streams->string());
   }
   d.throw_if_any();
 }

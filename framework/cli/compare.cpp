@@ -55,18 +55,12 @@ std::uint64_t counter(const Result& r, const char* name) {
   return it == r.counters.end() ? 0 : it->second;
 }
 
-std::vector<double> field(const Row& row, double Run::*member, bool solved_only = true) {
+// A measure of the runs (solved ones only, unless asked), as numbers.
+template <class T>
+std::vector<double> field(const Row& row, T Run::*member, bool solved_only = true) {
   std::vector<double> out;
   for (const Run& r : row.runs) {
-    if (!solved_only || r.solved) out.push_back(r.*member);
-  }
-  return out;
-}
-
-std::vector<double> count_field(const Row& row, std::uint64_t Run::*member) {
-  std::vector<double> out;
-  for (const Run& r : row.runs) {
-    if (r.solved) out.push_back(double(r.*member));
+    if (!solved_only || r.solved) out.push_back(static_cast<double>(r.*member));
   }
   return out;
 }
@@ -187,9 +181,9 @@ int compare(const CompareArgs& args) {
     std::cout << std::left << std::setw(12) << r.problem << std::setw(27) << r.setting.label() << std::setw(9)
               << (fixed(success(r), 0) + "%") << std::setw(9) << fixed(median(t)) << std::setw(15) << mean_std
               << std::setw(8) << paper_time(r.objects, r.setting.prune) << std::setw(9)
-              << fixed(mean(count_field(r, &Run::stream_calls)), 1) << std::setw(8)
-              << fixed(mean(count_field(r, &Run::motion_calls)), 1) << std::setw(7)
-              << fixed(mean(count_field(r, &Run::plan_length)), 1) << fixed(mean(count_field(r, &Run::moved)), 1) << "\n";
+              << fixed(mean(field(r, &Run::stream_calls)), 1) << std::setw(8)
+              << fixed(mean(field(r, &Run::motion_calls)), 1) << std::setw(7)
+              << fixed(mean(field(r, &Run::plan_length)), 1) << fixed(mean(field(r, &Run::moved)), 1) << "\n";
     json.push_back({{"problem", r.problem},
                     {"objects", r.objects},
                     {"algorithm", r.setting.algorithm},
@@ -197,10 +191,10 @@ int compare(const CompareArgs& args) {
                     {"runs", r.runs.size()},
                     {"success_rate", success(r) / 100.0},
                     {"time_s", {{"median", median(t)}, {"mean", mean(t)}, {"std", stddev(t)}}},
-                    {"stream_calls_mean", mean(count_field(r, &Run::stream_calls))},
-                    {"motion_planning_calls_mean", mean(count_field(r, &Run::motion_calls))},
-                    {"plan_length_mean", mean(count_field(r, &Run::plan_length))},
-                    {"objects_moved_mean", mean(count_field(r, &Run::moved))},
+                    {"stream_calls_mean", mean(field(r, &Run::stream_calls))},
+                    {"motion_planning_calls_mean", mean(field(r, &Run::motion_calls))},
+                    {"plan_length_mean", mean(field(r, &Run::plan_length))},
+                    {"objects_moved_mean", mean(field(r, &Run::moved))},
                     {"paper_mean_time_s", paper_time(r.objects, r.setting.prune)}});
   }
   std::cout << "Times of solved runs; paper: Tian et al. Table IV, mean time (their 4- and 8-object scenes).\n";

@@ -36,4 +36,10 @@ const char* shape_name(const Shape& shape) {
   }
 }
 
+std::vector<double> pose_values(const Eigen::Isometry3d& pose) {
+  const Eigen::Quaterniond q(pose.linear());
+  const Eigen::Vector3d t = pose.translation();
+  return {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+}
+
 }  // namespace cluttertamp

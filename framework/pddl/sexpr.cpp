@@ -100,6 +100,11 @@ std::vector<SExpr> read_sexprs(const SourceText& source) {
   return top;
 }
 
+std::string lower_name(std::string name) {
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return name;
+}
+
 std::string read_text_file(const std::filesystem::path& file) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) {

@@ -27,7 +27,6 @@ StreamSampler::~StreamSampler() = default;
 StreamPayload::~StreamPayload() = default;
 const Trajectory* StreamPayload::trajectory() const { return nullptr; }
 std::vector<double> StreamPayload::numbers() const { return {}; }
-std::vector<ObjectIndex> StreamPayload::objects() const { return {}; }
 StreamGenerator::~StreamGenerator() = default;
 
 namespace {

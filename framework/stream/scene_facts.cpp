@@ -1,16 +1,12 @@
 #include "cluttertamp/stream/scene_facts.hpp"
 
+#include "cluttertamp/pddl/sexpr.hpp"
+
 #include <algorithm>
-#include <cctype>
 
 namespace cluttertamp::stream {
 
 namespace {
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 pddl::Atom atom(const std::string& predicate, std::vector<std::string> args) {
   pddl::Atom a;
@@ -24,7 +20,7 @@ pddl::Atom atom(const std::string& predicate, std::vector<std::string> args) {
 SceneProblem scene_problem(const Scene& scene, const std::vector<bool>& movable, const std::string& domain_name) {
   SceneProblem out;
   pddl::Problem& p = out.problem;
-  p.name = lower(scene.name.empty() ? "scene" : scene.name);
+  p.name = pddl::lower_name(scene.name.empty() ? "scene" : scene.name);
   p.domain_name = domain_name;
   p.file = "(derived from scene '" + scene.name + "')";
   auto declare = [&](const std::string& name) {
@@ -36,7 +32,7 @@ SceneProblem scene_problem(const Scene& scene, const std::vector<bool>& movable,
   std::vector<std::string> names;
   for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
-    const std::string name = lower(o.id), pose = "p0-" + name;
+    const std::string name = pddl::lower_name(o.id), pose = "p0-" + name;
     names.push_back(name);
     declare(name);
     declare(pose);
@@ -50,8 +46,8 @@ SceneProblem scene_problem(const Scene& scene, const std::vector<bool>& movable,
     for (ObjectIndex s : scene.objects[i].supports) p.init.push_back(atom("on", {names[i], names[s]}));
   }
   for (const Region& r : scene.regions) {
-    declare(lower(r.id));
-    p.init.push_back(atom("region", {lower(r.id)}));
+    declare(pddl::lower_name(r.id));
+    p.init.push_back(atom("region", {pddl::lower_name(r.id)}));
   }
   p.init.push_back(atom("handempty", {}));
   p.goal.kind = pddl::Formula::Kind::atom;

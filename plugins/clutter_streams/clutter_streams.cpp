@@ -22,8 +22,10 @@
 #include <string>
 
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
+#include "cluttertamp/pddl/sexpr.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
@@ -36,23 +38,14 @@ using namespace cluttertamp;
 using plugin::StreamBatch;
 using plugin::StreamValue;
 
-std::vector<double> pose_numbers(const Eigen::Isometry3d& pose) {
-  const Eigen::Quaterniond q(pose.linear());
-  const Eigen::Vector3d t = pose.translation();
-  return {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
-}
-
-/// How an object is held: its pose in the tool frame and the fingers' closed value.
+/// How an object is held: its pose in the tool frame.
 class GraspValue final : public plugin::StreamPayload {
  public:
-  GraspValue(ObjectIndex object, const Eigen::Isometry3d& gripper_T_object)
-      : object_(object), gripper_T_object_(gripper_T_object) {}
-  std::vector<double> numbers() const override { return pose_numbers(gripper_T_object_); }
-  std::vector<ObjectIndex> objects() const override { return {object_}; }
+  explicit GraspValue(const Eigen::Isometry3d& gripper_T_object) : gripper_T_object_(gripper_T_object) {}
+  std::vector<double> numbers() const override { return pose_values(gripper_T_object_); }
   const Eigen::Isometry3d& gripper_T_object() const { return gripper_T_object_; }
 
  private:
-  ObjectIndex object_;
   Eigen::Isometry3d gripper_T_object_;
 };
 
@@ -79,7 +72,6 @@ class MotionValue final : public plugin::StreamPayload {
     }
   }
   const Trajectory* trajectory() const override { return &whole_; }
-  std::vector<ObjectIndex> objects() const override { return {object_}; }
   ObjectIndex object() const { return object_; }
   const Eigen::Isometry3d& gripper_T_object() const { return gripper_T_object_; }
   const std::vector<Part>& parts() const { return parts_; }
@@ -120,7 +112,7 @@ std::uint64_t mix(std::uint64_t a, std::uint64_t b) {
 
 std::uint64_t pose_hash(const Eigen::Isometry3d& p) {
   std::uint64_t h = 0;
-  for (double v : pose_numbers(p)) h = mix(h, std::hash<long long>{}(std::llround(v * 1e6)));
+  for (double v : pose_values(p)) h = mix(h, std::hash<long long>{}(std::llround(v * 1e6)));
   return h;
 }
 
@@ -143,9 +135,7 @@ class Streams {
   ObjectIndex object(const plugin::PlanningContext& context, const StreamValue& v) const {
     const std::string& name = std::get<std::string>(v);
     for (ObjectIndex i = 0; i < context.scene().objects.size(); ++i) {
-      std::string id = context.scene().objects[i].id;
-      std::transform(id.begin(), id.end(), id.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-      if (id == name) return i;
+      if (pddl::lower_name(context.scene().objects[i].id) == name) return i;
     }
     throw std::invalid_argument("clutter_streams: '" + name + "' is no object of the scene");
   }
@@ -241,7 +231,7 @@ class PlanPick final : public plugin::StreamGenerator {
       held = held || s.name == "lift";
       parts.push_back({std::move(s), held});
     }
-    batch.outputs.push_back({std::make_shared<const GraspValue>(object_, gripper_T_object),
+    batch.outputs.push_back({std::make_shared<const GraspValue>(gripper_T_object),
                              std::make_shared<const MotionValue>(object_, gripper_T_object, std::move(parts))});
     return batch;
   }
@@ -412,9 +402,7 @@ class ClutterStreams final : public plugin::StreamSampler {
  private:
   static std::string region_id(const plugin::PlanningContext& context, const std::string& lowered) {
     for (const Region& r : context.scene().regions) {
-      std::string id = r.id;
-      std::transform(id.begin(), id.end(), id.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-      if (id == lowered) return r.id;
+      if (pddl::lower_name(r.id) == lowered) return r.id;
     }
     throw std::invalid_argument("clutter_streams: '" + lowered + "' is no region of the scene");
   }

@@ -6,13 +6,13 @@
 // movable; all others stay where they are as obstacles (Tian et al., Section V-C).
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cstdio>
-#include <set>
 
 #include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/pddl/sexpr.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/object_pruner.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -30,10 +30,7 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 std::vector<double> numbers_of(const plugin::StreamValue& v) {
   if (const auto* x = std::get_if<double>(&v)) return {*x};
   if (const auto* q = std::get_if<Eigen::VectorXd>(&v)) return {q->data(), q->data() + q->size()};
-  if (const auto* p = std::get_if<Eigen::Isometry3d>(&v)) {
-    const Eigen::Quaterniond r(p->linear());
-    return {p->translation().x(), p->translation().y(), p->translation().z(), r.x(), r.y(), r.z(), r.w()};
-  }
+  if (const auto* p = std::get_if<Eigen::Isometry3d>(&v)) return pose_values(*p);
   if (const auto* payload = std::get_if<std::shared_ptr<const plugin::StreamPayload>>(&v)) {
     return *payload ? (*payload)->numbers() : std::vector<double>{};
   }
@@ -96,11 +93,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
     sp.domain = &domain;
     sp.problem = &problem;
     sp.streams = &streams;
-    for (const auto& [name, sampler] : context.samplers.streams) {
-      std::string lowered = name;  // PDDL names ignore case
-      for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      sp.bindings[lowered] = sampler.get();
-    }
+    for (const auto& [name, sampler] : context.samplers.streams) sp.bindings[pddl::lower_name(name)] = sampler.get();
 
     const stream::StreamSolution s = stream::solve(sp, context, options_);
     result.solved = s.solved;

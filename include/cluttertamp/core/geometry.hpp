@@ -1,6 +1,7 @@
 #pragma once
 
 #include <variant>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -32,5 +33,8 @@ Eigen::AlignedBox3d world_bounds(const Shape& shape, const Eigen::Isometry3d& wo
 
 /// "box", "cylinder" or "sphere".
 const char* shape_name(const Shape& shape);
+
+/// A pose as result.json writes it: [x y z qx qy qz qw] (metres, unit quaternion).
+std::vector<double> pose_values(const Eigen::Isometry3d& pose);
 
 }  // namespace cluttertamp

@@ -42,6 +42,10 @@ struct SourceText {
 /// or nesting deeper than 200 levels. Never recurses deeper than that.
 CLUTTERTAMP_API std::vector<SExpr> read_sexprs(const SourceText& source);
 
+/// `name` as PDDL reads it: lower-cased (PDDL ignores case), e.g. a scene id or a
+/// stream name from a problem file that must match a PDDL symbol.
+CLUTTERTAMP_API std::string lower_name(std::string name);
+
 /// The whole text of a PDDL or stream file. Throws InputError naming the file when it
 /// does not exist, is not a regular file or is larger than 64 MiB.
 CLUTTERTAMP_API std::string read_text_file(const std::filesystem::path& file);

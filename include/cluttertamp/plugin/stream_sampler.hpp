@@ -24,8 +24,6 @@ class CLUTTERTAMP_API StreamPayload {
   virtual const Trajectory* trajectory() const;
   /// Numbers describing the value in result.json (e.g. a pose as x y z qx qy qz qw).
   virtual std::vector<double> numbers() const;
-  /// The scene objects the value concerns (a trajectory: the object it moves).
-  virtual std::vector<ObjectIndex> objects() const;
 };
 
 /// A value flowing through streams: a PDDL object name, a number, a vector (a
