@@ -178,25 +178,18 @@ class StreamSearch {
 
   // ---- evaluating streams ---------------------------------------------------
 
-  int domain_complexity(const Instance& inst) {
+  // The highest complexity of an instance's domain facts when they all hold as real
+  // facts; nothing when one does not (yet).
+  std::optional<int> real_domain(const Instance& inst) {
     int c = 0;
     const Env env = base_.env_of(inst);
     for (const pddl::Atom& a : base_.decl(inst.stream).domain) {
       const auto fact = base_.ground(a, env);
       const FactInfo* info = fact ? base_.fact(*fact) : nullptr;
-      if (info) c = std::max(c, info->complexity);
+      if (!info || info->optimistic) return std::nullopt;
+      c = std::max(c, info->complexity);
     }
     return c;
-  }
-
-  bool domain_holds(const Instance& inst) {
-    const Env env = base_.env_of(inst);
-    for (const pddl::Atom& a : base_.decl(inst.stream).domain) {
-      const auto fact = base_.ground(a, env);
-      const FactInfo* info = fact ? base_.fact(*fact) : nullptr;
-      if (!info || info->optimistic) return false;
-    }
-    return true;
   }
 
   plugin::StreamValue value_of(ObjectId id) const {
@@ -212,7 +205,7 @@ class StreamSearch {
     if (inst.exhausted) return false;
     // As for optimistic facts, the number of calls does not count: the k-th value of a
     // stream is as usable as its first (advance() bounds the calls per level).
-    const int complexity = domain_complexity(inst) + 1;
+    const int complexity = real_domain(inst).value_or(0) + 1;
     if (d.kind == StreamDecl::Kind::rule) {
       inst.exhausted = true;
       inst.results.push_back({});
@@ -427,7 +420,7 @@ class StreamSearch {
       const auto id = test_instance(fact);
       if (!id) continue;  // no test applies: false by the closed world
       Instance& inst = base_.instance_at(*id);
-      if (!domain_holds(inst)) continue;
+      if (!real_domain(inst)) continue;
       if (inst.calls == 0 && !inst.exhausted) call(*id);
       if (!inst.results.empty()) return false;
     }
@@ -618,7 +611,8 @@ class StreamSearch {
     }
     const int id = base_.instance(optimistic.stream, inputs);
     Instance& inst = base_.instance_at(id);
-    if (!inst.real || !domain_holds(inst)) {  // an earlier value broke this branch
+    const std::optional<int> domain = inst.real ? real_domain(inst) : std::nullopt;
+    if (!domain) {  // an earlier value broke this branch
       sk.stack.pop_back();
       return std::nullopt;
     }
@@ -644,7 +638,7 @@ class StreamSearch {
     }
     if (inst.exhausted) {
       sk.stack.pop_back();
-    } else if (domain_complexity(inst) + inst.calls > level_) {
+    } else if (*domain + inst.calls > level_) {
       std::rotate(sk.stack.begin(), sk.stack.end() - 1, sk.stack.end());
       move = Move::waiting;
     } else {
