@@ -79,3 +79,63 @@ TEST(Overlap, TiltedShapesUseShrunkBooleanTests) {
 
 }  // namespace
 }  // namespace cluttertamp
+
+#include <random>
+
+#include "collision/separation.hpp"
+
+namespace cluttertamp {
+namespace {
+
+// The separation filter runs before FCL in every validity check: it must never call
+// touching shapes separated, and must decide most separated pairs (else it is useless).
+TEST(Separation, NeverSeparatesTouchingShapesAndDecidesMostOthers) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), angle(-M_PI, M_PI);
+  auto random_shape = [&](Shape& shape, collision::detail::Solid& solid) {
+    const int kind = static_cast<int>(rng() % 3);
+    const Eigen::Vector3d size(0.02 + 0.2 * unit(rng), 0.02 + 0.2 * unit(rng), 0.02 + 0.4 * unit(rng));
+    using Kind = collision::detail::Solid::Kind;
+    if (kind == 0) {
+      shape = Box{size};
+      solid = {Kind::box, size / 2};
+    } else if (kind == 1) {
+      shape = Cylinder{size.x() / 2, size.z()};
+      solid = {Kind::cylinder, {size.x() / 2, size.x() / 2, size.z() / 2}};
+    } else {
+      shape = Sphere{size.x() / 2};
+      solid = {Kind::sphere, Eigen::Vector3d::Constant(size.x() / 2)};
+    }
+  };
+  int touching = 0, apart = 0, decided = 0, box_pairs_apart = 0, box_pairs_decided = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Shape sa = Sphere{0.1}, sb = Sphere{0.1};
+    collision::detail::Solid a{}, b{};
+    random_shape(sa, a);
+    random_shape(sb, b);
+    // Tilted poses (the exact upright path of overlap() is not the reference here).
+    const auto pa = pose({0, 0, 0}, angle(rng), angle(rng), angle(rng));
+    const auto pb = pose({0.5 * unit(rng) - 0.25, 0.5 * unit(rng) - 0.25, 0.6 * unit(rng) - 0.3}, angle(rng), angle(rng), angle(rng));
+    const bool overlaps = collision::overlap(sa, pa, sb, pb, 0.0).beyond_tolerance;
+    const bool separated = collision::detail::separated(a, pa, b, pb);
+    if (overlaps) {
+      ++touching;
+      EXPECT_FALSE(separated) << "pair " << i;
+      continue;
+    }
+    ++apart;
+    decided += separated;
+    if (a.kind == collision::detail::Solid::Kind::box && b.kind == collision::detail::Solid::Kind::box) {
+      ++box_pairs_apart;
+      box_pairs_decided += separated;
+    }
+  }
+  ASSERT_GT(touching, 1000);
+  ASSERT_GT(apart, 1000);
+  EXPECT_GT(decided, 0.8 * apart);
+  // Two boxes: the separating axis test is exact, up to rounding at contact.
+  EXPECT_GE(box_pairs_decided, box_pairs_apart - 2);
+}
+
+}  // namespace
+}  // namespace cluttertamp

@@ -13,6 +13,7 @@
 #include <fcl/narrowphase/distance.h>
 
 #include "collision/footprint.hpp"
+#include "collision/separation.hpp"
 
 namespace cluttertamp::collision {
 
@@ -56,7 +57,23 @@ fcl::CollisionRequestd collision_request() {
   return request;
 }
 
+std::optional<detail::Solid> solid(const fcl::CollisionGeometryd& g) {
+  switch (g.getNodeType()) {
+    case fcl::GEOM_BOX: return detail::Solid{detail::Solid::Kind::box, static_cast<const fcl::Boxd&>(g).side / 2};
+    case fcl::GEOM_SPHERE:
+      return detail::Solid{detail::Solid::Kind::sphere, Eigen::Vector3d::Constant(static_cast<const fcl::Sphered&>(g).radius)};
+    case fcl::GEOM_CYLINDER: {
+      const auto& c = static_cast<const fcl::Cylinderd&>(g);
+      return detail::Solid{detail::Solid::Kind::cylinder, Eigen::Vector3d(c.radius, c.radius, c.lz / 2)};
+    }
+    default: return std::nullopt;
+  }
+}
+
+// The cheap separation tests first; FCL only for the pairs they cannot decide.
 bool narrow_collide(const Object* a, const Object* b) {
+  const auto sa = solid(*a->collisionGeometry()), sb = solid(*b->collisionGeometry());
+  if (sa && sb && detail::separated(*sa, a->getTransform(), *sb, b->getTransform())) return false;
   static const fcl::CollisionRequestd request = collision_request();
   fcl::CollisionResultd result;
   return fcl::collide(a, b, request, result) > 0;

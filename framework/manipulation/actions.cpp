@@ -56,37 +56,69 @@ bool straight_free(plugin::PlanningContext& context, const WorldState& state, co
   return straight_contacts(context, state, a, b, ignored).valid();
 }
 
-// How far behind the pre-grasp the transfer into clutter aims first, m.
+// How far behind the pre-grasp the transfer into clutter aims first, m, and the
+// shortest back-off worth a staging pose.
 constexpr double kStagingDistance = 0.25;
+constexpr double kShortestStaging = 0.08;
+// Step of the straight tool line back from the pre-grasp, m, and the largest joint
+// change between its waypoints, rad (more means the IK changed branch).
+constexpr double kLineStep = 0.02;
+constexpr double kLineJump = 0.3;
 // The motion budget per grasp in pick's first, quick pass over the usable grasps, s.
 constexpr double kQuickTransfer = 0.15;
 
+// Waypoints of the tool backing out of `pregrasp` in a straight line along `back`
+// (unit, world frame), up to kStagingDistance: IK seeded by the previous waypoint,
+// each segment free. Stops where the line is blocked or leaves reach; the first
+// waypoint is `pregrasp`.
+std::vector<Eigen::VectorXd> back_off_line(plugin::PlanningContext& context, const WorldState& state,
+                                           const Eigen::Isometry3d& world_T_pregrasp, const Eigen::Vector3d& back,
+                                           const Eigen::VectorXd& pregrasp) {
+  const robot::RobotDescription& robot = context.robot();
+  const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
+  std::vector<Eigen::VectorXd> line{pregrasp};
+  const int steps = static_cast<int>(std::round(kStagingDistance / kLineStep));
+  for (int k = 1; k <= steps; ++k) {
+    Eigen::Isometry3d tool = world_T_pregrasp;
+    tool.translation() += back * (k * kLineStep);
+    const auto ik = robot.ik().solve(base_T_world * tool, line.back());
+    if (ik.empty() || (ik[0] - line.back()).cwiseAbs().maxCoeff() > kLineJump ||
+        !straight_free(context, state, line.back(), ik[0], {})) {
+      break;
+    }
+    line.push_back(ik[0]);
+  }
+  return line;
+}
+
 // A transfer to a grasp's pre-grasp `pregrasp` through a staging pose further back
-// along the approach, when the straight segment from there is free: a planned motion
-// to the staging pose (usually in the open, in front of the clutter), then that
-// segment — the planner's trees find narrow ways into clutter slowly. Otherwise a
-// planned motion straight to the pre-grasp.
-std::optional<Trajectory> transfer_to_grasp(plugin::PlanningContext& context, const WorldState& state,
+// along the approach, reached by a straight tool line from there: a planned motion to
+// the staging pose (usually in the open, in front of the clutter), then that line —
+// the planner's trees find narrow ways into clutter slowly. Nothing without a free
+// line of at least kShortestStaging: pick's second pass plans to the pre-grasp itself,
+// and a first try at that here would only repeat the start of the same seeded search.
+std::optional<Trajectory> staged_transfer(plugin::PlanningContext& context, const WorldState& state,
                                             const plugin::Grasp& grasp, const Eigen::VectorXd& pregrasp,
                                             std::optional<Failure>& failure) {
   const robot::RobotDescription& robot = context.robot();
   const Eigen::Vector3d back = grasp.world_T_pregrasp.translation() - grasp.world_T_gripper.translation();
   if (back.norm() > 1e-6) {
-    Eigen::Isometry3d staging = grasp.world_T_pregrasp;
-    staging.translation() += back.normalized() * kStagingDistance;
-    const auto ik = robot.ik().solve(context.scene().world_T_robot_base.inverse() * staging, pregrasp);
-    if (!ik.empty() && (ik[0] - pregrasp).cwiseAbs().maxCoeff() < 0.8 && straight_free(context, state, ik[0], pregrasp, {})) {
-      auto to_staging = move(context, state, ik[0], failure);
+    std::vector<Eigen::VectorXd> line = back_off_line(context, state, grasp.world_T_pregrasp, back.normalized(), pregrasp);
+    if ((line.size() - 1) * kLineStep >= kShortestStaging - 1e-9) {
+      auto to_staging = move(context, state, line.back(), failure);
       if (to_staging) {
-        const Trajectory in = timed(robot, {ik[0], pregrasp});
+        std::reverse(line.begin(), line.end());
+        const Trajectory in = timed(robot, line);
         const double offset = to_staging->times.back();
-        to_staging->times.push_back(offset + in.times.back());
-        to_staging->positions.push_back(pregrasp);
+        for (std::size_t k = 1; k < line.size(); ++k) {
+          to_staging->times.push_back(offset + in.times[k]);
+          to_staging->positions.push_back(line[k]);
+        }
       }
       return to_staging;
     }
   }
-  return move(context, state, pregrasp, failure);
+  return std::nullopt;
 }
 
 }  // namespace
@@ -174,17 +206,18 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
     }
     free.push_back(&grasp);
   }
-  // Two passes over the grasps: a quick one (kQuickTransfer per transfer, through a
-  // staging pose), so that one hard-to-reach grasp does not take the motion planner's
-  // whole budget while another is easy; then each with the full budget, straight to
-  // the pre-grasp, whose failure names the objects in the way.
+  // Two passes over the grasps: a quick one (kQuickTransfer per transfer, to a staging
+  // pose and along a straight tool line from there), so that one hard-to-reach grasp
+  // does not take the motion planner's whole budget while another is easy; then each
+  // with the full budget, straight to the pre-grasp, whose failure names the objects
+  // in the way.
   plugin::PlanningContext quick = context;  // its deadline set per grasp
   for (const bool quick_pass : {true, false}) {
     for (const plugin::Grasp* grasp : free) {
       std::optional<Failure> why;
       const Eigen::VectorXd& pregrasp = grasp->motions.front().pregrasp;
       if (quick_pass) quick.deadline = plugin::Deadline::after(std::min(kQuickTransfer, context.deadline.remaining()));
-      const auto transfer = quick_pass ? transfer_to_grasp(quick, state, *grasp, pregrasp, why) : move(context, state, pregrasp, why);
+      const auto transfer = quick_pass ? staged_transfer(quick, state, *grasp, pregrasp, why) : move(context, state, pregrasp, why);
       if (transfer) return grasped(context, state, object, *grasp, *transfer);
       if (!quick_pass) last = why;
     }
