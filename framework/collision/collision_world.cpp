@@ -169,6 +169,9 @@ struct CollisionWorld::Impl {
   using State = Context::State;
   void pose_robot(const Eigen::VectorXd& q, State& c) const;
   bool self_collides(const State& c) const;
+  /// Poses a movable object without touching the broadphase; true when the pose
+  /// changed and the object is in the broadphase (so the caller must update it).
+  bool move_object(ObjectIndex object, const Eigen::Isometry3d& world_T_object);
   /// Collides the posed robot shapes and held object with a manager's objects.
   bool hits(const Manager& manager, State& c, CollideData& data) const;
 };
@@ -224,13 +227,19 @@ CollisionWorld::~CollisionWorld() = default;
 
 const Scene& CollisionWorld::scene() const { return impl_->scene; }
 
-void CollisionWorld::set_object_pose(ObjectIndex object, const Eigen::Isometry3d& world_T_object) {
-  Impl::MovableObject& m = impl_->movable.at(object);
-  impl_->scene.objects[object].world_T_object = world_T_object;
+bool CollisionWorld::Impl::move_object(ObjectIndex object, const Eigen::Isometry3d& world_T_object) {
+  Eigen::Isometry3d& pose = scene.objects.at(object).world_T_object;
+  if (pose.matrix() == world_T_object.matrix()) return false;
+  MovableObject& m = movable[object];
+  pose = world_T_object;
   m.object->setTransform(to_fcl(world_T_object));
   m.object->computeAABB();
-  m.outline = detail::outline(impl_->scene.objects[object].shape, world_T_object);
-  if (m.present) impl_->movable_manager.update(m.object.get());
+  m.outline = detail::outline(scene.objects[object].shape, world_T_object);
+  return m.present;
+}
+
+void CollisionWorld::set_object_pose(ObjectIndex object, const Eigen::Isometry3d& world_T_object) {
+  if (impl_->move_object(object, world_T_object)) impl_->movable_manager.update(impl_->movable[object].object.get());
 }
 
 const Eigen::Isometry3d& CollisionWorld::object_pose(ObjectIndex object) const {
@@ -274,10 +283,14 @@ std::optional<ObjectIndex> CollisionWorld::held() const { return impl_->held; }
 
 void CollisionWorld::sync(const WorldState& state) {
   if (impl_->held) detach(object_pose(*impl_->held));
+  // One rebalancing of the broadphase tree for all moved objects: FCL rebalances on
+  // every single update, which made syncing 100 objects cost more than planning.
+  std::vector<Object*> moved;
   for (ObjectIndex i = 0; i < impl_->movable.size(); ++i) {
-    set_object_pose(i, state.world_T_objects.at(i));
+    if (impl_->move_object(i, state.world_T_objects.at(i))) moved.push_back(impl_->movable[i].object.get());
     if (state.removed.at(i)) remove_object(i); else restore_object(i);
   }
+  if (!moved.empty()) impl_->movable_manager.update(moved);
   if (state.held && impl_->robot) {
     auto context = make_context();
     const Eigen::Isometry3d world_T_tool = tool_pose(state.robot_configuration, *context);
@@ -434,7 +447,8 @@ ObjectSet CollisionWorld::swept_objects(const Eigen::Vector2d& from, const Eigen
   const auto& movable = impl_->movable;
   for (ObjectIndex i = 0; i < movable.size(); ++i) {
     const Impl::MovableObject& m = movable[i];
-    if (!m.present || !detail::bands_overlap(m.outline, footprint.z_min, footprint.z_max)) continue;
+    if (!m.present || !detail::maybe_within(from, to, m.outline, footprint.radius)) continue;
+    if (!detail::bands_overlap(m.outline, footprint.z_min, footprint.z_max)) continue;
     if (std::find(ignored.begin(), ignored.end(), i) != ignored.end()) continue;
     if (detail::segment_distance(from, to, m.outline) < footprint.radius) objects.push_back(i);
   }
@@ -444,7 +458,8 @@ ObjectSet CollisionWorld::swept_objects(const Eigen::Vector2d& from, const Eigen
 bool CollisionWorld::sweep_hits_fixed(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
                                       const Footprint& footprint) const {
   for (const detail::Outline& o : impl_->fixed_outlines) {
-    if (detail::bands_overlap(o, footprint.z_min, footprint.z_max) && detail::segment_distance(from, to, o) < footprint.radius) {
+    if (detail::maybe_within(from, to, o, footprint.radius) && detail::bands_overlap(o, footprint.z_min, footprint.z_max) &&
+        detail::segment_distance(from, to, o) < footprint.radius) {
       return true;
     }
   }

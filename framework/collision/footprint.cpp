@@ -70,6 +70,12 @@ Outline outline(const Shape& shape, const Eigen::Isometry3d& world_T_shape) {
   return o;
 }
 
+bool maybe_within(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Outline& o, double distance) {
+  const double reach = distance + (o.kind == Outline::Kind::disc ? o.radius : o.half.norm());
+  const Eigen::Vector2d lo = a.cwiseMin(b).array() - reach, hi = a.cwiseMax(b).array() + reach;
+  return (o.centre.array() >= lo.array()).all() && (o.centre.array() <= hi.array()).all();
+}
+
 double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Outline& o) {
   if (o.kind == Outline::Kind::disc) return std::max(0.0, point_segment_distance(o.centre, a, b) - o.radius);
   // Into the rectangle's frame, where it is the box [-half, half].

@@ -26,6 +26,11 @@ Outline outline(const Shape& shape, const Eigen::Isometry3d& world_T_shape);
 /// Distance from the segment [a, b] to the outline in the plane (0 when they meet).
 double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Outline& outline);
 
+/// Whether the outline may come within `distance` of the segment [a, b]: a test of
+/// the segment's bounding box against the outline's bounding circle, much cheaper
+/// than segment_distance and false only when segment_distance >= distance.
+bool maybe_within(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Outline& outline, double distance);
+
 /// True when the height bands overlap by more than a touch.
 inline bool bands_overlap(const Outline& outline, double z_min, double z_max) {
   constexpr double touch = 1e-9;

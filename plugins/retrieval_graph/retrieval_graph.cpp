@@ -205,7 +205,13 @@ class Search {
       for (int attempt = 0; attempt < settings_.max_feedback && !context_.deadline.expired(); ++attempt) {
         retrieval::RetrievalGraph g = graph();
         auto removal = g.removal_sequence();
-        if (!removal || static_cast<int>(removal->objects_in_order.size()) > limit) break;
+        if (!removal) break;
+        if (const int needed = static_cast<int>(removal->objects_in_order.size()); needed > limit) {
+          // Limits the roadmap was already expanded for (after a restart) leave the
+          // graph as it is: skip to the first limit where the search can differ.
+          if (limit < explored_limit) limit = std::min(needed, explored_limit + 1) - 1;
+          break;
+        }
         removal->objects_in_order = in_precedence_order(std::move(removal->objects_in_order));
         ++result.counters["planning_sequences"];
         const Attempt attempt_result = execute(g, *removal, result);
