@@ -179,22 +179,31 @@ class Search {
     // an attempt that taught nothing, before giving up.
     constexpr int kRoundsAtFullLimit = 3;
     int rounds_at_full_limit = 0;
+    // Limits in a row whose expanded roadmap, with the feedback, held no path at all:
+    // the feedback has cut every way out, and growing the roadmap rarely reopens one.
+    constexpr int kLimitsWithoutPath = 5;
+    int limits_without_path = 0;
     bool stuck = false;
     std::uint64_t sequences_at_restart = 0;
     int explored_limit = 0;  // the roadmap has been expanded for every L up to this
     for (;;) {
       if (context_.deadline.expired()) break;
-      if (limit > objects && !(stuck && ++rounds_at_full_limit < kRoundsAtFullLimit)) {
-        // Every limit tried: the feedback collected with these draws (grasps blocked by
-        // objects that only other grasps could free) leaves no sequence. Start over with
-        // fresh draws and no feedback, keeping the roadmap, while time remains, but
-        // only if this round checked a sequence (else the next would do the same).
+      const bool exhausted = limit > objects && !(stuck && ++rounds_at_full_limit < kRoundsAtFullLimit);
+      const bool cut_off = settings_.restart && limits_without_path >= kLimitsWithoutPath &&
+                           result.counters["planning_sequences"] > sequences_at_restart;
+      if (exhausted || cut_off) {
+        // Every limit tried, or the feedback cut every way out: the feedback collected
+        // with these draws (grasps blocked by objects that only other grasps could free)
+        // leaves no sequence. Start over with fresh draws and no feedback, keeping the
+        // roadmap, while time remains, but only if this round checked a sequence (else
+        // the next would do the same).
         if (!settings_.restart || result.counters["planning_sequences"] == sequences_at_restart) break;
         sequences_at_restart = result.counters["planning_sequences"];
         forget_feedback();
         ++result.counters["restarts"];
         limit = initial_limit();
         rounds_at_full_limit = 0;
+        limits_without_path = 0;
       }
       limit = std::min(limit, objects);
       stuck = false;
@@ -205,7 +214,11 @@ class Search {
       for (int attempt = 0; attempt < settings_.max_feedback && !context_.deadline.expired(); ++attempt) {
         retrieval::RetrievalGraph g = graph();
         auto removal = g.removal_sequence();
-        if (!removal) break;
+        if (!removal) {
+          if (!feedback_.empty()) ++limits_without_path;  // without feedback: K still too low
+          break;
+        }
+        limits_without_path = 0;
         if (const int needed = static_cast<int>(removal->objects_in_order.size()); needed > limit) {
           // Limits the roadmap was already expanded for (after a restart) leave the
           // graph as it is: skip to the first limit where the search can differ.
