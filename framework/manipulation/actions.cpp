@@ -66,20 +66,22 @@ constexpr double kLineStep = 0.02;
 constexpr double kLineJump = 0.3;
 // The motion budget per grasp in pick's first, quick pass over the usable grasps, s.
 constexpr double kQuickTransfer = 0.15;
+// The motion budget of move_out's plan from the end of its straight line, s.
+constexpr double kQuickMoveOut = 0.3;
 
-// Waypoints of the tool backing out of `pregrasp` in a straight line along `back`
-// (unit, world frame), up to kStagingDistance: IK seeded by the previous waypoint,
-// each segment free. Stops where the line is blocked or leaves reach; the first
-// waypoint is `pregrasp`.
+// Waypoints of the tool backing out of configuration `from` (tool pose world_T_tool)
+// in a straight line along `back` (unit, world frame), up to kStagingDistance: IK
+// seeded by the previous waypoint, each segment free in `state`. Stops where the line
+// is blocked or leaves reach; the first waypoint is `from`.
 std::vector<Eigen::VectorXd> back_off_line(plugin::PlanningContext& context, const WorldState& state,
-                                           const Eigen::Isometry3d& world_T_pregrasp, const Eigen::Vector3d& back,
-                                           const Eigen::VectorXd& pregrasp) {
+                                           const Eigen::Isometry3d& world_T_tool, const Eigen::Vector3d& back,
+                                           const Eigen::VectorXd& from) {
   const robot::RobotDescription& robot = context.robot();
   const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
-  std::vector<Eigen::VectorXd> line{pregrasp};
+  std::vector<Eigen::VectorXd> line{from};
   const int steps = static_cast<int>(std::round(kStagingDistance / kLineStep));
   for (int k = 1; k <= steps; ++k) {
-    Eigen::Isometry3d tool = world_T_pregrasp;
+    Eigen::Isometry3d tool = world_T_tool;
     tool.translation() += back * (k * kLineStep);
     const auto ik = robot.ik().solve(base_T_world * tool, line.back());
     if (ik.empty() || (ik[0] - line.back()).cwiseAbs().maxCoeff() > kLineJump ||
@@ -134,6 +136,42 @@ Trajectory timed(const robot::RobotDescription& robot, const std::vector<Eigen::
     t.positions.push_back(waypoints[k]);
   }
   return t;
+}
+
+std::optional<Trajectory> move_out(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& goal,
+                                   std::optional<Failure>& failure) {
+  auto checker = context.world->make_context();
+  const Eigen::Isometry3d world_T_tool = context.world->tool_pose(state.robot_configuration, *checker);
+  Eigen::Vector3d back = -world_T_tool.linear().col(2);
+  back.z() = 0.0;
+  if (back.norm() > 0.5) {
+    const std::vector<Eigen::VectorXd> line =
+        back_off_line(context, state, world_T_tool, back.normalized(), state.robot_configuration);
+    if ((line.size() - 1) * kLineStep >= kShortestStaging - 1e-9) {
+      WorldState outside = state;
+      outside.robot_configuration = line.back();
+      if (state.held) {
+        outside.world_T_objects[*state.held] = context.world->tool_pose(line.back(), *checker) *
+                                               world_T_tool.inverse() * state.world_T_objects[*state.held];
+      }
+      // A short budget: from outside the clutter the planner either finds its way at
+      // once or the line led somewhere unhelpful.
+      plugin::PlanningContext quick = context;
+      quick.deadline = plugin::Deadline::after(std::min(kQuickMoveOut, context.deadline.remaining()));
+      std::optional<Failure> ignored;
+      auto rest = move(quick, outside, goal, ignored);
+      if (rest) {
+        Trajectory out = timed(context.robot(), line);
+        const double offset = out.times.back();
+        for (std::size_t k = 1; k < rest->positions.size(); ++k) {
+          out.times.push_back(offset + rest->times[k]);
+          out.positions.push_back(rest->positions[k]);
+        }
+        return out;
+      }
+    }
+  }
+  return move(context, state, goal, failure);
 }
 
 namespace {
@@ -311,7 +349,7 @@ ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state
   const auto solutions = robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, picked.after.robot_configuration);
   if (solutions.empty()) return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
   std::optional<Failure> why;
-  const auto carry = move(context, picked.after, solutions[0], why);
+  const auto carry = move_out(context, picked.after, solutions[0], why);
   if (!carry) {
     return failed("carry", "no motion carries the target to x_s" + (why ? ": " + why->reason : std::string()),
                   why ? why->blocking_objects : std::vector<ObjectIndex>{});

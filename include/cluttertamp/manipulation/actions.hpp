@@ -44,6 +44,16 @@ CLUTTERTAMP_API ActionOutcome place(plugin::PlanningContext& context, const Worl
 /// there, upright). The target stays in the hand.
 CLUTTERTAMP_API ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state);
 
+/// A motion from `state` (its held object included) to the configuration `goal` that
+/// first backs the tool out of where it is: along the tool's approach axis (its z axis,
+/// made horizontal), in a straight line of up to 0.25 m while that is free, then planned
+/// by the motion sampler from the line's end — the planner's trees find their way out
+/// of clutter slowly. When the line is shorter than 8 cm or the plan from its end
+/// fails, a motion planned from the start. Empty with `failure` set when no motion
+/// is found.
+CLUTTERTAMP_API std::optional<Trajectory> move_out(plugin::PlanningContext& context, const WorldState& state,
+                                                   const Eigen::VectorXd& goal, std::optional<Failure>& failure);
+
 /// A trajectory through `waypoints`, each segment at the fastest pace the robot's
 /// velocity limits (times `scale`) allow.
 CLUTTERTAMP_API Trajectory timed(const robot::RobotDescription& robot, const std::vector<Eigen::VectorXd>& waypoints,
