@@ -150,6 +150,36 @@ TEST_F(Manipulation, RetrievesTheTargetToTheExitPose) {
   expect_collision_free(out, start(), target);
 }
 
+// Holding an object among neighbours, move_out backs the tool out along its approach
+// axis in a straight line (horizontal, tool orientation kept) before the planned part,
+// and the whole motion, held object included, is free.
+TEST_F(Manipulation, MoveOutBacksOutAlongTheApproachFirst) {
+  const ObjectIndex cup = add("cup", 0.95, 0.0);
+  add("left", 0.97, 0.13);
+  add("right", 0.97, -0.13);
+  manipulation::ActionOutcome picked = manipulation::pick(context(), start(), cup);
+  ASSERT_TRUE(picked.ok) << picked.failure->reason;
+  const WorldState& holding = picked.after;
+  std::optional<Failure> why;
+  const auto out = manipulation::move_out(*context_, holding, problem_.robot.loaded->home(), why);
+  ASSERT_TRUE(out.has_value()) << why->reason;
+  EXPECT_TRUE(out->positions.front().isApprox(holding.robot_configuration));
+  EXPECT_TRUE(out->positions.back().isApprox(problem_.robot.loaded->home()));
+  auto checker = world_->make_context();
+  const Eigen::Isometry3d first = world_->tool_pose(out->positions[0], *checker);
+  const Eigen::Isometry3d fifth = world_->tool_pose(out->positions.at(4), *checker);
+  Eigen::Vector3d back = -first.linear().col(2);
+  back.z() = 0;
+  const Eigen::Vector3d moved = fifth.translation() - first.translation();
+  EXPECT_NEAR(moved.norm(), 0.08, 1e-6);                      // four 2 cm steps
+  EXPECT_GT(moved.normalized().dot(back.normalized()), 1 - 1e-6);  // along the axis
+  EXPECT_TRUE(fifth.linear().isApprox(first.linear(), 1e-6));
+  manipulation::ActionOutcome carried;
+  carried.segments.push_back({"transfer", *out});
+  world_->sync(holding);
+  expect_collision_free(carried, holding, cup);
+}
+
 TEST_F(Manipulation, SameSeedSameTrajectories) {
   const ObjectIndex cup = add("cup", 0.85, 0.1);
   const manipulation::ActionOutcome a = manipulation::pick(context(5), start(), cup);

@@ -291,7 +291,7 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
     const auto pre = robot.ik().solve(base_T_world * above, q_place);
     if (pre.empty() || (pre[0] - q_place).cwiseAbs().maxCoeff() > 0.8 || !straight_free(context, state, pre[0], q_place, {})) continue;
     std::optional<Failure> why;
-    const auto transfer = move(context, state, pre[0], why);
+    const auto transfer = move_out(context, state, pre[0], why);
     if (!transfer) {
       last = why;
       continue;
