@@ -100,8 +100,8 @@ std::vector<Eigen::VectorXd> back_off_line(plugin::PlanningContext& context, con
 // line of at least kShortestStaging: pick's second pass plans to the pre-grasp itself,
 // and a first try at that here would only repeat the start of the same seeded search.
 std::optional<Trajectory> staged_transfer(plugin::PlanningContext& context, const WorldState& state,
-                                            const plugin::Grasp& grasp, const Eigen::VectorXd& pregrasp,
-                                            std::optional<Failure>& failure) {
+                                          const plugin::Grasp& grasp, const Eigen::VectorXd& pregrasp,
+                                          std::optional<Failure>& failure) {
   const robot::RobotDescription& robot = context.robot();
   const Eigen::Vector3d back = grasp.world_T_pregrasp.translation() - grasp.world_T_gripper.translation();
   if (back.norm() > 1e-6) {

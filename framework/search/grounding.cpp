@@ -152,6 +152,18 @@ class Grounder {
     }
   };
   std::unordered_map<std::vector<int>, int, KeyHash> atom_ids_;
+  /// The id of atom `a` under `binding` if already interned, or -1: find_atom without
+  /// building the arguments (the relaxed tests and DNF ask this millions of times).
+  int find_ground(const CAtom& a, const std::vector<int>& binding) const {
+    key_scratch_.resize(a.args.size() + 1);
+    key_scratch_[0] = a.predicate;
+    for (std::size_t i = 0; i < a.args.size(); ++i) {
+      key_scratch_[i + 1] = a.args[i].variable ? binding[a.args[i].value] : a.args[i].value;
+    }
+    const auto it = atom_ids_.find(key_scratch_);
+    return it == atom_ids_.end() ? -1 : it->second;
+  }
+  mutable std::vector<int> key_scratch_;  // find_ground's key, reused
   /// The id of an atom already interned, or -1.
   int find_atom(int predicate, const std::vector<int>& args) const {
     std::vector<int> key;
@@ -274,7 +286,7 @@ bool Grounder::relaxed(const CFormula& f, std::vector<int>& b) const {
     case Formula::Kind::truth: return true;
     case Formula::Kind::atom: {
       if (f.atom.predicate < 0) return ground_args(f.atom, b)[0] == ground_args(f.atom, b)[1];
-      const int id = find_atom(f.atom.predicate, ground_args(f.atom, b));
+      const int id = find_ground(f.atom, b);
       return id >= 0 && reached_[id];
     }
     case Formula::Kind::negation: {
@@ -282,7 +294,7 @@ bool Grounder::relaxed(const CFormula& f, std::vector<int>& b) const {
       if (c.kind != Formula::Kind::atom) return true;
       if (c.atom.predicate < 0) return ground_args(c.atom, b)[0] != ground_args(c.atom, b)[1];
       if (fluent_[c.atom.predicate]) return true;
-      const int id = find_atom(c.atom.predicate, ground_args(c.atom, b));
+      const int id = find_ground(c.atom, b);
       return id < 0 || !initially_[id];
     }
     case Formula::Kind::conjunction:
@@ -521,12 +533,12 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
     case Formula::Kind::atom: {
       bool value_known = false, value = false;
       int id = -1;
-      const std::vector<int> args = ground_args(f.atom, b);
       if (f.atom.predicate < 0) {
+        const std::vector<int> args = ground_args(f.atom, b);
         value_known = true;
         value = args[0] == args[1];
       } else {
-        const int found = find_atom(f.atom.predicate, args);
+        const int found = find_ground(f.atom, b);
         if (found < 0 || !reached_[found]) {
           value_known = true;  // unreachable: false in every reachable state
         } else if (!fluent_[f.atom.predicate]) {

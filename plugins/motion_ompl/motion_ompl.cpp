@@ -4,9 +4,9 @@
 // velocity limits. When no path exists, it plans again with the movable objects
 // ignored and names the objects that path passes through.
 #include <algorithm>
-#include <cstdio>
-#include <cmath>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <map>
