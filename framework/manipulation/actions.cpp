@@ -93,6 +93,20 @@ std::vector<Eigen::VectorXd> back_off_line(plugin::PlanningContext& context, con
   return line;
 }
 
+// Whether a back-off line reaches far enough to be worth its staging pose.
+bool long_enough(const std::vector<Eigen::VectorXd>& line) {
+  return static_cast<double>(line.size() - 1) * kLineStep >= kShortestStaging - 1e-9;
+}
+
+// `rest` continued from the end of `t` (rest's first waypoint is t's last).
+void append(Trajectory& t, const Trajectory& rest) {
+  const double offset = t.times.back();
+  for (std::size_t k = 1; k < rest.positions.size(); ++k) {
+    t.times.push_back(offset + rest.times[k]);
+    t.positions.push_back(rest.positions[k]);
+  }
+}
+
 // A transfer to a grasp's pre-grasp `pregrasp` through a staging pose further back
 // along the approach, reached by a straight tool line from there: a planned motion to
 // the staging pose (usually in the open, in front of the clutter), then that line —
@@ -106,16 +120,11 @@ std::optional<Trajectory> staged_transfer(plugin::PlanningContext& context, cons
   const Eigen::Vector3d back = grasp.world_T_pregrasp.translation() - grasp.world_T_gripper.translation();
   if (back.norm() > 1e-6) {
     std::vector<Eigen::VectorXd> line = back_off_line(context, state, grasp.world_T_pregrasp, back.normalized(), pregrasp);
-    if ((line.size() - 1) * kLineStep >= kShortestStaging - 1e-9) {
+    if (long_enough(line)) {
       auto to_staging = move(context, state, line.back(), failure);
       if (to_staging) {
         std::reverse(line.begin(), line.end());
-        const Trajectory in = timed(robot, line);
-        const double offset = to_staging->times.back();
-        for (std::size_t k = 1; k < line.size(); ++k) {
-          to_staging->times.push_back(offset + in.times[k]);
-          to_staging->positions.push_back(line[k]);
-        }
+        append(*to_staging, timed(robot, line));
       }
       return to_staging;
     }
@@ -147,7 +156,7 @@ std::optional<Trajectory> move_out(plugin::PlanningContext& context, const World
   if (back.norm() > 0.5) {
     const std::vector<Eigen::VectorXd> line =
         back_off_line(context, state, world_T_tool, back.normalized(), state.robot_configuration);
-    if ((line.size() - 1) * kLineStep >= kShortestStaging - 1e-9) {
+    if (long_enough(line)) {
       WorldState outside = state;
       outside.robot_configuration = line.back();
       if (state.held) {
@@ -159,14 +168,9 @@ std::optional<Trajectory> move_out(plugin::PlanningContext& context, const World
       plugin::PlanningContext quick = context;
       quick.deadline = plugin::Deadline::after(std::min(kQuickMoveOut, context.deadline.remaining()));
       std::optional<Failure> ignored;
-      auto rest = move(quick, outside, goal, ignored);
-      if (rest) {
+      if (const auto rest = move(quick, outside, goal, ignored)) {
         Trajectory out = timed(context.robot(), line);
-        const double offset = out.times.back();
-        for (std::size_t k = 1; k < rest->positions.size(); ++k) {
-          out.times.push_back(offset + rest->times[k]);
-          out.positions.push_back(rest->positions[k]);
-        }
+        append(out, *rest);
         return out;
       }
     }

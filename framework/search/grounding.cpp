@@ -152,8 +152,8 @@ class Grounder {
     }
   };
   std::unordered_map<std::vector<int>, int, KeyHash> atom_ids_;
-  /// The id of atom `a` under `binding` if already interned, or -1: find_atom without
-  /// building the arguments (the relaxed tests and DNF ask this millions of times).
+  /// The id of atom `a` under `binding` if already interned, or -1, without building
+  /// an argument vector (the relaxed tests and DNF ask this millions of times).
   int find_ground(const CAtom& a, const std::vector<int>& binding) const {
     key_scratch_.resize(a.args.size() + 1);
     key_scratch_[0] = a.predicate;
@@ -164,15 +164,6 @@ class Grounder {
     return it == atom_ids_.end() ? -1 : it->second;
   }
   mutable std::vector<int> key_scratch_;  // find_ground's key, reused
-  /// The id of an atom already interned, or -1.
-  int find_atom(int predicate, const std::vector<int>& args) const {
-    std::vector<int> key;
-    key.reserve(args.size() + 1);
-    key.push_back(predicate);
-    key.insert(key.end(), args.begin(), args.end());
-    const auto it = atom_ids_.find(key);
-    return it == atom_ids_.end() ? -1 : it->second;
-  }
   std::vector<std::pair<int, std::vector<int>>> atoms_;  // predicate, args
   std::vector<bool> reached_;
   std::vector<bool> initially_;  // atoms true in the initial state (static or not)
