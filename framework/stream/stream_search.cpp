@@ -686,10 +686,12 @@ class StreamSearch {
       const auto steps = plan_symbolic(true);
       bool fresh = false, too_long = false;
       if (steps) {
-        // Plans may grow by one action per level above the one of the shortest plan
-        // found: sampling the short skeletons again beats detours through real values.
+        // Plans may grow by plan_growth actions per level above the one of the shortest
+        // plan found: sampling the short skeletons again beats detours through real
+        // values. (With one action per level, stacked4 spent four levels resampling the
+        // target's blocked pick before the five-step plan that moves two objects.)
         if (!shortest_ || steps->size() < shortest_->first) shortest_ = {steps->size(), level_};
-        too_long = steps->size() > shortest_->first + static_cast<std::size_t>(level_ - shortest_->second);
+        too_long = steps->size() > shortest_->first + static_cast<std::size_t>(options_.plan_growth * (level_ - shortest_->second));
       }
       if (steps && !too_long) {
         auto sk = skeleton_of(*steps);

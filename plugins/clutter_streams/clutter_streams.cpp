@@ -148,12 +148,24 @@ class Streams {
     return s;
   }
 
-  /// `object` at `pose`, the others where the scene has them unless `ignored`.
+  /// `object` at `pose`, the others where the scene has them unless `ignored` or resting,
+  /// directly or through others, on `object` or an ignored object: the domain lets
+  /// nothing be picked before what rests on it (Clear), so those are gone by then.
   WorldState among(const Scene& scene, ObjectIndex object, const Eigen::Isometry3d& pose,
                    const std::set<ObjectIndex>& ignored) const {
+    std::vector<bool> gone(scene.objects.size(), false);
+    gone[object] = true;
+    for (ObjectIndex o : ignored) gone[o] = true;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
+        const auto& below = scene.objects[o].supports;
+        if (!gone[o] && std::any_of(below.begin(), below.end(), [&](ObjectIndex b) { return gone[b]; })) gone[o] = grew = true;
+      }
+    }
     WorldState s = alone(object, pose);
     for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
-      if (o != object && !ignored.count(o)) s.removed[o] = false;
+      if (!gone[o]) s.removed[o] = false;
     }
     return s;
   }
@@ -165,20 +177,29 @@ class Streams {
     return c;
   }
 
-  /// Plans from the end of `outcome` back home, appending a "return" segment. After a
-  /// placement the open fingers may still touch the object they let go of (when no
-  /// retreat was possible): that object is left out of the return's planning.
+  /// Plans from the end of `outcome` back home, appending a "return" segment. A pick
+  /// carries its object out backwards along the approach first (manipulation::move_out:
+  /// the planner's trees alone took up to 0.6 s to leave the shelf, and their random
+  /// ways out hit neighbours the search then had to move). After a placement the open
+  /// fingers may still touch the object they let go of (when no retreat was
+  /// possible): that object is left out of the return's planning.
   bool return_home(plugin::PlanningContext& context, manipulation::ActionOutcome& outcome, std::optional<Failure>& why,
                    std::optional<ObjectIndex> released = std::nullopt) const {
     WorldState from = outcome.after;
-    if (released) from.removed[*released] = true;
-    plugin::MotionQuery q{from.robot_configuration, home_, &from};
-    const plugin::MotionAnswer a = context.samplers.motion->plan(context, q);
-    if (!a.trajectory) {
-      why = a.failure ? a.failure : Failure{"motion", "no way back home", {}};
+    std::optional<Trajectory> back;
+    if (released) {
+      from.removed[*released] = true;
+      plugin::MotionAnswer a = context.samplers.motion->plan(context, plugin::MotionQuery{from.robot_configuration, home_, &from});
+      back = std::move(a.trajectory);
+      why = a.failure;
+    } else {
+      back = manipulation::move_out(context, from, home_, why);
+    }
+    if (!back) {
+      if (!why) why = Failure{"motion", "no way back home", {}};
       return false;
     }
-    outcome.segments.push_back({"return", *a.trajectory});
+    outcome.segments.push_back({"return", std::move(*back)});
     return true;
   }
 

@@ -47,6 +47,9 @@ class StreamPlanner final : public plugin::TaskPlanner {
     options_.search = p.get_string("search", options_.search);
     options_.sampling_ratio = p.get_double("sampling_ratio", options_.sampling_ratio);
     p.require(options_.sampling_ratio > 0, "sampling_ratio", "must be positive");
+    const std::int64_t growth = p.get_int("plan_growth", options_.plan_growth);
+    p.require(growth >= 1 && growth <= 1000, "plan_growth", "must be in [1, 1000] (actions per level)");
+    options_.plan_growth = static_cast<int>(growth);
     prune_ = p.get_bool("prune", prune_);
     if (p.get_bool("trace", false)) {
       options_.trace = [](const std::string& line) { std::fprintf(stderr, "stream search: %s\n", line.c_str()); };

@@ -38,6 +38,11 @@ struct StreamSearchOptions {
   /// before searching again (at least `min_sampling` seconds each time).
   double sampling_ratio = 1.0;
   double min_sampling = 0.01;
+  /// adaptive: actions an optimistic plan may have beyond the shortest plan found, per
+  /// level above that plan's. Longer plans wait, so that short skeletons are sampled
+  /// again first. 2 lets a pick-and-place domain add one removal (a pick and a place)
+  /// per level.
+  int plan_growth = 2;
   /// Called with a line per search iteration (level, plan found, queue, calls), if set.
   std::function<void(const std::string&)> trace;
 };
