@@ -355,16 +355,41 @@ TEST(PddlRegressions, StateDependentCostsAreRefused) {
 }
 
 TEST(PddlRegressions, GroundingHonoursItsTimeLimit) {
-  // An existential goal over five variables and 40 objects: n^5 instances.
+  // A universal goal over five variables and 40 objects: n^5 instances, none of
+  // which decides it. (An existential one is cut short by its witnesses.)
   std::string objects;
   for (int i = 0; i < 40; ++i) objects += " o" + std::to_string(i);
   const Domain d = parse_domain("(define (domain x) (:predicates (p ?a ?b ?c ?d ?e) (q)) "
                                 "(:action a :parameters () :precondition () :effect (q)))", "x.pddl");
   const Problem p = parse_problem("(define (problem y) (:domain x) (:objects" + objects +
-                                  ") (:init) (:goal (exists (?a ?b ?c ?d ?e) (p ?a ?b ?c ?d ?e))))", "y.pddl", d);
+                                  ") (:init) (:goal (forall (?a ?b ?c ?d ?e) (not (p ?a ?b ?c ?d ?e)))))", "y.pddl", d);
   const auto start = std::chrono::steady_clock::now();
   EXPECT_THROW(search::ground(d, p, nullptr, 0.5), search::TimeLimit);
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 3.0);
+}
+
+TEST(PddlRegressions, ExistentialsExpandOnlyTheirWitnesses) {
+  // Over 200 objects an existential over three variables has 8 million bindings; one
+  // (o3 o7 o9) can be made true. Grounding must expand only it, well within 0.5 s,
+  // and the goal and the plan must name just that one.
+  std::string objects;
+  for (int i = 0; i < 200; ++i) objects += " o" + std::to_string(i);
+  const Domain d = parse_domain("(define (domain x) (:predicates (r ?a ?b ?c) (p ?a ?b ?c)) "
+                                "(:action make :parameters (?a ?b ?c) :precondition (r ?a ?b ?c) :effect (p ?a ?b ?c)))",
+                                "x.pddl");
+  const Problem p = parse_problem("(define (problem y) (:domain x) (:objects" + objects +
+                                      ") (:init (r o3 o7 o9)) (:goal (exists (?x ?y ?z) (and (p ?x ?y ?z) (not (= ?x ?y))))))",
+                                  "y.pddl", d);
+  search::Task task;
+  ASSERT_NO_THROW(task = search::ground(d, p, nullptr, 0.5));
+  ASSERT_EQ(task.goal.size(), 1u);
+  ASSERT_EQ(task.goal[0].positive.size(), 1u);
+  EXPECT_EQ(task.fact_names[task.goal[0].positive[0]], "(p o3 o7 o9)");
+  search::SearchOptions options;
+  const search::SearchResult r = search::plan(task, options);
+  ASSERT_TRUE(r.solved);
+  ASSERT_EQ(r.plan.size(), 1u);
+  EXPECT_EQ(task.operators[r.plan[0]].name, "(make o3 o7 o9)");
 }
 
 TEST(PddlRegressions, TooManyDisjunctsIsALocatedError) {

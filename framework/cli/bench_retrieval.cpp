@@ -113,9 +113,10 @@ std::uint64_t counter(const Result& r, const std::string& name) { return r.count
 
 // Generated shelves of `objects` cylinders whose target needs a removal, as the paper's.
 std::vector<Scene> generated(int objects, const BenchArgs& args, const std::shared_ptr<const robot::RobotDescription>& robot,
-                             const plugin::Samplers& samplers) {
+                             const plugin::Samplers& samplers, double width = 0.0) {
   scenes::ShelfSpec spec;
   spec.objects = objects;
+  spec.width = width;
   std::vector<Scene> out;
   for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < args.seed + 1000; ++seed) {
     Scene scene = scenes::generate_shelf_scene(spec, seed);  // throws runtime_error: too crowded
@@ -280,7 +281,7 @@ int bench_retrieval(const BenchArgs& args) {
       }
     }
     if (wants("V")) {
-      scenes["shelf100"] = generated(100, args, bench.robot(), bench.samplers());
+      scenes["shelf100"] = generated(100, args, bench.robot(), bench.samplers(), args.table_v_width);
       rows.push_back({"V", "shelf100", "traversability_graph", "", 100, nullptr, kTableVNam});
       rows.push_back({"V", "shelf100", "retrieval_graph", "one", 100, nullptr, kTableVOurs});
     }

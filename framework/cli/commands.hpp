@@ -97,6 +97,7 @@ struct BenchArgs {
   std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
   std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
   std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml
+  double table_v_width = 0.0;            ///< bench retrieval: Table V cabinet width, m; 0: ShelfSpec's
   Verbosity verbosity = Verbosity::normal;
   int runs = 3;                          ///< bench pddl
 };

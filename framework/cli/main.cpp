@@ -189,6 +189,10 @@ int main(int argc, char** argv) {
   bench->add_option("--table6-scenes", bench_args.table_vi_scenes, "retrieval: directory of shelf16-min{2,3,4}.yaml")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);
+  bench->add_option("--table5-width", bench_args.table_v_width,
+                    "retrieval: interior width of Table V's 100-object cabinets, m (default: 3.0, the generator's; "
+                    "wider is sparser)")
+      ->check(CLI::Range(1.0, 10.0));
   add_verbosity(*bench, bench_args.verbosity, "Same output as the default");
   bench_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
   bench->add_option("--robot", bench_args.robot, "Robot description (a UR arm: the bench times analytic IK)")

@@ -574,6 +574,10 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
       const bool conjunction = (f.kind == Formula::Kind::forall) != negated;
       Dnf out = conjunction ? truth : falsity;
       bool decided = false;  // the quantifier's value is known: stop expanding
+      // An (exists ...) is false for values that make a positive top-level atom of its
+      // body unreachable: only the witnesses need expanding (stream problems quantify
+      // over every pose and trajectory, thousands of pairs per derived atom).
+      const bool existential = f.kind == Formula::Kind::exists && !negated;
       std::function<void(std::size_t)> each = [&](std::size_t k) {
         if (k == f.slots.size()) {
           check_deadline();
@@ -590,7 +594,10 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
           if (out.size() > kMaxDisjuncts) throw TooManyDisjuncts();
           return;
         }
-        for (int o : *f.domains[k]) {
+        const std::vector<int>* objects = f.domains[k];
+        std::vector<int> witnesses;
+        if (existential && witness_values(f, k, b, witnesses)) objects = &witnesses;
+        for (int o : *objects) {
           b[f.slots[k]] = o;
           each(k + 1);
           if (decided) return;
