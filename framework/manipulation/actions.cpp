@@ -154,8 +154,17 @@ std::optional<Trajectory> move_out(plugin::PlanningContext& context, const World
   Eigen::Vector3d back = -world_T_tool.linear().col(2);
   back.z() = 0.0;
   if (back.norm() > 0.5) {
-    const std::vector<Eigen::VectorXd> line =
+    std::vector<Eigen::VectorXd> line =
         back_off_line(context, state, world_T_tool, back.normalized(), state.robot_configuration);
+    // A diagonal approach can back the arm into a neighbour: then straight towards the
+    // exit x_s (the stacked8 target's approach line stopped at 4 cm, on side_1).
+    Eigen::Vector3d to_exit = context.scene().world_T_exit.translation() - world_T_tool.translation();
+    to_exit.z() = 0.0;
+    if (!long_enough(line) && to_exit.norm() > 1e-6 && to_exit.normalized().dot(back.normalized()) < 0.99) {
+      std::vector<Eigen::VectorXd> straight =
+          back_off_line(context, state, world_T_tool, to_exit.normalized(), state.robot_configuration);
+      if (straight.size() > line.size()) line = std::move(straight);
+    }
     if (long_enough(line)) {
       WorldState outside = state;
       outside.robot_configuration = line.back();
