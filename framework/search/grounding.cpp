@@ -105,6 +105,9 @@ class Grounder {
   // -- relaxed exploration
   bool relaxed(const CFormula& f, std::vector<int>& binding) const;
   bool witness_values(const CFormula& f, std::size_t k, const std::vector<int>& binding, std::vector<int>& out) const;
+  const CAtom* covering_witness(const CFormula& f) const;
+  template <class Visit>
+  void each_witness(const CFormula& f, const CAtom& witness, std::vector<int>& binding, Visit&& visit) const;
   void relaxed_effects(const CEffect& e, std::vector<int>& binding, std::vector<int>& out) const;
   void enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
                  const std::function<void()>& visit);
@@ -296,6 +299,13 @@ bool Grounder::relaxed(const CFormula& f, std::vector<int>& b) const {
     case Formula::Kind::exists:
     case Formula::Kind::forall: {
       const bool all = f.kind == Formula::Kind::forall;
+      if (!all) {
+        if (const CAtom* witness = covering_witness(f)) {
+          bool holds = false;
+          each_witness(f, *witness, b, [&] { return holds = relaxed(f.children[0], b); });
+          return holds;
+        }
+      }
       std::function<bool(std::size_t)> quantify = [&](std::size_t k) -> bool {
         if (k == f.slots.size()) return relaxed(f.children[0], b);
         const std::vector<int>* objects = f.domains[k];
@@ -355,6 +365,57 @@ bool Grounder::witness_values(const CFormula& f, std::size_t k, const std::vecto
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return true;
+}
+
+// A positive top-level atom of an (exists ...)'s body that mentions every quantified
+// variable, or null: its reached tuples are all the bindings worth trying, found in
+// one pass (variable by variable, witness_values scans the tuples once per value of
+// the variables before).
+const CAtom* Grounder::covering_witness(const CFormula& f) const {
+  auto covers = [&](const CFormula& c) {
+    if (c.kind != Formula::Kind::atom || c.atom.predicate < 0) return false;
+    return std::all_of(f.slots.begin(), f.slots.end(), [&](int slot) {
+      return std::any_of(c.atom.args.begin(), c.atom.args.end(), [&](const CTerm& t) { return t.variable && t.value == slot; });
+    });
+  };
+  const CFormula& body = f.children[0];
+  if (covers(body)) return &body.atom;
+  if (body.kind == Formula::Kind::conjunction) {
+    for (const CFormula& c : body.children) {
+      if (covers(c)) return &c.atom;
+    }
+  }
+  return nullptr;
+}
+
+// Binds f's variables from each reached tuple of `witness` that agrees with the
+// variables bound outside f and with f's domains, and calls visit() until it returns
+// true. The variables are left bound to the last tuple tried.
+template <class Visit>
+void Grounder::each_witness(const CFormula& f, const CAtom& witness, std::vector<int>& b, Visit&& visit) const {
+  auto quantified = [&](int slot) { return std::find(f.slots.begin(), f.slots.end(), slot) - f.slots.begin(); };
+  for (const std::vector<int>& tuple : reached_by_predicate_[witness.predicate]) {
+    for (int slot : f.slots) b[slot] = -1;
+    bool fits = true;
+    for (std::size_t i = 0; i < witness.args.size() && fits; ++i) {
+      const CTerm& t = witness.args[i];
+      if (!t.variable) {
+        fits = t.value == tuple[i];
+        continue;
+      }
+      const auto k = quantified(t.value);
+      if (k == static_cast<long>(f.slots.size())) {
+        fits = b[t.value] == tuple[i];  // bound outside
+      } else if (b[t.value] >= 0) {
+        fits = b[t.value] == tuple[i];  // the variable appears twice
+      } else {
+        const std::vector<int>& domain = *f.domains[static_cast<std::size_t>(k)];
+        fits = std::binary_search(domain.begin(), domain.end(), tuple[i]);
+        b[t.value] = tuple[i];
+      }
+    }
+    if (fits && visit()) return;
+  }
 }
 
 void Grounder::relaxed_effects(const CEffect& e, std::vector<int>& b, std::vector<int>& out) const {
@@ -578,6 +639,20 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
       // body unreachable: only the witnesses need expanding (stream problems quantify
       // over every pose and trajectory, thousands of pairs per derived atom).
       const bool existential = f.kind == Formula::Kind::exists && !negated;
+      if (const CAtom* witness = existential ? covering_witness(f) : nullptr) {
+        each_witness(f, *witness, b, [&] {
+          check_deadline();
+          Dnf part = dnf(f.children[0], b, false);
+          if (is_true(part)) {
+            out = truth;
+            return true;
+          }
+          out.insert(out.end(), part.begin(), part.end());
+          if (out.size() > kMaxDisjuncts) throw TooManyDisjuncts();
+          return false;
+        });
+        return out;
+      }
       std::function<void(std::size_t)> each = [&](std::size_t k) {
         if (k == f.slots.size()) {
           check_deadline();
