@@ -150,6 +150,38 @@ TEST_F(SamplerScene, PlansACollisionFreeMotionWithinVelocityLimits) {
   for (std::size_t k = 0; k < t.positions.size(); ++k) EXPECT_EQ(again.trajectory->positions[k], t.positions[k]);
 }
 
+TEST_F(SamplerScene, TakesAFreeStraightSegmentWithoutSearching) {
+  // Home to a pre-grasp above an empty table: the straight joint-space segment is free,
+  // so the motion is that segment; a cylinder on it forces a detour around.
+  const ObjectIndex cup = add("cup", 0.85, 0.0);
+  const plugin::GraspAnswer grasps = grasp(cup);
+  ASSERT_FALSE(grasps.usable.empty());
+  const Eigen::VectorXd start = problem_.robot.loaded->home();
+  const Eigen::VectorXd goal = grasps.usable[0].motions[0].pregrasp;
+  const plugin::MotionAnswer direct = motion(start, goal);
+  ASSERT_TRUE(direct.trajectory.has_value()) << direct.failure->reason;
+  ASSERT_EQ(direct.trajectory->positions.size(), 2u);
+  EXPECT_TRUE(direct.trajectory->positions.back().isApprox(goal));
+
+  // A thin fixed post where the segment's midpoint puts the tool: now a detour.
+  Eigen::Vector3d mid;
+  {
+    collision::CollisionWorld before(problem_.scene, problem_.robot.loaded);
+    auto c = before.make_context();
+    mid = before.tool_pose((start + goal) / 2, *c).translation();
+  }
+  test::add_box(problem_.scene, "post", {0.06, 0.06, 0.3}, mid);
+  {
+    collision::CollisionWorld after(problem_.scene, problem_.robot.loaded);
+    auto c = after.make_context();
+    ASSERT_FALSE(after.is_valid((start + goal) / 2, *c));
+    ASSERT_TRUE(after.is_valid(start, *c) && after.is_valid(goal, *c));
+  }
+  const plugin::MotionAnswer around = motion(start, goal, 1, 2.0);
+  ASSERT_TRUE(around.trajectory.has_value()) << around.failure->reason;
+  EXPECT_GT(around.trajectory->positions.size(), 2u);
+}
+
 TEST_F(SamplerScene, NamesTheObjectsAGoalConfigurationTouches) {
   // The goal holds the gripper inside a ring of cylinders it passes through: the motion
   // fails at once and names exactly the ring cylinders the goal configuration touches.

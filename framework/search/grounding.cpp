@@ -1,6 +1,7 @@
 #include "cluttertamp/search/grounding.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <functional>
 #include <map>
@@ -515,11 +516,36 @@ void Grounder::explore() {
     initially_[id] = true;
     reach(id);
   }
+  // A binding's relaxed precondition can turn true only when an atom of a predicate it
+  // mentions is reached: a schema none of whose predicates gained atoms since its last
+  // pass has nothing new (stream problems re-derived every trajectory's UnsafeTraj on
+  // every pass).
+  std::vector<std::vector<int>> mentioned(schemas_.size());
+  for (std::size_t i = 0; i < schemas_.size(); ++i) {
+    std::function<void(const CFormula&)> collect = [&](const CFormula& f) {
+      if (f.kind == Formula::Kind::atom && f.atom.predicate >= 0) mentioned[i].push_back(f.atom.predicate);
+      for (const CFormula& c : f.children) collect(c);
+    };
+    collect(schemas_[i].precondition);
+    std::sort(mentioned[i].begin(), mentioned[i].end());
+    mentioned[i].erase(std::unique(mentioned[i].begin(), mentioned[i].end()), mentioned[i].end());
+  }
+  auto reached_count = [&](std::size_t i) {
+    std::size_t n = 0;
+    for (int predicate : mentioned[i]) n += reached_by_predicate_[predicate].size();
+    return n;
+  };
+  std::vector<std::size_t> seen(schemas_.size(), std::numeric_limits<std::size_t>::max());
   bool changed = true;
   while (changed) {
     changed = false;
     for (std::size_t i = 0; i < schemas_.size(); ++i) {
       const Schema& s = schemas_[i];
+      if (!s.conditional) {
+        const std::size_t now = reached_count(i);
+        if (now == seen[i]) continue;
+        seen[i] = now;
+      }
       std::vector<int> binding(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
       std::vector<bool> bound(binding.size(), false);
       std::vector<int> added;

@@ -84,21 +84,30 @@ std::optional<Support> SupportEvaluator::quantified(const Formula& f, const Env&
   std::optional<Support> out = all ? std::optional<Support>(Support{}) : std::nullopt;
   Env local = env;
   bool stop = false;
+  auto visit = [&] {
+    auto s = support(f.children.at(0), local, state, polarity);
+    if (all) {
+      if (!s) {
+        out.reset();
+        stop = true;
+      } else {
+        out->merge(*s);
+      }
+    } else {
+      out = best(out, s);
+      stop = out && out->optimistic_size(base_) == 0;
+    }
+  };
+  if (f.kind == Formula::Kind::exists && each_fluent_witness(f, local, state, [&] {
+        visit();
+        return stop;
+      })) {
+    return out;
+  }
   std::function<void(std::size_t)> each = [&](std::size_t k) {
     if (stop) return;
     if (k == f.variables.size()) {
-      auto s = support(f.children.at(0), local, state, polarity);
-      if (all) {
-        if (!s) {
-          out.reset();
-          stop = true;
-        } else {
-          out->merge(*s);
-        }
-      } else {
-        out = best(out, s);
-        stop = out && out->optimistic_size(base_) == 0;
-      }
+      visit();
       return;
     }
     for (ObjectId o : base_.objects_of(f.variables[k].types, optimistic_)) {
@@ -109,6 +118,62 @@ std::optional<Support> SupportEvaluator::quantified(const Formula& f, const Env&
   };
   each(0);
   return out;
+}
+
+// An (exists ...) whose body requires a fluent atom naming every quantified variable:
+// a binding without that atom in `state` makes the body false with nothing to support
+// (no binding of it can make the exists hold, and each keeps it from holding for free),
+// so only the state's facts of that predicate need visiting — not every object for
+// every variable (thousands of pose and trajectory pairs per derived atom). Binds the
+// variables in `local` and calls visit() until it returns true; false when the body
+// has no such atom.
+template <class Visit>
+bool SupportEvaluator::each_fluent_witness(const Formula& f, Env& local, const State& state, Visit&& visit) {
+  auto names_all = [&](const Formula& c) {
+    if (c.kind != Formula::Kind::atom || c.atom.predicate == "=" || !changed_.count(c.atom.predicate)) return false;
+    return std::all_of(f.variables.begin(), f.variables.end(), [&](const pddl::TypedName& v) {
+      return std::any_of(c.atom.args.begin(), c.atom.args.end(), [&](const pddl::Term& t) { return t.variable && t.name == v.name; });
+    });
+  };
+  const Formula& body = f.children.at(0);
+  const Formula* witness = names_all(body) ? &body : nullptr;
+  if (!witness && body.kind == Formula::Kind::conjunction) {
+    for (const Formula& c : body.children) {
+      if (names_all(c)) {
+        witness = &c;
+        break;
+      }
+    }
+  }
+  if (!witness) return false;
+  std::map<std::string, std::set<ObjectId>> domains;
+  for (const pddl::TypedName& v : f.variables) {
+    const std::vector<ObjectId> objects = base_.objects_of(v.types, optimistic_);
+    domains[v.name] = std::set<ObjectId>(objects.begin(), objects.end());
+  }
+  const pddl::Atom& a = witness->atom;
+  const int predicate = base_.predicate_id(a.predicate);
+  for (auto it = state.lower_bound(FactKey{predicate}); it != state.end() && (*it)[0] == predicate; ++it) {
+    const FactKey& fact = *it;
+    for (const pddl::TypedName& v : f.variables) local.erase(v.name);
+    bool fits = fact.size() == a.args.size() + 1;
+    for (std::size_t i = 0; i < a.args.size() && fits; ++i) {
+      const pddl::Term& t = a.args[i];
+      const ObjectId value = fact[i + 1];
+      if (!t.variable) {
+        const auto id = base_.find(t.name);
+        fits = id && *id == value;
+      } else if (const auto bound = local.find(t.name); bound != local.end()) {
+        fits = bound->second == value;  // bound outside, or the variable appears twice
+      } else {
+        const auto domain = domains.find(t.name);
+        fits = domain == domains.end() || domain->second.count(value) > 0;
+        local[t.name] = value;
+      }
+    }
+    if (fits && visit()) break;
+  }
+  return true;
 }
 
 std::optional<Support> SupportEvaluator::atom(const pddl::Atom& a, const Env& env, const State& state, bool polarity) {

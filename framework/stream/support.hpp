@@ -46,6 +46,8 @@ class SupportEvaluator {
  private:
   std::optional<Support> atom(const pddl::Atom& atom, const Env& env, const State& state, bool polarity);
   std::optional<Support> quantified(const pddl::Formula& f, const Env& env, const State& state, bool polarity);
+  template <class Visit>
+  bool each_fluent_witness(const pddl::Formula& f, Env& local, const State& state, Visit&& visit);
   bool collect(const pddl::Effect& effect, const Env& env, const State& before, State& adds, State& deletes,
                Support& support);
   std::optional<Support> best(std::optional<Support> a, std::optional<Support> b) const;

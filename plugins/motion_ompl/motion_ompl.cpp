@@ -125,6 +125,12 @@ class OmplMotion final : public plugin::MotionSampler {
       answer.failure = failure;
       return answer;
     }
+    // A free straight segment needs no search (moves in the open: out of a shelf home,
+    // home to a staging pose).
+    if (segment_valid(query.start, query.goal, {}, valid)) {
+      answer.trajectory = manipulation::timed(robot, {query.start, query.goal}, velocity_scale_);
+      return answer;
+    }
     // First the search through movable objects: in clutter it finds its way where the
     // strict search's trees get stuck, and its path, checked densely, is either a
     // solution (it touched nothing) or names what is in the way. Then, with the rest of
