@@ -288,6 +288,19 @@ TEST_F(Cli, CompareRunsTheFourSettingsAndWritesTheirFiles) {
   EXPECT_EQ(run("compare " + (fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/default.yaml").string() + " -q").exit_code, 2);
 }
 
+// Table IV's 4-object scene: both algorithms solve it pruned and with every object
+// movable (exit code 0: every run solved).
+TEST_F(Cli, CompareSolvesStacked4InEverySetting) {
+  const CliRun r = run("compare " + (fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked4.yaml").string() +
+                       " --runs 1 --time-limit 60");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  for (const char* setting : {"adaptive + pruning", "adaptive, all movable", "incremental + pruning", "incremental, all movable"}) {
+    const std::size_t row = r.output.find(setting);
+    ASSERT_NE(row, std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("100%", row), std::string::npos) << setting << "\n" << r.output;
+  }
+}
+
 // generate writes a scene the target cannot leave directly and a problem that plans on it.
 TEST_F(Cli, GeneratedShelfProblemIsSolved) {
   const fs::path scene = dir_ / "shelf.yaml", problem_file = dir_ / "shelf_problem.yaml";
