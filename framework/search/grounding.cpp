@@ -1,9 +1,9 @@
 #include "cluttertamp/search/grounding.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <chrono>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 #include <unordered_map>
