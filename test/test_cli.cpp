@@ -219,6 +219,7 @@ TEST_F(Cli, DefaultProblemIsSolvedWithEveryMotion) {
 TEST_F(Cli, StackedObjectsAreMovedInOrderWithStreams) {
   const CliRun r = plan(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked8.yaml", "--time-limit 120");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("\rplanning"), std::string::npos) << "the elapsed-time line is for terminals only";
   const auto json = result();
   const auto& moved = json["moved_objects"];
   ASSERT_EQ(moved.size(), 3u) << r.output;

@@ -1,10 +1,16 @@
 #include "cli/commands.hpp"
 
+#include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <mutex>
 #include <set>
 #include <sstream>
+#include <thread>
+
+#include <unistd.h>
 
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/pddl/sexpr.hpp"
@@ -74,6 +80,37 @@ void print_summary(std::ostream& out, const Problem& problem, const run::RunOutc
   out << "output    " << fs::absolute(result_file).lexically_normal().string() << "\n";
 }
 
+// While a run plans, a line on the terminal with the time spent: a run may take its
+// whole time limit (60 s by default) and print nothing until it ends. Only on a
+// terminal (scripts and logs read the summary), cleared when the run ends.
+class ElapsedLine {
+ public:
+  ElapsedLine(bool on, std::string planner, double limit) {
+    if (!on) return;
+    thread_ = std::jthread([planner = std::move(planner), limit](std::stop_token stop) {
+      const auto start = std::chrono::steady_clock::now();
+      std::mutex m;
+      std::condition_variable_any wake;
+      std::unique_lock lock(m);
+      while (!wake.wait_for(lock, stop, std::chrono::milliseconds(500), [] { return false; }) && !stop.stop_requested()) {
+        const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        char line[96];
+        std::snprintf(line, sizeof line, "\rplanning  %s: %.1f s of %g s", planner.c_str(), spent, limit);
+        std::cerr << line << std::flush;
+      }
+    });
+  }
+  ~ElapsedLine() {
+    if (!thread_.joinable()) return;
+    thread_.request_stop();
+    thread_.join();
+    std::cerr << "\r" << std::string(72, ' ') << "\r" << std::flush;
+  }
+
+ private:
+  std::jthread thread_;
+};
+
 }  // namespace
 
 int plan(const PlanArgs& args) {
@@ -89,6 +126,8 @@ int plan(const PlanArgs& args) {
   run::RunOutcome outcome;
   std::optional<InputError> plugin_error;
   try {
+    const ElapsedLine elapsed(args.verbosity != Verbosity::quiet && isatty(fileno(stderr)), problem.planner.name,
+                              options.time_limit.value_or(problem.time_limit));
     outcome = run::plan(problem, registry, options);
   } catch (const InputError& e) {
     // A plugin the problem names is missing or rejects its parameters: bad input, but
