@@ -241,6 +241,26 @@ TEST_F(Cli, StackedObjectsAreMovedInOrderWithStreams) {
   EXPECT_GT(json["counters"]["stream_calls"].get<int>(), 0);
 }
 
+// With an unchecked pruner, stacked8's target path is free in the plane, so no obstacle
+// is movable: the run cannot succeed, and its failures say why.
+TEST_F(Cli, AStreamRunWithNothingMovableSaysSo) {
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked8.yaml";
+  std::ifstream in(source);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  yaml.replace(yaml.find("object_pruner: retrieval_graph"), 30,
+               "object_pruner: {plugin: retrieval_graph, parameters: {checked: false}}");
+  yaml.replace(yaml.find("scene: scene8.yaml"), 18, "scene: " + (source.parent_path() / "scene8.yaml").string());
+  while (yaml.find("../../") != std::string::npos) yaml.replace(yaml.find("../../"), 6, std::string(CLUTTERTAMP_SOURCE_DIR) + "/");
+  const fs::path file = dir_ / "unchecked.yaml";
+  std::ofstream(file) << yaml;
+  const CliRun r = plan(file, "--time-limit 2");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("the object pruner's sequences named no object to move"), std::string::npos) << r.output;
+  EXPECT_EQ(result()["counters"]["movable_objects"], 0);
+}
+
 // validate reads the PDDL and stream files of a stream problem and checks its bindings.
 TEST_F(Cli, ValidateChecksTheStreamFilesAndBindingsOfAStreamProblem) {
   const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked4.yaml";

@@ -71,6 +71,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
     pddl::Problem problem;
     stream::StreamProblem sp;
     std::map<std::string, ObjectIndex> scene_objects;
+    bool pruned_to_nothing = false;  // the pruner's sequences named no object to move
     if (task->problem) {
       problem = pddl::load_problem(*task->problem, domain);
     } else {
@@ -86,6 +87,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
         std::uint64_t n = 0;
         for (bool m : movable) n += m;
         result.counters["movable_objects"] = n;
+        pruned_to_nothing = n == 0;
       }
       stream::SceneProblem derived = stream::scene_problem(context.scene(), movable, domain.name);
       problem = std::move(derived.problem);
@@ -102,6 +104,13 @@ class StreamPlanner final : public plugin::TaskPlanner {
     result.solved = s.solved;
     result.reason = s.reason;
     result.failures.insert(result.failures.end(), s.failures.begin(), s.failures.end());
+    if (!s.solved && pruned_to_nothing) {
+      // The search cannot tell that no obstacle may move; the user should hear it.
+      result.failures.push_back({"object_pruner",
+                                 "the object pruner's sequences named no object to move, so every obstacle stayed fixed "
+                                 "(with parameter prune: false every object is movable)",
+                                 {}});
+    }
     for (const stream::StreamPlanStep& step : s.plan) result.plan.push_back(plan_step(step, s, scene_objects, result));
     const auto& st = s.statistics;
     result.counters["stream_calls"] = st.stream_calls;
