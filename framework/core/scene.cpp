@@ -1,5 +1,7 @@
 #include "cluttertamp/core/scene.hpp"
 
+#include <algorithm>
+
 #include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
@@ -18,6 +20,18 @@ const Region* Scene::find_region(std::string_view id) const {
     if (region.id == id) return &region;
   }
   return nullptr;
+}
+
+void Scene::mark_what_rests_on(std::vector<bool>& marked) const {
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (ObjectIndex o = 0; o < objects.size(); ++o) {
+      const auto& below = objects[o].supports;
+      if (!marked[o] && std::any_of(below.begin(), below.end(), [&](ObjectIndex b) { return marked[b]; })) {
+        marked[o] = grew = true;
+      }
+    }
+  }
 }
 
 WorldState WorldState::initial(const Scene& scene) {

@@ -68,6 +68,7 @@ struct Schema {
   CEffect effect;
   CAtom head;  // axioms
   std::vector<CAtom> core;  // positive top-level atoms, to enumerate bindings
+  std::vector<int> mentioned;  // predicates anywhere in the precondition, sorted, once each
 };
 
 class Grounder {
@@ -94,6 +95,7 @@ class Grounder {
   CFormula formula(const Formula& f, std::map<std::string, int> scope, int& slots);
   CEffect effect(const Effect& e, std::map<std::string, int> scope, int& slots);
   void collect_core(const CFormula& f, std::vector<CAtom>& core) const;
+  static void collect_predicates(const CFormula& f, std::vector<int>& out);
   static bool has_when(const CEffect& e) {
     if (e.kind == Effect::Kind::when) return true;
     return std::any_of(e.children.begin(), e.children.end(), [](const CEffect& c) { return has_when(c); });
@@ -268,6 +270,16 @@ void Grounder::collect_core(const CFormula& f, std::vector<CAtom>& core) const {
   } else if (f.kind == Formula::Kind::atom && f.atom.predicate >= 0) {
     core.push_back(f.atom);
   }
+}
+
+void Grounder::collect_predicates(const CFormula& f, std::vector<int>& out) {
+  std::function<void(const CFormula&)> visit = [&](const CFormula& g) {
+    if (g.kind == Formula::Kind::atom && g.atom.predicate >= 0) out.push_back(g.atom.predicate);
+    for (const CFormula& c : g.children) visit(c);
+  };
+  visit(f);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 void Grounder::mark_fluents(const Effect& e) {
@@ -520,19 +532,9 @@ void Grounder::explore() {
   // mentions is reached: a schema none of whose predicates gained atoms since its last
   // pass has nothing new (stream problems re-derived every trajectory's UnsafeTraj on
   // every pass).
-  std::vector<std::vector<int>> mentioned(schemas_.size());
-  for (std::size_t i = 0; i < schemas_.size(); ++i) {
-    std::function<void(const CFormula&)> collect = [&](const CFormula& f) {
-      if (f.kind == Formula::Kind::atom && f.atom.predicate >= 0) mentioned[i].push_back(f.atom.predicate);
-      for (const CFormula& c : f.children) collect(c);
-    };
-    collect(schemas_[i].precondition);
-    std::sort(mentioned[i].begin(), mentioned[i].end());
-    mentioned[i].erase(std::unique(mentioned[i].begin(), mentioned[i].end()), mentioned[i].end());
-  }
-  auto reached_count = [&](std::size_t i) {
+  auto reached_count = [&](const Schema& s) {
     std::size_t n = 0;
-    for (int predicate : mentioned[i]) n += reached_by_predicate_[predicate].size();
+    for (int predicate : s.mentioned) n += reached_by_predicate_[predicate].size();
     return n;
   };
   std::vector<std::size_t> seen(schemas_.size(), std::numeric_limits<std::size_t>::max());
@@ -542,7 +544,7 @@ void Grounder::explore() {
     for (std::size_t i = 0; i < schemas_.size(); ++i) {
       const Schema& s = schemas_[i];
       if (!s.conditional) {
-        const std::size_t now = reached_count(i);
+        const std::size_t now = reached_count(s);
         if (now == seen[i]) continue;
         seen[i] = now;
       }
@@ -874,6 +876,7 @@ Task Grounder::run(GroundingStats* stats) {
     s.head = atom(head, scope);
     s.precondition = formula(r.body, scope, s.slot_count);
     collect_core(s.precondition, s.core);
+    collect_predicates(s.precondition, s.mentioned);
     schemas_.push_back(std::move(s));
   }
   for (const pddl::Action& a : domain_.actions) {
@@ -890,6 +893,7 @@ Task Grounder::run(GroundingStats* stats) {
     s.effect = effect(a.effect, scope, s.slot_count);
     s.conditional = has_when(s.effect);
     collect_core(s.precondition, s.core);
+    collect_predicates(s.precondition, s.mentioned);
     // Join static atoms first: they are complete from the start and most selective.
     std::stable_sort(s.core.begin(), s.core.end(), [&](const CAtom& x, const CAtom& y) {
       return !fluent_[x.predicate] && fluent_[y.predicate];

@@ -156,13 +156,7 @@ class Streams {
     std::vector<bool> gone(scene.objects.size(), false);
     gone[object] = true;
     for (ObjectIndex o : ignored) gone[o] = true;
-    for (bool grew = true; grew;) {
-      grew = false;
-      for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
-        const auto& below = scene.objects[o].supports;
-        if (!gone[o] && std::any_of(below.begin(), below.end(), [&](ObjectIndex b) { return gone[b]; })) gone[o] = grew = true;
-      }
-    }
+    scene.mark_what_rests_on(gone);
     WorldState s = alone(object, pose);
     for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
       if (!gone[o]) s.removed[o] = false;

@@ -82,7 +82,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
         if (!pruned.removal_sequences.empty()) {
           std::fill(movable.begin(), movable.end(), false);
           for (ObjectIndex o : pruned.movable_objects()) movable[o] = true;
-          close_over_stacked(context.scene(), movable);
+          context.scene().mark_what_rests_on(movable);  // it has to go first
         }
         std::uint64_t n = 0;
         for (bool m : movable) n += m;
@@ -147,19 +147,6 @@ class StreamPlanner final : public plugin::TaskPlanner {
       }
     }
     return out;
-  }
-
-  // What rests on a movable object must be movable too (it has to go first).
-  static void close_over_stacked(const Scene& scene, std::vector<bool>& movable) {
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
-        const auto& below = scene.objects[o].supports;
-        if (!movable[o] && std::any_of(below.begin(), below.end(), [&](ObjectIndex b) { return movable[b]; })) {
-          movable[o] = changed = true;
-        }
-      }
-    }
   }
 
   stream::StreamSearchOptions options_;

@@ -64,6 +64,9 @@ struct CLUTTERTAMP_API Scene {
 
   std::optional<ObjectIndex> find_object(std::string_view id) const;
   const Region* find_region(std::string_view id) const;
+  /// Marks every object that rests, directly or through others, on a marked one (what
+  /// must go before them). Precondition: `marked` has one entry per object.
+  void mark_what_rests_on(std::vector<bool>& marked) const;
 };
 
 }  // namespace cluttertamp
