@@ -2,7 +2,9 @@
 // pure-symbolic domain with a toy sampler: blocks on a line.
 
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -11,6 +13,7 @@
 #include "cluttertamp/pddl/validator.hpp"
 #include "cluttertamp/stream/stream_file.hpp"
 #include "cluttertamp/stream/stream_search.hpp"
+#include "stream/fact_base.hpp"
 #include "test_support.hpp"
 
 namespace cluttertamp {
@@ -139,18 +142,42 @@ constexpr double kWidth = 1.0;  // blocks overlap when their centres are closer
 class LineStreams final : public plugin::StreamSampler {
  public:
   std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext& context, std::string_view stream,
-                                                       const std::vector<plugin::StreamValue>& in) override {
+                                                       const std::vector<plugin::StreamValue>& in,
+                                                       const std::vector<plugin::StreamFact>& fluents) override {
     if (stream == "sample-pose") {
       const std::string region = std::get<std::string>(in.at(1));
       const auto [lo, hi] = region == "goal" ? std::pair(10.0, 11.5) : std::pair(-5.0, 9.5);
       const std::uint64_t seed = context.seed * 1000003 + std::hash<std::string>{}(std::get<std::string>(in.at(0)) + region);
       return std::make_unique<Sampler>(lo, hi, seed);
     }
+    if (stream == "test-free") return free_in_state(in, fluents);
     const bool same = std::get<std::string>(in.at(0)) == std::get<std::string>(in.at(2));
     return std::make_unique<Test>(same || std::abs(std::get<double>(in.at(1)) - std::get<double>(in.at(3))) >= kWidth);
   }
 
+  /// A call of test-free: the block, its position and the blocks standing (by AtPose).
+  struct FreeCall {
+    std::string block;
+    double position = 0;
+    std::map<std::string, double> standing;
+  };
+  std::vector<FreeCall> free_calls;
+
  private:
+  // test-free (:fluents (AtPose)): ?b at ?p overlaps no other block standing in the state.
+  std::unique_ptr<plugin::StreamGenerator> free_in_state(const std::vector<plugin::StreamValue>& in,
+                                                         const std::vector<plugin::StreamFact>& fluents) {
+    FreeCall call{std::get<std::string>(in.at(0)), std::get<double>(in.at(1)), {}};
+    for (const plugin::StreamFact& f : fluents) {
+      EXPECT_EQ(f.predicate, "atpose");
+      call.standing[std::get<std::string>(f.args.at(0))] = std::get<double>(f.args.at(1));
+    }
+    bool free = true;
+    for (const auto& [other, x] : call.standing) free &= other == call.block || std::abs(x - call.position) >= kWidth;
+    free_calls.push_back(std::move(call));
+    return std::make_unique<Test>(free);
+  }
+
   struct Sampler final : plugin::StreamGenerator {
     Sampler(double lo, double hi, std::uint64_t seed) : rng(seed), position(lo, hi) {}
     plugin::StreamBatch next(plugin::PlanningContext&) override { return {{{position(rng)}}, false, std::nullopt}; }
@@ -304,6 +331,120 @@ TEST_F(BlocksLine, AStreamWithoutCodeIsBadInput) {
   problem_.bindings.erase("test-cfree");
   const Diagnostics errors = test::expect_input_error([&] { solve(stream::Algorithm::adaptive, 1); });
   EXPECT_TRUE(test::has_error(errors, 8, 3, "'test-cfree' has no code behind it"));
+}
+
+// ---- streams with :fluents ----------------------------------------------------------
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+// blocks-line where a place also needs (Free ?b ?p): a test with :fluents (AtPose) that
+// reads the blocks standing in the state the place happens in. Free of a in the goal is
+// false in the initial state (b stands there) and true once b has gone.
+class BlocksLineFluents : public BlocksLine {
+ protected:
+  BlocksLineFluents() {
+    std::string domain = read_text(blocks_line("domain.pddl"));
+    domain = replaced(domain, "(Unsafe ?b ?p) (In ?b ?r))", "(Unsafe ?b ?p) (In ?b ?r) (Free ?b ?p))");
+    domain = replaced(domain, "(not (Unsafe ?b ?p)))", "(not (Unsafe ?b ?p)) (Free ?b ?p))");
+    domain_ = pddl::parse_domain(domain, "fluent-domain.pddl");
+    pddl_problem_ = pddl::load_problem(blocks_line("problem.pddl"), domain_);
+    std::string streams = read_text(blocks_line("stream.pddl"));
+    streams = replaced(streams, "(CFree ?b1 ?p1 ?b2 ?p2)))", R"((CFree ?b1 ?p1 ?b2 ?p2))
+  (:stream test-free
+    :inputs (?b ?p)
+    :domain (Pose ?b ?p)
+    :fluents (AtPose)
+    :certified (Free ?b ?p))))");
+    streams_ = stream::parse_stream_file(streams, "fluent-stream.pddl", &domain_);
+    problem_.bindings["test-free"] = &sampler_;
+  }
+};
+
+TEST(FactBase, AFactCertifiedInAStateHoldsInThatStateOnlyAndStaysOutOfTheSearch) {
+  const pddl::Domain d = domain();
+  const stream::StreamFile f = stream::parse_stream_file(R"((define (stream s)
+  (:stream plan-motion :inputs (?q1 ?q2) :domain (and (Conf ?q1) (Conf ?q2)) :fluents (AtConf)
+    :outputs (?t) :certified (Motion ?q1 ?t ?q2))))",
+                                                         "s.pddl", &d);
+  stream::detail::FactBase base(d, f);
+  const int q1 = base.add_object({"q1"}), q2 = base.add_object({"q2"}), t = base.add_object({"t"});
+  const int at_conf = base.predicate_id("atconf"), motion = base.predicate_id("motion"), conf = base.predicate_id("conf");
+  const stream::detail::State at_q1{{at_conf, q1}, {conf, q1}}, at_q2{{at_conf, q2}, {conf, q1}};
+  // The instance evaluated with the robot at q1; Conf is no fluent, so not part of its state.
+  const std::vector<stream::detail::FactKey> state = base.fluent_state(at_q1, 0);
+  const std::vector<stream::detail::FactKey> expected{{at_conf, q1}};
+  ASSERT_EQ(state, expected);
+  const int in_state = base.instance(0, {q1, q2}, state);
+  EXPECT_NE(in_state, base.instance(0, {q1, q2})) << "the state-free instance stands for optimistic outputs only";
+  EXPECT_EQ(in_state, base.instance(0, {q1, q2}, state));
+  const stream::detail::FactKey fact{motion, q1, t, q2};
+  base.add_state_fact(fact, {false, 1, in_state});
+  EXPECT_TRUE(base.holds_in_state(fact, at_q1));
+  EXPECT_FALSE(base.holds_in_state(fact, at_q2));
+  EXPECT_FALSE(base.holds_in_state(fact, {}));
+  EXPECT_EQ(base.fact(fact), nullptr) << "the symbolic search must not take it for a state-free fact";
+  ASSERT_NE(base.real_fact(fact), nullptr);
+  EXPECT_EQ(base.real_fact(fact)->certifier, in_state);
+}
+
+TEST_F(BlocksLineFluents, AFluentTestIsEvaluatedInTheStateBeforeTheStepThatNeedsIt) {
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    sampler_.free_calls.clear();
+    const stream::StreamSolution s = solve(stream::Algorithm::adaptive, seed);
+    ASSERT_TRUE(s.solved) << s.reason;
+    expect_geometrically_valid(s);
+    expect_valid_pddl(s);
+    // Replay: each place was tested with exactly the blocks standing before it.
+    std::map<std::string, double> at{{"a", 0}, {"b", 10.6}, {"c", 2}, {"d", 4}, {"e", 6}, {"f", 8}};
+    for (const stream::StreamPlanStep& step : s.plan) {
+      const std::string& block = step.arguments.at(0);
+      if (step.action == "pick") {
+        at.erase(block);
+        continue;
+      }
+      const std::string& p = step.arguments.at(1);
+      const double x = std::get<double>(s.values.count(p) ? s.values.at(p) : problem_.values.at(p));
+      const bool tested = std::any_of(sampler_.free_calls.begin(), sampler_.free_calls.end(), [&](const auto& call) {
+        return call.block == block && call.position == x && call.standing == at;
+      });
+      EXPECT_TRUE(tested) << "place " << block << " at " << x << " was not tested in the state before it";
+      at[block] = x;
+    }
+  }
+}
+
+TEST_F(BlocksLineFluents, TheIncrementalSearchRefusesFluentStreamsAtTheirDeclaration) {
+  const Diagnostics errors = test::expect_input_error([&] { solve(stream::Algorithm::incremental, 1); });
+  EXPECT_TRUE(test::has_error(errors, 12, 3, "'test-free' reads :fluents, which only the adaptive search supports"));
+}
+
+TEST_F(BlocksLineFluents, AFluentTestOfANegatedFactIsRefused) {
+  // move needs (not (Collide ?t ?q2)): certified in one state, Collide could not be
+  // decided false in another.
+  domain_ = domain();
+  pddl_problem_ = pddl::parse_problem(
+      "(define (problem p) (:domain d) (:objects q0 q1) (:init (Conf q0) (Conf q1) (AtConf q0)) (:goal (AtConf q1)))",
+      "p.pddl", domain_);
+  streams_ = stream::parse_stream_file(R"((define (stream s)
+  (:stream plan-motion :inputs (?q1 ?q2) :domain (and (Conf ?q1) (Conf ?q2)) :outputs (?t)
+    :certified (Motion ?q1 ?t ?q2))
+  (:stream test-collide :inputs (?t ?q) :domain (and (Pose ?t) (Conf ?q)) :fluents (AtConf)
+    :certified (Collide ?t ?q))))",
+                                       "s.pddl", &domain_);
+  const Diagnostics errors = test::expect_input_error([&] { solve(stream::Algorithm::adaptive, 1); });
+  EXPECT_TRUE(test::has_error(errors, 4, 3, "test 'test-collide' reads :fluents and certifies 'collide', which the domain uses negated"));
 }
 
 }  // namespace

@@ -79,6 +79,33 @@ const FactInfo* FactBase::fact(const FactKey& fact) const {
   return it == facts_.end() ? nullptr : &it->second;
 }
 
+void FactBase::add_state_fact(const FactKey& fact, const FactInfo& info) { state_facts_[fact].push_back(info); }
+
+const FactInfo* FactBase::real_fact(const FactKey& fact) const {
+  if (const FactInfo* info = this->fact(fact); info && !info->optimistic) return info;
+  const auto it = state_facts_.find(fact);
+  return it == state_facts_.end() ? nullptr : &it->second.front();
+}
+
+bool FactBase::holds_in_state(const FactKey& fact, const State& state) {
+  const auto it = state_facts_.find(fact);
+  if (it == state_facts_.end()) return false;
+  return std::any_of(it->second.begin(), it->second.end(), [&](const FactInfo& info) {
+    const Instance& certifier = *instances_[static_cast<std::size_t>(info.certifier)];
+    return fluent_state(state, certifier.stream) == certifier.fluent_state;
+  });
+}
+
+std::vector<FactKey> FactBase::fluent_state(const State& state, int stream) {
+  std::vector<FactKey> out;
+  for (const std::string& name : decl(stream).fluents) {
+    const int predicate = predicate_id(name);
+    for (auto it = state.lower_bound(FactKey{predicate}); it != state.end() && (*it)[0] == predicate; ++it) out.push_back(*it);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 void FactBase::clear_optimistic() {
   for (auto it = facts_.begin(); it != facts_.end();) {
     it = it->second.optimistic ? facts_.erase(it) : std::next(it);
@@ -149,12 +176,14 @@ void FactBase::match(const std::vector<pddl::Atom>& domain, std::size_t i, Env& 
   }
 }
 
-int FactBase::instance(int stream, const std::vector<ObjectId>& inputs) {
-  const auto key = std::make_pair(stream, inputs);
+int FactBase::instance(int stream, const std::vector<ObjectId>& inputs,
+                       const std::optional<std::vector<FactKey>>& fluent_state) {
+  const auto key = std::make_tuple(stream, inputs, fluent_state);
   if (const auto it = instance_ids_.find(key); it != instance_ids_.end()) return it->second;
   auto made = std::make_unique<Instance>();
   made->stream = stream;
   made->inputs = inputs;
+  made->fluent_state = fluent_state;
   made->real = std::none_of(inputs.begin(), inputs.end(), [&](ObjectId o) { return object(o).optimistic; });
   const int id = static_cast<int>(instances_.size());
   instances_.push_back(std::move(made));

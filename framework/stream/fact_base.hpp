@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cluttertamp/pddl/ast.hpp"
@@ -19,19 +20,26 @@ using ObjectId = int;
 /// A ground fact: its predicate's id, then its arguments' object ids.
 using FactKey = std::vector<int>;
 using Env = std::map<std::string, ObjectId>;  ///< ?variable -> object
+/// The fluent facts that hold in a state; static facts live in the FactBase.
+using State = std::set<FactKey>;
 
 struct ObjectRecord {
   std::string name;
   std::vector<std::string> types{"object"};
   std::optional<plugin::StreamValue> value;  ///< absent: the object is its name
   bool optimistic = false;                   ///< stands for a stream output not yet made
+  int maker = -1;                            ///< optimistic: the instance it is an output of
 };
 
 /// One stream (or rule, predicate, function) applied to fixed inputs. Real when every
-/// input is a real object; then it may own a generator.
+/// input is a real object; then it may own a generator. A stream with :fluents has one
+/// instance per inputs without a state, which only stands for optimistic outputs, and
+/// one per state it is evaluated in, whose certified facts hold in that state only.
 struct Instance {
   int stream = 0;  ///< index into StreamFile::streams
   std::vector<ObjectId> inputs;
+  /// :fluents: the facts of its fluent predicates in the state it is evaluated in.
+  std::optional<std::vector<FactKey>> fluent_state;
   bool real = true;
   std::unique_ptr<plugin::StreamGenerator> generator;
   int calls = 0;
@@ -75,6 +83,17 @@ class FactBase {
   void clear_optimistic();
   const std::map<FactKey, FactInfo>& facts() const { return facts_; }
 
+  /// A fact an instance with a fluent state certified: it holds in that state only, so
+  /// it is kept apart from the facts above (which the symbolic search sees).
+  void add_state_fact(const FactKey& fact, const FactInfo& info);
+  /// The fact as a real one: a state-free fact, or else one certified in some state.
+  const FactInfo* real_fact(const FactKey& fact) const;
+  /// Whether an instance certified `fact` in a state agreeing with `state` on its fluents.
+  bool holds_in_state(const FactKey& fact, const State& state);
+  const std::map<FactKey, std::vector<FactInfo>>& state_facts() const { return state_facts_; }
+  /// `state` restricted to the :fluents predicates of `stream` (sorted).
+  std::vector<FactKey> fluent_state(const State& state, int stream);
+
   /// Calls `visit` for every binding of `inputs` under which each atom of `domain` is a
   /// fact (optimistic ones only if allowed); inputs no atom mentions range over the
   /// real objects. `visit` receives the inputs' objects and the highest complexity of
@@ -83,8 +102,9 @@ class FactBase {
                 const std::function<void(const std::vector<ObjectId>&, int)>& visit);
 
   // Instances.
-  /// The instance of `stream` on `inputs`, made on first use.
-  int instance(int stream, const std::vector<ObjectId>& inputs);
+  /// The instance of `stream` on `inputs` (in `fluent_state`, for :fluents), made on first use.
+  int instance(int stream, const std::vector<ObjectId>& inputs,
+               const std::optional<std::vector<FactKey>>& fluent_state = std::nullopt);
   Instance& instance_at(int id) { return *instances_[static_cast<std::size_t>(id)]; }
   std::size_t instance_count() const { return instances_.size(); }
   /// The environment of an instance's declaration for its inputs and, when given, outputs.
@@ -106,7 +126,8 @@ class FactBase {
   std::map<FactKey, FactInfo> facts_;
   std::map<int, std::vector<FactKey>> by_predicate_;  // every fact, optimistic ones too
   std::vector<std::unique_ptr<Instance>> instances_;
-  std::map<std::pair<int, std::vector<ObjectId>>, int> instance_ids_;
+  std::map<FactKey, std::vector<FactInfo>> state_facts_;
+  std::map<std::tuple<int, std::vector<ObjectId>, std::optional<std::vector<FactKey>>>, int> instance_ids_;
 };
 
 }  // namespace cluttertamp::stream::detail

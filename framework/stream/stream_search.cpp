@@ -37,9 +37,13 @@ struct Step {
 };
 
 /// One stream instance of a stream plan; `negated`: a test that must come out false.
+/// A stream with :fluents is evaluated in the state before action `step` (the goal's
+/// state when it is the plan's length); -1 for the others.
 struct PlannedInstance {
   int instance = 0;
   bool negated = false;
+  int step = -1;
+  auto operator<=>(const PlannedInstance&) const = default;
 };
 
 /// A node of the binding tree: optimistic objects bound so far, the next instance of
@@ -132,9 +136,18 @@ class StreamSearch {
 
   void check_bindings() const {
     Diagnostics d;
+    const std::set<std::string> negated = negated_predicates(domain_, *problem_.problem);
     for (const StreamDecl& s : problem_.streams->streams) {
-      if (!s.fluents.empty()) {
-        d.error(s.where, "'" + s.name + "' reads :fluents, which the stream search does not support yet");
+      if (!s.fluents.empty() && options_.algorithm == Algorithm::incremental) {
+        d.error(s.where, "'" + s.name + "' reads :fluents, which only the adaptive search supports (as in PDDLStream)");
+      }
+      if (!s.fluents.empty() && s.is_test()) {
+        for (const pddl::Atom& c : s.certified) {
+          if (negated.count(c.predicate)) {
+            d.error(s.where, "test '" + s.name + "' reads :fluents and certifies '" + c.predicate +
+                                 "', which the domain uses negated: a state-dependent test cannot decide a negated fact");
+          }
+        }
       }
       if (s.kind == StreamDecl::Kind::rule) continue;
       const auto it = problem_.bindings.find(s.name);
@@ -185,8 +198,8 @@ class StreamSearch {
     const Env env = base_.env_of(inst);
     for (const pddl::Atom& a : base_.decl(inst.stream).domain) {
       const auto fact = base_.ground(a, env);
-      const FactInfo* info = fact ? base_.fact(*fact) : nullptr;
-      if (!info || info->optimistic) return std::nullopt;
+      const FactInfo* info = fact ? base_.real_fact(*fact) : nullptr;
+      if (!info) return std::nullopt;
       c = std::max(c, info->complexity);
     }
     return c;
@@ -216,7 +229,13 @@ class StreamSearch {
     if (!inst.generator) {
       std::vector<plugin::StreamValue> inputs;
       for (ObjectId o : inst.inputs) inputs.push_back(value_of(o));
-      inst.generator = problem_.bindings.at(d.name)->instantiate(context_, d.name, inputs);
+      std::vector<plugin::StreamFact> fluents;
+      for (const FactKey& f : inst.fluent_state.value_or(std::vector<FactKey>{})) {
+        plugin::StreamFact fact{base_.predicate_name(f[0]), {}};
+        for (std::size_t i = 1; i < f.size(); ++i) fact.args.push_back(value_of(f[i]));
+        fluents.push_back(std::move(fact));
+      }
+      inst.generator = problem_.bindings.at(d.name)->instantiate(context_, d.name, inputs, fluents);
       ++out_.statistics.stream_instances;
       if (!inst.generator) {
         inst.exhausted = true;
@@ -274,7 +293,10 @@ class StreamSearch {
     const Instance& inst = base_.instance_at(id);
     const Env env = base_.env_of(inst, &outputs);
     for (const pddl::Atom& a : base_.decl(inst.stream).certified) {
-      if (const auto fact = base_.ground(a, env)) base_.add_fact(*fact, FactInfo{false, complexity, id});
+      const auto fact = base_.ground(a, env);
+      if (!fact) continue;
+      if (inst.fluent_state) base_.add_state_fact(*fact, FactInfo{false, complexity, id});
+      else base_.add_fact(*fact, FactInfo{false, complexity, id});
     }
   }
 
@@ -324,12 +346,6 @@ class StreamSearch {
       if ((o.optimistic && !optimistic) || constants.count(o.name)) continue;
       p.objects.push_back({o.name, o.types, {}});
     }
-    auto atom_of = [&](const FactKey& f) {
-      pddl::Atom a;
-      a.predicate = base_.predicate_name(f[0]);
-      for (std::size_t i = 1; i < f.size(); ++i) a.args.push_back({base_.object(f[i]).name, false, {}});
-      return a;
-    };
     for (const FactKey& f : initial_state_) p.init.push_back(atom_of(f));
     for (const auto& [fact, info] : base_.facts()) {
       // Predicates the domain does not declare are the streams' own: not for the search.
@@ -390,25 +406,59 @@ class StreamSearch {
 
   // ---- checking plans ---------------------------------------------------------
 
+  /// Where a plan needs its facts: the steps whose precondition or effect conditions
+  /// rest on each fact (the plan's length for the goal), and the state before each step.
+  struct Uses {
+    std::map<FactKey, std::set<int>> steps;
+    std::vector<State> states;  ///< before each step, then the final state
+  };
+
   // The support of a plan: every precondition and the goal, state by state.
-  std::optional<Support> plan_support(const std::vector<Step>& steps, bool optimistic) {
+  std::optional<Support> plan_support(const std::vector<Step>& steps, bool optimistic, Uses* uses = nullptr) {
     SupportEvaluator evaluator(domain_, base_, negated_tests_, optimistic);
     Support total;
     State state = initial_state_;
-    for (const Step& s : steps) {
-      Env env;
-      for (std::size_t i = 0; i < s.action->parameters.size(); ++i) env[s.action->parameters[i].name] = s.args[i];
-      auto pre = evaluator.support(s.action->precondition, env, state, true);
+    auto use = [&](const Support& s, int step) {
+      total.merge(s);
+      if (!uses) return;
+      for (const FactKey& f : s.facts) uses->steps[f].insert(step);
+    };
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      if (uses) uses->states.push_back(state);
+      Env env = env_of(steps[k]);
+      auto pre = evaluator.support(steps[k].action->precondition, env, state, true);
       if (!pre) return std::nullopt;
-      total.merge(*pre);
       State next;
-      if (!evaluator.apply(s.action->effect, env, state, next, total)) return std::nullopt;
+      Support conditions;
+      if (!evaluator.apply(steps[k].action->effect, env, state, next, conditions)) return std::nullopt;
+      use(*pre, static_cast<int>(k));
+      use(conditions, static_cast<int>(k));
       state = std::move(next);
     }
+    if (uses) uses->states.push_back(state);
     auto goal = evaluator.support(problem_.problem->goal, {}, state, true);
     if (!goal) return std::nullopt;
-    total.merge(*goal);
+    use(*goal, static_cast<int>(steps.size()));
     return total;
+  }
+
+  static Env env_of(const Step& s) {
+    Env env;
+    for (std::size_t i = 0; i < s.action->parameters.size(); ++i) env[s.action->parameters[i].name] = s.args[i];
+    return env;
+  }
+
+  // The state before step `k` of `steps` (the final state for k = steps.size()).
+  State state_before(const std::vector<Step>& steps, std::size_t k) {
+    SupportEvaluator evaluator(domain_, base_, negated_tests_, true);
+    State state = initial_state_;
+    Support ignored;
+    for (std::size_t i = 0; i < k && i < steps.size(); ++i) {
+      State next;
+      evaluator.apply(steps[i].action->effect, env_of(steps[i]), state, next, ignored);
+      state = std::move(next);
+    }
+    return state;
   }
 
   // True when the plan holds with real facts, every negated test it relies on
@@ -461,12 +511,17 @@ class StreamSearch {
       out_.plan.push_back(std::move(out));
     }
     for (const auto& [fact, info] : base_.facts()) {
-      if (info.optimistic || info.certifier < 0) continue;
-      pddl::Atom a;
-      a.predicate = base_.predicate_name(fact[0]);
-      for (std::size_t i = 1; i < fact.size(); ++i) a.args.push_back({base_.object(fact[i]).name, false, {}});
-      out_.certified.push_back(std::move(a));
+      if (!info.optimistic && info.certifier >= 0) out_.certified.push_back(atom_of(fact));
     }
+    // Facts certified in a state hold where the plan uses them (verify() checked that).
+    for (const auto& [fact, infos] : base_.state_facts()) out_.certified.push_back(atom_of(fact));
+  }
+
+  pddl::Atom atom_of(const FactKey& f) const {
+    pddl::Atom a;
+    a.predicate = base_.predicate_name(f[0]);
+    for (std::size_t i = 1; i < f.size(); ++i) a.args.push_back({base_.object(f[i]).name, false, {}});
+    return a;
   }
 
   // ---- incremental --------------------------------------------------------------
@@ -533,6 +588,7 @@ class StreamSearch {
               r.name[0] = '@';
               r.name += std::to_string(id);
               r.optimistic = true;
+              r.maker = id;
               inst.optimistic_outputs.push_back(base_.add_object(std::move(r)));
             }
           }
@@ -548,29 +604,69 @@ class StreamSearch {
 
   // The stream plan behind the optimistic facts a plan relies on, in an order where
   // every instance comes after those making its inputs.
+  //
+  // An instance of a stream with :fluents is evaluated in the state before the first
+  // step that needs it (a test: before each such step), after the instances whose
+  // optimistic outputs that state holds; an instance it feeds needs it as early.
   std::optional<Skeleton> skeleton_of(const std::vector<Step>& steps) {
-    const auto support = plan_support(steps, true);
+    Uses uses;
+    const auto support = plan_support(steps, true, &uses);
     if (!support) return std::nullopt;
     Skeleton sk;
     sk.actions = steps;
-    std::set<int> placed;
-    std::function<void(int, bool)> place = [&](int id, bool negated) {
-      if (!placed.insert(id).second) return;
-      const Instance& inst = base_.instance_at(id);
+    auto optimistic_certifiers = [&](const Instance& inst) {
+      std::vector<int> out;
       const Env env = base_.env_of(inst);
       for (const pddl::Atom& a : base_.decl(inst.stream).domain) {
         const auto fact = base_.ground(a, env);
         const FactInfo* info = fact ? base_.fact(*fact) : nullptr;
-        if (info && info->optimistic && info->certifier >= 0) place(info->certifier, false);
+        if (info && info->optimistic && info->certifier >= 0) out.push_back(info->certifier);
       }
-      sk.stream_plan.push_back({id, negated});
+      return out;
+    };
+    // The steps at which each needed instance's facts are used.
+    std::map<int, std::set<int>> needed;
+    std::function<void(int, int)> need = [&](int id, int step) {
+      if (!needed[id].insert(step).second) return;
+      for (int d : optimistic_certifiers(base_.instance_at(id))) need(d, step);
     };
     for (const FactKey& f : support->facts) {
       const FactInfo* info = base_.fact(f);
-      if (info && info->optimistic) place(info->certifier, false);
+      if (!info || !info->optimistic) continue;
+      for (int step : uses.steps[f]) need(info->certifier, step);
+    }
+    auto entries = [&](int id, bool negated) {
+      const StreamDecl& d = base_.decl(base_.instance_at(id).stream);
+      const std::set<int>& at = needed[id];
+      if (d.fluents.empty() || at.empty()) return std::vector<PlannedInstance>{{id, negated, -1}};
+      if (!d.outputs.empty()) return std::vector<PlannedInstance>{{id, negated, *at.begin()}};
+      std::vector<PlannedInstance> out;
+      for (int step : at) out.push_back({id, negated, step});
+      return out;
+    };
+    std::set<PlannedInstance> placed;
+    std::function<void(const PlannedInstance&)> place = [&](const PlannedInstance& p) {
+      if (!placed.insert(p).second) return;
+      for (int d : optimistic_certifiers(base_.instance_at(p.instance))) {
+        for (const PlannedInstance& e : entries(d, false)) place(e);
+      }
+      if (p.step >= 0) {  // the makers of the optimistic objects in its state come first
+        for (const FactKey& f : base_.fluent_state(uses.states[static_cast<std::size_t>(p.step)], base_.instance_at(p.instance).stream)) {
+          for (std::size_t i = 1; i < f.size(); ++i) {
+            const ObjectRecord& o = base_.object(f[i]);
+            if (!o.optimistic || o.maker < 0) continue;
+            need(o.maker, p.step);
+            for (const PlannedInstance& e : entries(o.maker, false)) place(e);
+          }
+        }
+      }
+      sk.stream_plan.push_back(p);
+    };
+    for (const auto& [id, at] : std::map<int, std::set<int>>(needed)) {
+      for (const PlannedInstance& e : entries(id, false)) place(e);
     }
     for (const FactKey& f : support->negated) {
-      if (const auto id = test_instance(f)) place(*id, true);
+      if (const auto id = test_instance(f)) place({*id, true, -1});
     }
     std::ostringstream key;
     for (const Step& s : steps) {
@@ -585,6 +681,18 @@ class StreamSearch {
 
   enum class Move { moved, called, waiting };
 
+  static ObjectId bound(const Binding& b, ObjectId o) {
+    const auto it = b.mapping.find(o);
+    return it == b.mapping.end() ? o : it->second;
+  }
+
+  static std::vector<Step> bound_steps(std::vector<Step> steps, const Binding& b) {
+    for (Step& s : steps) {
+      for (ObjectId& o : s.args) o = bound(b, o);
+    }
+    return steps;
+  }
+
   // Evaluates one step of a skeleton's binding tree (its deepest binding). Returns a
   // finished plan, if any. An instance whose next call would exceed the level's
   // complexity waits, at the bottom of the stack, for the level to rise.
@@ -592,12 +700,7 @@ class StreamSearch {
     move = Move::moved;
     Binding& b = sk.stack.back();
     if (b.index == sk.stream_plan.size()) {
-      std::vector<Step> steps = sk.actions;
-      for (Step& s : steps) {
-        for (ObjectId& o : s.args) {
-          if (const auto it = b.mapping.find(o); it != b.mapping.end()) o = it->second;
-        }
-      }
+      std::vector<Step> steps = bound_steps(sk.actions, b);
       sk.stack.pop_back();
       if (verify(steps)) return steps;
       return std::nullopt;
@@ -605,11 +708,19 @@ class StreamSearch {
     const PlannedInstance planned = sk.stream_plan[b.index];
     const Instance& optimistic = base_.instance_at(planned.instance);
     std::vector<ObjectId> inputs;
-    for (ObjectId o : optimistic.inputs) {
-      const auto it = b.mapping.find(o);
-      inputs.push_back(it == b.mapping.end() ? o : it->second);
+    for (ObjectId o : optimistic.inputs) inputs.push_back(bound(b, o));
+    std::optional<std::vector<FactKey>> fluent_state;
+    if (planned.step >= 0) {
+      const State state = state_before(bound_steps(sk.actions, b), static_cast<std::size_t>(planned.step));
+      fluent_state = base_.fluent_state(state, optimistic.stream);
+      for (const FactKey& f : *fluent_state) {
+        if (std::any_of(f.begin() + 1, f.end(), [&](ObjectId o) { return base_.object(o).optimistic; })) {
+          sk.stack.pop_back();  // its state is not known yet (makers ordered in a cycle)
+          return std::nullopt;
+        }
+      }
     }
-    const int id = base_.instance(optimistic.stream, inputs);
+    const int id = base_.instance(optimistic.stream, inputs, fluent_state);
     Instance& inst = base_.instance_at(id);
     const std::optional<int> domain = inst.real ? real_domain(inst) : std::nullopt;
     if (!domain) {  // an earlier value broke this branch

@@ -208,7 +208,9 @@ std::optional<Support> SupportEvaluator::atom(const pddl::Atom& a, const Env& en
   if (is_derived) return derived;
   // Static: certified by a stream or given initially.
   const FactInfo* info = base_.fact(*fact);
-  const bool holds = info && (optimistic_ || !info->optimistic);
+  // A fact certified in a state (by a stream with :fluents) holds only where the
+  // state's fluents agree; the optimistic search uses its state-free optimistic version.
+  const bool holds = (info && (optimistic_ || !info->optimistic)) || (!optimistic_ && base_.holds_in_state(*fact, state));
   if (holds != polarity) return std::nullopt;
   Support s;
   if (polarity) s.facts.insert(*fact);

@@ -21,9 +21,6 @@ struct Support {
   void merge(const Support& other);
 };
 
-/// The fluent facts that hold in a state; static facts live in the FactBase.
-using State = std::set<FactKey>;
-
 class SupportEvaluator {
  public:
   /// `negated_tests`: predicates certified by tests that the domain uses negated; they

@@ -368,7 +368,8 @@ class ClutterStreams final : public plugin::StreamSampler {
   }
 
   std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext& context, std::string_view stream,
-                                                       const std::vector<StreamValue>& in) override {
+                                                       const std::vector<StreamValue>& in,
+                                                       const std::vector<plugin::StreamFact>&) override {
     if (!context.world || !context.problem.robot.loaded || !context.samplers.grasp || !context.samplers.placement ||
         !context.samplers.motion) {
       throw std::invalid_argument("clutter_streams needs a robot and grasp, placement and motion samplers");

@@ -67,7 +67,8 @@ class CountingStream final : public plugin::StreamSampler {
  public:
   void configure(const Parameters& parameters) override { count_ = parameters.get_int("rings", 2); }
   std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext&, std::string_view,
-                                                       const std::vector<plugin::StreamValue>&) override {
+                                                       const std::vector<plugin::StreamValue>&,
+                                                       const std::vector<plugin::StreamFact>&) override {
     struct Generator final : plugin::StreamGenerator {
       std::int64_t left;
       double next_value = 0;

@@ -38,6 +38,13 @@ struct StreamBatch {
   std::optional<Failure> failure;                 ///< why nothing was produced
 };
 
+/// A fact of the state a stream with :fluents is evaluated in: (AtPose o p) is
+/// {"atpose", {"o", <the pose of p>}}. Arguments are StreamValues as for inputs.
+struct StreamFact {
+  std::string predicate;  ///< lower case, as the domain declares it
+  std::vector<StreamValue> args;
+};
+
 /// A lazy generator for one stream instance (fixed inputs). Must not outlive the
 /// StreamSampler that created it.
 class CLUTTERTAMP_API StreamGenerator {
@@ -51,9 +58,14 @@ class CLUTTERTAMP_API StreamGenerator {
 class CLUTTERTAMP_API StreamSampler : public Plugin {
  public:
   ~StreamSampler() override;
-  virtual std::unique_ptr<StreamGenerator> instantiate(PlanningContext& context,
-                                                       std::string_view stream,
-                                                       const std::vector<StreamValue>& inputs) = 0;
+  /// A generator for `stream` on `inputs` (in the order of the stream's :inputs),
+  /// or nullptr when these inputs can make nothing. `fluents` is empty unless the stream
+  /// declares :fluents; then it holds every fact of those predicates in the state the
+  /// outputs will be used in (the state before the plan step that needs them), and the
+  /// outputs are trusted in that state only.
+  virtual std::unique_ptr<StreamGenerator> instantiate(PlanningContext& context, std::string_view stream,
+                                                       const std::vector<StreamValue>& inputs,
+                                                       const std::vector<StreamFact>& fluents) = 0;
 };
 
 template <>

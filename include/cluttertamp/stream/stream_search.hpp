@@ -24,7 +24,8 @@ namespace cluttertamp::stream {
 ///  - adaptive (focused): search with optimistic outputs for the streams not yet
 ///    evaluated, evaluate only the streams the optimistic plan needs (its stream plan,
 ///    refined as a tree of bindings in a skeleton queue), disable evaluated instances
-///    and re-enable them when the level rises.
+///    and re-enable them when the level rises. A stream with :fluents is evaluated in
+///    the state before the plan step that needs it, and what it certifies holds there.
 enum class Algorithm { adaptive, incremental };
 
 CLUTTERTAMP_API const char* algorithm_name(Algorithm algorithm);
@@ -92,9 +93,12 @@ struct StreamSolution {
 
 /// Solves a stream problem within `context.deadline`. Every returned plan is checked
 /// against the real facts: each precondition and the goal hold with facts the initial
-/// state or an evaluated stream certified. Throws InputError (at the declaration) for
-/// a stream, predicate or function without a binding, or one that uses :fluents (not
-/// supported yet); a planning failure is a solution with solved = false and a reason.
+/// state or an evaluated stream certified (a stream with :fluents: certified in the
+/// state where the plan uses them). Throws InputError (at the declaration) for a
+/// stream, predicate or function without a binding, a stream with :fluents under the
+/// incremental search (PDDLStream's incremental algorithm refuses them too), or a
+/// test with :fluents whose fact the domain uses negated; a planning failure is a
+/// solution with solved = false and a reason.
 CLUTTERTAMP_API StreamSolution solve(const StreamProblem& problem, plugin::PlanningContext& context,
                                      const StreamSearchOptions& options);
 
