@@ -94,7 +94,7 @@ class Grounder {
   CAtom atom(const pddl::Atom& a, const std::map<std::string, int>& scope) const;
   CFormula formula(const Formula& f, std::map<std::string, int> scope, int& slots);
   CEffect effect(const Effect& e, std::map<std::string, int> scope, int& slots);
-  void collect_core(const CFormula& f, std::vector<CAtom>& core) const;
+  void collect_core(const CFormula& f, std::vector<CAtom>& core, std::vector<int> quantified = {}) const;
   static void collect_predicates(const CFormula& f, std::vector<int>& out);
   static bool has_when(const CEffect& e) {
     if (e.kind == Effect::Kind::when) return true;
@@ -264,11 +264,21 @@ CEffect Grounder::effect(const Effect& e, std::map<std::string, int> scope, int&
   return out;
 }
 
-void Grounder::collect_core(const CFormula& f, std::vector<CAtom>& core) const {
+// Positive atoms every binding that satisfies `f` has reached. An (exists ...) holds
+// only with its body's atoms, so those among them that name none of its variables
+// count too: (Pose ?o ?p) inside UnsafePose's exists binds the axiom's parameters from
+// the poses instead of from every pair of objects.
+void Grounder::collect_core(const CFormula& f, std::vector<CAtom>& core, std::vector<int> quantified) const {
   if (f.kind == Formula::Kind::conjunction) {
-    for (const CFormula& c : f.children) collect_core(c, core);
+    for (const CFormula& c : f.children) collect_core(c, core, quantified);
+  } else if (f.kind == Formula::Kind::exists) {
+    quantified.insert(quantified.end(), f.slots.begin(), f.slots.end());
+    collect_core(f.children.at(0), core, quantified);
   } else if (f.kind == Formula::Kind::atom && f.atom.predicate >= 0) {
-    core.push_back(f.atom);
+    const bool free = std::none_of(f.atom.args.begin(), f.atom.args.end(), [&](const CTerm& t) {
+      return t.variable && std::find(quantified.begin(), quantified.end(), t.value) != quantified.end();
+    });
+    if (free) core.push_back(f.atom);
   }
 }
 

@@ -79,6 +79,11 @@ const FactInfo* FactBase::fact(const FactKey& fact) const {
   return it == facts_.end() ? nullptr : &it->second;
 }
 
+std::size_t FactBase::fact_count(const std::string& predicate) {
+  const auto it = by_predicate_.find(predicate_id(predicate));
+  return it == by_predicate_.end() ? 0 : it->second.size();
+}
+
 void FactBase::add_state_fact(const FactKey& fact, const FactInfo& info) { state_facts_[fact].push_back(info); }
 
 const FactInfo* FactBase::real_fact(const FactKey& fact) const {

@@ -82,6 +82,8 @@ class FactBase {
   const FactInfo* fact(const FactKey& fact) const;
   void clear_optimistic();
   const std::map<FactKey, FactInfo>& facts() const { return facts_; }
+  /// Facts of `predicate`, optimistic ones included.
+  std::size_t fact_count(const std::string& predicate);
 
   /// A fact an instance with a fluent state certified: it holds in that state only, so
   /// it is kept apart from the facts above (which the symbolic search sees).

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <deque>
 #include <functional>
+#include <limits>
+#include <utility>
 #include <sstream>
 
 #include "cluttertamp/search/grounding.hpp"
@@ -559,14 +561,21 @@ class StreamSearch {
   bool instantiate_optimistic(int level) {
     base_.clear_optimistic();
     bool pruned = false;
+    // A stream none of whose domain predicates gained facts since its last pass has no
+    // new bindings (free inputs range over the real objects, which do not change here).
+    const std::size_t streams = problem_.streams->streams.size();
+    std::vector<std::size_t> seen(streams, std::numeric_limits<std::size_t>::max());
     for (bool changed = true; changed;) {
       changed = false;
-      for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
+      for (int s = 0; s < static_cast<int>(streams); ++s) {
         // High levels of a generative domain make many instances: keep the time limit.
         if (context_.deadline.expired()) throw search::TimeLimit("time limit (optimistic instantiation)");
         const StreamDecl& d = base_.decl(s);
         if (d.kind == StreamDecl::Kind::function) continue;
         if (d.is_test() && negated_tests_.count(d.certified.front().predicate)) continue;  // false until tested
+        std::size_t facts = 0;
+        for (const pddl::Atom& a : d.domain) facts += base_.fact_count(a.predicate);
+        if (std::exchange(seen[static_cast<std::size_t>(s)], facts) == facts) continue;
         std::vector<std::pair<std::vector<ObjectId>, int>> found;
         base_.bindings(d.inputs, d.domain, true,
                        [&](const std::vector<ObjectId>& inputs, int c) { found.emplace_back(inputs, c); });
