@@ -63,8 +63,7 @@ std::string FactBase::str(const FactKey& fact) const {
 bool FactBase::add_fact(const FactKey& fact, const FactInfo& info) {
   const auto it = facts_.find(fact);
   if (it == facts_.end()) {
-    facts_.emplace(fact, info);
-    by_predicate_[fact[0]].push_back(fact);
+    by_predicate_[fact[0]].push_back(&*facts_.emplace(fact, info).first);
     return true;
   }
   if (it->second.optimistic && !info.optimistic) {
@@ -112,37 +111,46 @@ std::vector<FactKey> FactBase::fluent_state(const State& state, int stream) {
 }
 
 void FactBase::clear_optimistic() {
+  for (auto& [predicate, list] : by_predicate_) {
+    list.erase(std::remove_if(list.begin(), list.end(), [](const FactEntry* e) { return e->second.optimistic; }), list.end());
+  }
   for (auto it = facts_.begin(); it != facts_.end();) {
     it = it->second.optimistic ? facts_.erase(it) : std::next(it);
-  }
-  for (auto& [predicate, list] : by_predicate_) {
-    list.erase(std::remove_if(list.begin(), list.end(), [&](const FactKey& f) { return !facts_.count(f); }), list.end());
   }
 }
 
 void FactBase::bindings(const std::vector<pddl::Term>& inputs, const std::vector<pddl::Atom>& domain,
                         bool with_optimistic, const std::function<void(const std::vector<ObjectId>&, int)>& visit) {
-  // Inputs that no domain atom binds range over every real object.
-  std::vector<std::string> free;
-  for (const pddl::Term& in : inputs) {
-    const bool covered = std::any_of(domain.begin(), domain.end(), [&](const pddl::Atom& a) {
-      return std::any_of(a.args.begin(), a.args.end(), [&](const pddl::Term& t) { return t.name == in.name; });
-    });
-    if (!covered) free.push_back(in.name);
+  // Variables become slots, so that matching compares integers instead of names.
+  std::map<std::string, int> slot_of;
+  auto slot = [&](const std::string& name) { return slot_of.emplace(name, static_cast<int>(slot_of.size())).first->second; };
+  std::vector<Pattern> patterns;
+  for (const pddl::Atom& a : domain) {
+    Pattern p{predicate_id(a.predicate), {}};
+    for (const pddl::Term& t : a.args) {
+      const auto id = t.variable ? std::nullopt : find(t.name);
+      p.args.push_back(t.variable ? slot(t.name) : id ? -1 - *id : kNoObject);
+    }
+    patterns.push_back(std::move(p));
   }
-  const std::vector<ObjectId> everything = objects_of({"object"}, false);
-  Env env;
-  match(domain, 0, env, 0, with_optimistic, [&](const Env& bound, int complexity) {
-    Env local = bound;
+  // Inputs that no domain atom binds range over every real object.
+  std::vector<int> free, input_slots;
+  for (const pddl::Term& in : inputs) {
+    if (!slot_of.count(in.name)) free.push_back(slot(in.name));
+    input_slots.push_back(slot_of.at(in.name));
+  }
+  const std::vector<ObjectId> everything = free.empty() ? std::vector<ObjectId>{} : objects_of({"object"}, false);
+  std::vector<ObjectId> slots(slot_of.size(), -1);
+  std::vector<ObjectId> values(inputs.size());
+  match(patterns, 0, slots, 0, with_optimistic, [&](int complexity) {
     std::function<void(std::size_t)> each = [&](std::size_t k) {
       if (k == free.size()) {
-        std::vector<ObjectId> values;
-        for (const pddl::Term& in : inputs) values.push_back(local.at(in.name));
+        for (std::size_t i = 0; i < input_slots.size(); ++i) values[i] = slots[static_cast<std::size_t>(input_slots[i])];
         visit(values, complexity);
         return;
       }
       for (ObjectId o : everything) {
-        local[free[k]] = o;
+        slots[static_cast<std::size_t>(free[k])] = o;
         each(k + 1);
       }
     };
@@ -150,34 +158,34 @@ void FactBase::bindings(const std::vector<pddl::Term>& inputs, const std::vector
   });
 }
 
-void FactBase::match(const std::vector<pddl::Atom>& domain, std::size_t i, Env& env, int complexity, bool with_optimistic,
-                     const std::function<void(const Env&, int)>& visit) {
-  if (i == domain.size()) return visit(env, complexity);
-  const pddl::Atom& atom = domain[i];
-  const auto list_it = by_predicate_.find(predicate_id(atom.predicate));
+void FactBase::match(const std::vector<Pattern>& patterns, std::size_t i, std::vector<ObjectId>& slots, int complexity,
+                     bool with_optimistic, const std::function<void(int)>& visit) const {
+  if (i == patterns.size()) return visit(complexity);
+  const Pattern& pattern = patterns[i];
+  const auto list_it = by_predicate_.find(pattern.predicate);
   if (list_it == by_predicate_.end()) return;
-  // By index and by copy: `visit` may add facts to this very list.
+  std::vector<std::size_t> bound_here;
+  // By index: `visit` may add facts to this very list (the entries themselves stay put).
   for (std::size_t k = 0, n = list_it->second.size(); k < n; ++k) {
-    const FactKey fact = list_it->second[k];
-    if (fact.size() != atom.args.size() + 1) continue;
-    const FactInfo& info = facts_.at(fact);
-    if (info.optimistic && !with_optimistic) continue;
-    std::vector<std::string> bound_here;
+    const FactEntry& entry = *list_it->second[k];
+    const FactKey& fact = entry.first;
+    if (fact.size() != pattern.args.size() + 1 || (entry.second.optimistic && !with_optimistic)) continue;
+    bound_here.clear();
     bool fits = true;
-    for (std::size_t a = 0; a < atom.args.size() && fits; ++a) {
-      const pddl::Term& t = atom.args[a];
-      if (!t.variable) {
-        const auto id = find(t.name);
-        fits = id && *id == fact[a + 1];
-      } else if (const auto it = env.find(t.name); it != env.end()) {
-        fits = it->second == fact[a + 1];
+    for (std::size_t a = 0; a < pattern.args.size() && fits; ++a) {
+      const int arg = pattern.args[a];
+      const ObjectId value = fact[a + 1];
+      if (arg < 0) {
+        fits = arg != kNoObject && -1 - arg == value;
+      } else if (ObjectId& bound = slots[static_cast<std::size_t>(arg)]; bound >= 0) {
+        fits = bound == value;
       } else {
-        env[t.name] = fact[a + 1];
-        bound_here.push_back(t.name);
+        bound = value;
+        bound_here.push_back(static_cast<std::size_t>(arg));
       }
     }
-    if (fits) match(domain, i + 1, env, std::max(complexity, info.complexity), with_optimistic, visit);
-    for (const std::string& v : bound_here) env.erase(v);
+    if (fits) match(patterns, i + 1, slots, std::max(complexity, entry.second.complexity), with_optimistic, visit);
+    for (std::size_t s : bound_here) slots[s] = -1;
   }
 }
 

@@ -2,6 +2,7 @@
 // Internal: the objects, facts and stream instances a stream search works on.
 
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -116,8 +117,14 @@ class FactBase {
   const StreamDecl& decl(int stream) const { return streams_.streams[static_cast<std::size_t>(stream)]; }
 
  private:
-  void match(const std::vector<pddl::Atom>& domain, std::size_t i, Env& env, int complexity, bool with_optimistic,
-             const std::function<void(const Env&, int)>& visit);
+  /// A domain atom with its variables as slots of a binding.
+  struct Pattern {
+    int predicate = 0;
+    std::vector<int> args;  ///< >= 0: a slot; < 0: the object -1 - arg (kNoObject: an unknown constant)
+  };
+  static constexpr int kNoObject = std::numeric_limits<int>::min();
+  void match(const std::vector<Pattern>& patterns, std::size_t i, std::vector<ObjectId>& slots, int complexity,
+             bool with_optimistic, const std::function<void(int)>& visit) const;
 
   const pddl::Domain& domain_;
   const StreamFile& streams_;
@@ -126,7 +133,8 @@ class FactBase {
   std::vector<std::string> predicate_names_;
   std::map<std::string, int> predicate_ids_;
   std::map<FactKey, FactInfo> facts_;
-  std::map<int, std::vector<FactKey>> by_predicate_;  // every fact, optimistic ones too
+  using FactEntry = std::pair<const FactKey, FactInfo>;
+  std::map<int, std::vector<const FactEntry*>> by_predicate_;  // every fact in facts_, optimistic ones too
   std::vector<std::unique_ptr<Instance>> instances_;
   std::map<FactKey, std::vector<FactInfo>> state_facts_;
   std::map<std::tuple<int, std::vector<ObjectId>, std::optional<std::vector<FactKey>>>, int> instance_ids_;
