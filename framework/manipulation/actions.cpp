@@ -107,8 +107,25 @@ void append(Trajectory& t, const Trajectory& rest) {
   }
 }
 
-// A transfer to a grasp's pre-grasp `pregrasp` through a staging pose further back
-// along the approach, reached by a straight tool line from there: a planned motion to
+// The straight way out of the clutter from `from` (tool pose world_T_tool): back along
+// `back`, or, when that line is blocked before kShortestStaging, towards the exit x_s
+// if that line goes further (a diagonal approach can back the arm into a neighbour:
+// the stacked8 target's approach line stopped at 4 cm, on side_1).
+std::vector<Eigen::VectorXd> way_out(plugin::PlanningContext& context, const WorldState& state,
+                                     const Eigen::Isometry3d& world_T_tool, const Eigen::Vector3d& back,
+                                     const Eigen::VectorXd& from) {
+  std::vector<Eigen::VectorXd> line = back_off_line(context, state, world_T_tool, back, from);
+  Eigen::Vector3d to_exit = context.scene().world_T_exit.translation() - world_T_tool.translation();
+  to_exit.z() = 0.0;
+  if (!long_enough(line) && to_exit.norm() > 1e-6 && to_exit.normalized().dot(back) < 0.99) {
+    std::vector<Eigen::VectorXd> straight = back_off_line(context, state, world_T_tool, to_exit.normalized(), from);
+    if (straight.size() > line.size()) line = std::move(straight);
+  }
+  return line;
+}
+
+// A transfer to a grasp's pre-grasp `pregrasp` through a staging pose on the straight
+// way out from it (way_out), reached by that tool line from there: a planned motion to
 // the staging pose (usually in the open, in front of the clutter), then that line —
 // the planner's trees find narrow ways into clutter slowly. Nothing without a free
 // line of at least kShortestStaging: pick's second pass plans to the pre-grasp itself,
@@ -119,7 +136,7 @@ std::optional<Trajectory> staged_transfer(plugin::PlanningContext& context, cons
   const robot::RobotDescription& robot = context.robot();
   const Eigen::Vector3d back = grasp.world_T_pregrasp.translation() - grasp.world_T_gripper.translation();
   if (back.norm() > 1e-6) {
-    std::vector<Eigen::VectorXd> line = back_off_line(context, state, grasp.world_T_pregrasp, back.normalized(), pregrasp);
+    std::vector<Eigen::VectorXd> line = way_out(context, state, grasp.world_T_pregrasp, back.normalized(), pregrasp);
     if (long_enough(line)) {
       auto to_staging = move(context, state, line.back(), failure);
       if (to_staging) {
@@ -154,17 +171,7 @@ std::optional<Trajectory> move_out(plugin::PlanningContext& context, const World
   Eigen::Vector3d back = -world_T_tool.linear().col(2);
   back.z() = 0.0;
   if (back.norm() > 0.5) {
-    std::vector<Eigen::VectorXd> line =
-        back_off_line(context, state, world_T_tool, back.normalized(), state.robot_configuration);
-    // A diagonal approach can back the arm into a neighbour: then straight towards the
-    // exit x_s (the stacked8 target's approach line stopped at 4 cm, on side_1).
-    Eigen::Vector3d to_exit = context.scene().world_T_exit.translation() - world_T_tool.translation();
-    to_exit.z() = 0.0;
-    if (!long_enough(line) && to_exit.norm() > 1e-6 && to_exit.normalized().dot(back.normalized()) < 0.99) {
-      std::vector<Eigen::VectorXd> straight =
-          back_off_line(context, state, world_T_tool, to_exit.normalized(), state.robot_configuration);
-      if (straight.size() > line.size()) line = std::move(straight);
-    }
+    std::vector<Eigen::VectorXd> line = way_out(context, state, world_T_tool, back.normalized(), state.robot_configuration);
     if (long_enough(line)) {
       WorldState outside = state;
       outside.robot_configuration = line.back();
