@@ -387,6 +387,14 @@ CollisionReport CollisionWorld::check(const Eigen::VectorXd& q, Context& context
   return report;
 }
 
+bool CollisionWorld::touches_object(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored) const {
+  const Impl& w = *impl_;
+  Context::State& c = *context.state_;
+  w.pose_robot(q, c);
+  CollideData movable{ignored, true};
+  return w.hits(w.movable_manager, c, movable);
+}
+
 std::vector<std::pair<std::size_t, std::size_t>> CollisionWorld::self_contacts(const Eigen::VectorXd& q,
                                                                                Context& context) const {
   const Impl& w = *impl_;

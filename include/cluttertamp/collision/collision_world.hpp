@@ -94,6 +94,10 @@ class CLUTTERTAMP_API CollisionWorld {
   /// Everything the configuration collides with — the full set of movable objects,
   /// not the first one hit: the robot-obstacle feedback of the retrieval graph.
   CollisionReport check(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored = {}) const;
+  /// True when the robot or held object at q touches a present movable object (those
+  /// in `ignored` excepted); self and fixed contacts are not looked at. Stops at the
+  /// first contact: a cheap test of a known-free path against one more object.
+  bool touches_object(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored = {}) const;
   /// The pairs of robot links (lower index first, sorted) in contact at q, among the
   /// pairs the description does not disable: what `cluttertamp self-collisions` counts.
   std::vector<std::pair<std::size_t, std::size_t>> self_contacts(const Eigen::VectorXd& q, Context& context) const;
