@@ -14,3 +14,11 @@ if(NOT TARGET cluttertamp_ompl)
   target_include_directories(cluttertamp_ompl SYSTEM INTERFACE ${OMPL_INCLUDE_DIRS})
   target_link_libraries(cluttertamp_ompl INTERFACE ${OMPL_LIBRARIES})
 endif()
+# Bullet: module mode (Debian's config file has broken relative paths); single
+# precision. Wrapped like OMPL, headers as SYSTEM; the core library's physics/ only.
+find_package(Bullet REQUIRED)
+if(NOT TARGET cluttertamp_bullet)
+  add_library(cluttertamp_bullet INTERFACE)
+  target_include_directories(cluttertamp_bullet SYSTEM INTERFACE ${BULLET_INCLUDE_DIRS})
+  target_link_libraries(cluttertamp_bullet INTERFACE ${BULLET_LIBRARIES})
+endif()

@@ -82,7 +82,7 @@ struct SelfCollisionArgs {
 int self_collisions(const SelfCollisionArgs& args);
 
 struct BenchArgs {
-  std::string what;  ///< "collision" or "pddl"
+  std::string what;  ///< "collision", "pddl", "samplers", "retrieval" or "physics"
   std::uint64_t seed = 1;
   std::size_t samples = 5000;
   int objects = 20;
@@ -116,6 +116,9 @@ struct CompareArgs {
 int compare(const CompareArgs& args);
 
 int bench_collision(const BenchArgs& args);
+/// Pushing physics speed (times real time) on a generated shelf; exit code 0 when the
+/// 10-object goal (>= 20) is met or another size was asked for, 1 otherwise.
+int bench_physics(const BenchArgs& args);
 /// Prints a table per instance and search; exit code 0.
 int bench_pddl(const BenchArgs& args);
 /// Grasp, motion and pick-and-place medians; exit code 0 when every goal is met.

@@ -148,13 +148,13 @@ int main(int argc, char** argv) {
       "bench",
       "Measure speed: 'collision' times FK, IK, collision and sweep queries; 'pddl' times searches on PDDL instances; "
       "'samplers' times grasp, motion and pick-and-place queries; 'retrieval' runs the retrieval planners on shelves "
-      "(Tables I, V and VI of Tian et al.)");
+      "(Tables I, V and VI of Tian et al.); 'physics' times the pushing physics against real time");
   bench->add_option("what", bench_args.what, "What to measure")
       ->required()
-      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval"}));
+      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval", "physics"}));
   bench->add_option("--seed", bench_args.seed, "Seed of the generated scene and samples")->capture_default_str();
   bench->add_option("--samples", bench_args.samples, "collision: queries per measurement; samplers: 1000 per generated scene")->capture_default_str()->check(CLI::Range(500, 10000000));
-  bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf")->capture_default_str()->check(CLI::Range(1, 60));
+  auto* objects_option = bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf (physics: default 10)")->capture_default_str()->check(CLI::Range(1, 60));
   bench->add_option("--json", bench_args.json, "Also write the results as JSON to this file");
   bench_args.pddl_instances = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "test/data/pddl";
   bench->add_option("--instances", bench_args.pddl_instances, "pddl: directory of <family>/{domain,p*}.pddl")
@@ -240,6 +240,10 @@ int main(int argc, char** argv) {
       if (bench_args.what == "pddl") return cli::bench_pddl(bench_args);
       if (bench_args.what == "samplers") return cli::bench_samplers(bench_args);
       if (bench_args.what == "retrieval") return cli::bench_retrieval(bench_args);
+      if (bench_args.what == "physics") {
+        if (!objects_option->count()) bench_args.objects = 10;  // the speed goal is for 10
+        return cli::bench_physics(bench_args);
+      }
       return cli::bench_collision(bench_args);
     }
     if (*pddl) return cli::pddl(pddl_args);

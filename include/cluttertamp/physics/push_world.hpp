@@ -1,0 +1,84 @@
+#pragma once
+// Planar pushing physics (Papallas & Dogar, ICRA 2020, Section III): a gripper moving
+// in the shelf plane pushes the movable objects, which slide on their support under
+// friction. Bullet does the dynamics; it stays in the .cpp file.
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cluttertamp/core/scene.hpp"
+#include "cluttertamp/core/world_state.hpp"
+#include "cluttertamp/export.hpp"
+
+namespace cluttertamp::physics {
+
+/// A body in the plane: pose (x, y in m, yaw in rad, world frame) and its rate of
+/// change (m/s, m/s, rad/s).
+struct PlanarBody {
+  Eigen::Vector3d pose = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+/// The state of a pushing problem: the gripper's planar pose and every scene object's
+/// planar body, indexed like Scene::objects (objects removed in the initial world state
+/// and fixed objects keep their entry and never move).
+struct PushState {
+  Eigen::Vector3d gripper = Eigen::Vector3d::Zero();  ///< x, y (m), yaw (rad)
+  std::vector<PlanarBody> objects;
+};
+
+/// A control: the gripper's planar velocity (vx, vy in m/s, yaw rate in rad/s, world
+/// frame) held for `duration` seconds.
+struct PushControl {
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  double duration = 0.0;
+};
+
+struct PushSettings {
+  double time_step = 1.0 / 240.0;  ///< s per physics step (a control's duration is split evenly)
+  /// The gripper as a box (full edge lengths, m) in its own frame: x along the push
+  /// direction at yaw 0, y across it, z up. Defaults: a parallel gripper seen from above.
+  Eigen::Vector3d gripper_size{0.04, 0.12, 0.06};
+  double gripper_clearance = 0.01;  ///< m between the support plane and the gripper's bottom
+  double fall_drop = 0.02;          ///< m an object's centre must sink to count as fallen
+};
+
+/// What a propagation did besides the new state.
+struct PushOutcome {
+  PushState state;
+  bool gripper_hit_fixed = false;       ///< the gripper entered fixed geometry (walls, boards)
+  std::vector<ObjectIndex> fallen;      ///< objects that left their support (sorted)
+  std::vector<ObjectIndex> touched;     ///< objects the gripper touched (sorted)
+};
+
+/// The physics of one scene. Every propagation starts from a fresh simulation of the
+/// given state, so the same state and control give the same outcome, bit for bit.
+/// Objects slide and turn about z only (they do not tip); gravity holds them on their
+/// support, whose friction is each object's `friction`; fixed bodies are static.
+class CLUTTERTAMP_API PushWorld {
+ public:
+  /// `initial` says which objects are present (removed ones take no part). The plane
+  /// the gripper moves in: the bottom of the target, raised by gripper_clearance.
+  /// Throws std::invalid_argument for a movable object without a positive mass.
+  PushWorld(const Scene& scene, const WorldState& initial, PushSettings settings = {});
+  ~PushWorld();
+  PushWorld(const PushWorld&) = delete;
+  PushWorld& operator=(const PushWorld&) = delete;
+
+  /// The objects of `initial` at rest and the gripper at `gripper` (x, y, yaw).
+  PushState state_of(const WorldState& initial, const Eigen::Vector3d& gripper) const;
+
+  /// Simulates `control` from `from`. Precondition: `from` has one body per scene object.
+  PushOutcome propagate(const PushState& from, const PushControl& control) const;
+
+  const PushSettings& settings() const;
+  double plane_z() const;  ///< height of the gripper's bottom, m
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace cluttertamp::physics
