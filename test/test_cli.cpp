@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -9,6 +10,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/physics/push_world.hpp"
 #include "test_support.hpp"
 
 namespace cluttertamp {
@@ -470,6 +473,56 @@ TEST(CliPddl, ExitCodesForBadInputAndNoPlan) {
   EXPECT_NE(limited.output.find("no plan: expansion limit"), std::string::npos) << limited.output;
   EXPECT_EQ(run("pddl " + pddl_file("blocks/domain.pddl") + " " + pddl_file("blocks/p4-1.pddl") + " --search magic").exit_code, 2);
   EXPECT_EQ(run("pddl " + pddl_file("blocks/domain.pddl") + " /no/such/problem.pddl").exit_code, 2);
+}
+
+// Reaching through clutter by pushing: both kinodynamic planners solve the easy shelf,
+// and replaying the plan's controls through the physics from the start reaches the
+// target with nothing off the shelf and no wall entered.
+TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
+  const fs::path problem_file = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/easy.yaml";
+  const Problem problem = io::load_problem(problem_file);
+  const Scene& scene = problem.scene;
+  const WorldState initial = WorldState::initial(scene);
+  const physics::PushWorld world(scene, initial);
+  for (const std::string planner : {"rrt", "kpiece"}) {
+    SCOPED_TRACE(planner);
+    const fs::path file = dir_ / ("push_" + planner + ".yaml");
+    std::ifstream in(problem_file);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    yaml.replace(yaml.find("scene: easy-scene.yaml"), 22, "scene: " + (problem_file.parent_path() / "easy-scene.yaml").string());
+    yaml.replace(yaml.find("../../domains"), 13, std::string(CLUTTERTAMP_SOURCE_DIR) + "/domains");
+    yaml.replace(yaml.find("planner: rrt"), 12, "planner: " + planner);
+    std::ofstream(file) << yaml;
+    const CliRun r = plan(file, "--seed 1");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = result();
+    EXPECT_EQ(j["task"]["type"], "reach");
+    ASSERT_EQ(j["plan"].size(), 1u);
+    const std::vector<double> controls = j["plan"][0]["values"]["controls"].get<std::vector<double>>();
+    ASSERT_FALSE(controls.empty());
+    ASSERT_EQ(controls.size() % 4, 0u);
+    const Eigen::Vector3d start(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+    physics::PushState state = world.state_of(initial, start);
+    for (std::size_t i = 0; i < controls.size(); i += 4) {
+      // OMPL propagates a control step by step (0.1 s each): replay it the same way.
+      const int steps = static_cast<int>(std::lround(controls[i + 3] / 0.1));
+      for (int k = 0; k < steps; ++k) {
+        const physics::PushOutcome out = world.propagate(state, {{controls[i], controls[i + 1], controls[i + 2]}, 0.1});
+        EXPECT_FALSE(out.gripper_hit_fixed);
+        EXPECT_TRUE(out.fallen.empty());
+        state = out.state;
+      }
+    }
+    const Eigen::Vector2d target = state.objects[scene.target].pose.head<2>();
+    const Eigen::Vector2d to = target - state.gripper.head<2>();
+    const double reach = 0.02 + std::get<Cylinder>(scene.objects[scene.target].shape).radius;
+    EXPECT_NEAR(to.norm(), reach, 0.03 + 1e-6) << "the gripper's face at the target";
+    EXPECT_LE(std::abs(std::remainder(std::atan2(to.y(), to.x()) - state.gripper.z(), 2 * M_PI)), 0.5 + 1e-6);
+    const auto& last = j["plan"][0]["trajectory"]["positions"].back();
+    EXPECT_NEAR(last[0].get<double>(), state.gripper.x(), 1e-3) << "the replay ends where the plan says";
+  }
 }
 
 }  // namespace

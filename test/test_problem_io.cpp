@@ -42,9 +42,9 @@ TEST(ProblemIo, ReportsEveryProblemAtOnce) {
   EXPECT_TRUE(has_error(d, 10, 11, "plugin path 'no/such/dir' is not a directory"));
 }
 
-TEST(ProblemIo, TaskMustBeRetrieveOrPddl) {
+TEST(ProblemIo, TaskMustBeRetrieveReachOrPddl) {
   const Diagnostics d = expect_input_error([] { io::load_problem(data("problems/bad_task.yaml")); });
-  EXPECT_TRUE(has_error(d, 4, 7, "both 'retrieve' and 'pddl'"));
+  EXPECT_TRUE(has_error(d, 4, 7, "task has more than one of 'retrieve', 'reach' and 'pddl'; give one"));
 }
 
 TEST(ProblemIo, SceneErrorsAreReportedWithTheScenesLocation) {
@@ -69,9 +69,15 @@ TEST(ProblemIo, MissingKeysWrongTypesAndNoTask) {
   const Diagnostics d = test::expect_input_error([] { io::load_problem(test::data("problems/bad_fields.yaml")); });
   EXPECT_EQ(d.size(), 4u) << d.str();
   EXPECT_TRUE(test::has_error(d, 3, 77, "robot configuration must list 7 joint values (shoulder_pan_joint"));
-  EXPECT_TRUE(test::has_error(d, 4, 7, "task needs 'retrieve: <target object>' or 'pddl:"));
+  EXPECT_TRUE(test::has_error(d, 4, 7, "task needs 'retrieve: <target object>', 'reach: <target object>' or 'pddl:"));
   EXPECT_TRUE(test::has_error(d, 5, 39, "planner seed must be a decimal integer, not '010'"));
   EXPECT_TRUE(test::has_error(d, 5, 56, "planner time_limit must be a finite number, not 'soon'"));
+}
+
+TEST(ProblemIo, AReachTaskNamesTheScenesTarget) {
+  const Problem p = io::load_problem(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/easy.yaml");
+  EXPECT_EQ(std::get<ReachTask>(p.task).target, "target");
+  EXPECT_EQ(p.planner.name, "rtc_ompl");
 }
 
 TEST(ProblemIo, PddlTaskWithStreamsAndEveryPluginRole) {

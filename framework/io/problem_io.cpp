@@ -148,16 +148,21 @@ void ProblemReader::read_robot(const YAML::Node& node) {
 
 void ProblemReader::read_task(const YAML::Node& node) {
   if (!node.IsDefined()) return;
-  MapReader map(file_, node, "task", {"retrieve", "pddl"});
+  MapReader map(file_, node, "task", {"retrieve", "reach", "pddl"});
   if (!map.valid()) return;
-  if (map.has("retrieve") == map.has("pddl")) {
-    file_.error(node, map.has("pddl") ? "task has both 'retrieve' and 'pddl'; give one"
-                                      : "task needs 'retrieve: <target object>' or 'pddl: {domain, problem, streams}'");
+  const int kinds = int(map.has("retrieve")) + int(map.has("reach")) + int(map.has("pddl"));
+  if (kinds != 1) {
+    file_.error(node, kinds > 1 ? "task has more than one of 'retrieve', 'reach' and 'pddl'; give one"
+                                : "task needs 'retrieve: <target object>', 'reach: <target object>' or "
+                                  "'pddl: {domain, problem, streams}'");
     return;
   }
-  if (map.has("retrieve")) {
-    retrieve_node_ = map.optional("retrieve");
-    problem_.task = RetrievalTask{file_.string(retrieve_node_, "task retrieve").value_or("")};
+  if (map.has("retrieve") || map.has("reach")) {
+    const bool reach = map.has("reach");
+    retrieve_node_ = map.optional(reach ? "reach" : "retrieve");
+    const std::string target = file_.string(retrieve_node_, reach ? "task reach" : "task retrieve").value_or("");
+    if (reach) problem_.task = ReachTask{target};
+    else problem_.task = RetrievalTask{target};
     return;
   }
   MapReader pddl(file_, map.optional("pddl"), "task pddl", {"domain", "problem", "streams"});
@@ -230,14 +235,17 @@ void ProblemReader::read_plugins(const YAML::Node& node) {
 }
 
 void ProblemReader::check_target() {
-  const auto* task = std::get_if<RetrievalTask>(&problem_.task);
-  if (!task || task->target.empty() || !scene_ok_) return;
+  const auto* retrieve = std::get_if<RetrievalTask>(&problem_.task);
+  const auto* reach = std::get_if<ReachTask>(&problem_.task);
+  const std::string target = retrieve ? retrieve->target : reach ? reach->target : "";
+  const char* key = retrieve ? "retrieve" : "reach";
+  if (target.empty() || !scene_ok_) return;
   const Scene& scene = problem_.scene;
-  if (!scene.find_object(task->target)) {
-    file_.error(retrieve_node_, "retrieve names '" + task->target + "', which is not an object of scene " +
+  if (!scene.find_object(target)) {
+    file_.error(retrieve_node_, std::string(key) + " names '" + target + "', which is not an object of scene " +
                                     problem_.scene_file.string());
-  } else if (scene.objects[scene.target].id != task->target) {
-    file_.error(retrieve_node_, "retrieve names '" + task->target + "' but the scene's target is '" +
+  } else if (scene.objects[scene.target].id != target) {
+    file_.error(retrieve_node_, std::string(key) + " names '" + target + "' but the scene's target is '" +
                                     scene.objects[scene.target].id + "'");
   }
 }

@@ -25,6 +25,7 @@ Json trajectory_json(const Trajectory& t) {
 
 Json task_json(const Task& task) {
   if (const auto* r = std::get_if<RetrievalTask>(&task)) return Json{{"type", "retrieve"}, {"target", r->target}};
+  if (const auto* r = std::get_if<ReachTask>(&task)) return Json{{"type", "reach"}, {"target", r->target}};
   const auto& p = std::get<PddlTask>(task);
   Json out{{"type", "pddl"}, {"domain", p.domain.string()}};
   out["problem"] = p.problem ? Json(p.problem->string()) : Json(nullptr);

@@ -34,7 +34,13 @@ struct PddlTask {
   std::optional<std::filesystem::path> streams;  ///< PDDLStream-style stream file
 };
 
-using Task = std::variant<RetrievalTask, PddlTask>;
+/// Reach the scene's target with the gripper moving in the shelf plane, pushing what is
+/// in the way (Papallas & Dogar's reaching through clutter, RTC).
+struct ReachTask {
+  std::string target;  ///< id of the scene object to reach
+};
+
+using Task = std::variant<RetrievalTask, PddlTask, ReachTask>;
 
 /// A plugin chosen by name in a problem file, with its parameters.
 struct PluginChoice {
