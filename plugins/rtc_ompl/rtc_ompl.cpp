@@ -37,8 +37,8 @@ struct Settings {
   std::string planner = "rrt";    // rrt or kpiece
   double step = 0.1;              // s: OMPL's propagation step size
   int max_steps = 10;             // a control lasts 1..max_steps steps
-  double max_speed = 0.15;        // m/s, forward (+x of the gripper's frame: world here)
-  double max_side_speed = 0.1;    // m/s, along y, and backwards
+  double max_speed = 0.15;        // m/s along world +x (into the shelf); controls are world-frame
+  double max_side_speed = 0.1;    // m/s along world y either way, and along -x (out of the shelf)
   double max_turn = 0.5;          // rad/s
   double goal_distance = 0.03;    // m: gripper face to target surface, at most
   double goal_heading = 0.5;      // rad: the target within this of the gripper's heading
