@@ -503,13 +503,14 @@ TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
     const std::vector<double> controls = j["plan"][0]["values"]["controls"].get<std::vector<double>>();
     ASSERT_FALSE(controls.empty());
     ASSERT_EQ(controls.size() % 4, 0u);
+    const double step = j["plan"][0]["values"]["step"][0].get<double>();
     const Eigen::Vector3d start(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
     physics::PushState state = world.state_of(initial, start);
     for (std::size_t i = 0; i < controls.size(); i += 4) {
-      // OMPL propagates a control step by step (0.1 s each): replay it the same way.
-      const int steps = static_cast<int>(std::lround(controls[i + 3] / 0.1));
+      // OMPL propagates a control step by step: replay it the same way.
+      const int steps = static_cast<int>(std::lround(controls[i + 3] / step));
       for (int k = 0; k < steps; ++k) {
-        const physics::PushOutcome out = world.propagate(state, {{controls[i], controls[i + 1], controls[i + 2]}, 0.1});
+        const physics::PushOutcome out = world.propagate(state, {{controls[i], controls[i + 1], controls[i + 2]}, step});
         EXPECT_FALSE(out.gripper_hit_fixed);
         EXPECT_TRUE(out.fallen.empty());
         state = out.state;

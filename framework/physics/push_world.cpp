@@ -63,6 +63,7 @@ struct PushWorld::Impl {
   const Scene& scene;
   PushSettings settings;
   std::vector<bool> present;  // per scene object
+  std::vector<double> z;      // per scene object: its centre's height in the initial state, m
   double plane = 0;           // the gripper's bottom, m
   double gripper_z = 0;       // the gripper's centre, m
   std::vector<std::unique_ptr<btCollisionShape>> fixed_shapes, object_shapes;
@@ -109,13 +110,14 @@ struct PushWorld::Impl {
 };
 
 PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings settings)
-    : impl_(std::make_unique<Impl>(Impl{scene, settings, {}, 0, 0, {}, {}, nullptr, {}})) {
+    : impl_(std::make_unique<Impl>(Impl{scene, settings, {}, {}, 0, 0, {}, {}, nullptr, {}})) {
   Impl& w = *impl_;
   if (!(settings.time_step > 0)) throw std::invalid_argument("PushWorld: time_step must be positive");
   for (const FixedBody& f : scene.fixed) w.fixed_shapes.push_back(make_shape(f.shape));
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     w.present.push_back(!initial.removed.at(i));
+    w.z.push_back(initial.world_T_objects.at(i).translation().z());
     w.object_shapes.push_back(make_shape(o.shape));
     btVector3 inertia(0, 0, 0);
     if (o.movable) {
@@ -162,7 +164,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     if (!w.present[i]) continue;
     const SceneObject& o = scene.objects[i];
-    const double z = o.world_T_object.translation().z();
+    const double z = w.z[i];
     const PlanarBody& body = from.objects[i];
     btRigidBody* b = sim.add(w.object_shapes[i].get(), planar(body.pose, z), o.movable ? o.mass : 0.0, w.inertia[i]);
     // The support's friction: Bullet multiplies the two bodies' coefficients.
@@ -217,7 +219,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
     body.pose = {double(t.getOrigin().x()), double(t.getOrigin().y()), yaw_of(t)};
     body.velocity = {double(b->getLinearVelocity().x()), double(b->getLinearVelocity().y()),
                      double(b->getAngularVelocity().z())};
-    if (double(t.getOrigin().z()) < scene.objects[i].world_T_object.translation().z() - w.settings.fall_drop) {
+    if (double(t.getOrigin().z()) < w.z[i] - w.settings.fall_drop) {
       out.fallen.push_back(static_cast<ObjectIndex>(i));
     }
   }

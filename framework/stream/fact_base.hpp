@@ -62,6 +62,8 @@ struct FactInfo {
 class FactBase {
  public:
   FactBase(const pddl::Domain& domain, const StreamFile& streams);
+  FactBase(const FactBase&) = delete;  // by_predicate_ points into facts_
+  FactBase& operator=(const FactBase&) = delete;
 
   // Objects.
   ObjectId add_object(ObjectRecord record);

@@ -515,8 +515,14 @@ class StreamSearch {
     for (const auto& [fact, info] : base_.facts()) {
       if (!info.optimistic && info.certifier >= 0) out_.certified.push_back(atom_of(fact));
     }
-    // Facts certified in a state hold where the plan uses them (verify() checked that).
-    for (const auto& [fact, infos] : base_.state_facts()) out_.certified.push_back(atom_of(fact));
+    // Of the facts certified in a state, those the plan relies on: verify() checked that
+    // they hold where it uses them. Others (other states, failed skeletons) may not.
+    if (const auto support = plan_support(steps, false)) {
+      for (const FactKey& f : support->facts) {
+        const FactInfo* info = base_.fact(f);
+        if ((!info || info->optimistic) && base_.state_facts().count(f)) out_.certified.push_back(atom_of(f));
+      }
+    }
   }
 
   pddl::Atom atom_of(const FactKey& f) const {
@@ -664,7 +670,7 @@ class StreamSearch {
           for (std::size_t i = 1; i < f.size(); ++i) {
             const ObjectRecord& o = base_.object(f[i]);
             if (!o.optimistic || o.maker < 0) continue;
-            need(o.maker, p.step);
+            if (needed[o.maker].empty()) need(o.maker, p.step);  // once: a maker placed stays put
             for (const PlannedInstance& e : entries(o.maker, false)) place(e);
           }
         }
@@ -719,6 +725,10 @@ class StreamSearch {
     std::vector<ObjectId> inputs;
     for (ObjectId o : optimistic.inputs) inputs.push_back(bound(b, o));
     std::optional<std::vector<FactKey>> fluent_state;
+    if (planned.step < 0 && !base_.decl(optimistic.stream).fluents.empty()) {
+      sk.stack.pop_back();  // no step needs it directly (only a negated test's domain): no state to run it in
+      return std::nullopt;
+    }
     if (planned.step >= 0) {
       const State state = state_before(bound_steps(sk.actions, b), static_cast<std::size_t>(planned.step));
       fluent_state = base_.fluent_state(state, optimistic.stream);

@@ -116,9 +116,11 @@ struct Bounds {
 
 class Propagator final : public oc::StatePropagator {
  public:
+  /// `checked`: the objects that must stay on the support (present and movable).
   Propagator(const oc::SpaceInformationPtr& si, const physics::PushWorld& world, const Layout& layout,
-             const Bounds& bounds, std::uint64_t& propagations)
-      : oc::StatePropagator(si), world_(world), layout_(layout), bounds_(bounds), propagations_(propagations) {}
+             const Bounds& bounds, std::vector<ObjectIndex> checked, std::uint64_t& propagations)
+      : oc::StatePropagator(si), world_(world), layout_(layout), bounds_(bounds), checked_(std::move(checked)),
+        propagations_(propagations) {}
 
   void propagate(const ob::State* from, const oc::Control* control, double duration, ob::State* result) const override {
     if (!layout_.valid(from)) {  // nothing grows from an invalid state
@@ -128,10 +130,11 @@ class Propagator final : public oc::StatePropagator {
     const double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
     ++propagations_;
     const physics::PushOutcome out = world_.propagate(layout_.read(from), physics::PushControl{{u[0], u[1], u[2]}, duration});
-    bool valid = !out.gripper_hit_fixed && out.fallen.empty();
-    for (const physics::PlanarBody& b : out.state.objects) valid = valid && bounds_.objects.contains(b.pose.head<2>());
-    layout_.write(out.state, valid, result);
-    si_->enforceBounds(result);  // yaw back into [-pi, pi]
+    bool valid = !out.gripper_hit_fixed && out.fallen.empty() && bounds_.gripper.contains(out.state.gripper.head<2>());
+    for (ObjectIndex i : checked_) valid = valid && bounds_.objects.contains(out.state.objects[i].pose.head<2>());
+    physics::PushState s = out.state;
+    s.gripper.z() = std::remainder(s.gripper.z(), 2 * M_PI);  // SE2's yaw bounds; x, y are checked, never clamped
+    layout_.write(s, valid, result);
   }
 
   bool canPropagateBackward() const override { return false; }
@@ -140,6 +143,7 @@ class Propagator final : public oc::StatePropagator {
   const physics::PushWorld& world_;
   const Layout& layout_;
   const Bounds& bounds_;
+  std::vector<ObjectIndex> checked_;
   std::uint64_t& propagations_;
 };
 
@@ -249,7 +253,11 @@ class RtcPlanner final : public plugin::TaskPlanner {
 
     auto si = std::make_shared<oc::SpaceInformation>(space, controls);
     std::uint64_t propagations = 0;
-    si->setStatePropagator(std::make_shared<Propagator>(si, world, layout, bounds, propagations));
+    std::vector<ObjectIndex> checked;
+    for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
+      if (scene.objects[i].movable && !initial.removed[i]) checked.push_back(i);
+    }
+    si->setStatePropagator(std::make_shared<Propagator>(si, world, layout, bounds, std::move(checked), propagations));
     si->setStateValidityChecker([&](const ob::State* s) {
       const auto* g = s->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
       return layout.valid(s) && bounds.gripper.contains(Eigen::Vector2d(g->getX(), g->getY()));
@@ -284,7 +292,7 @@ class RtcPlanner final : public plugin::TaskPlanner {
     if (!exact) {
       result.reason = context.deadline.expired() ? "time limit reached" : "no solution: " + status.asString();
     } else {
-      write_plan(*pdef->getSolutionPath()->as<oc::PathControl>(), layout, initial, scene, result);
+      write_plan(*pdef->getSolutionPath()->as<oc::PathControl>(), layout, initial, scene, settings_.step, result);
       result.solved = true;
     }
     result.time.total = std::chrono::duration<double>(Clock::now() - start_time).count();
@@ -308,9 +316,10 @@ class RtcPlanner final : public plugin::TaskPlanner {
   }
 
   // One "push" step: the gripper's planar path (joint names gripper_x, gripper_y,
-  // gripper_yaw) at every propagation step; the objects it moved, and where they ended.
+  // gripper_yaw) at the start and the end of every control; the objects it moved, and
+  // where they ended.
   static void write_plan(oc::PathControl path, const Layout& layout, const WorldState& initial, const Scene& scene,
-                         Result& result) {
+                         double step_seconds, Result& result) {
     std::vector<double> times{0.0};
     for (double d : path.getControlDurations()) times.push_back(times.back() + d);
     Trajectory t;
@@ -322,8 +331,10 @@ class RtcPlanner final : public plugin::TaskPlanner {
     }
     const physics::PushState end = layout.read(path.getState(path.getStateCount() - 1));
     PlanStep step{"push", {}, {}, t};
-    // The controls themselves (vx, vy, yaw rate, duration per control): replaying them
-    // through the physics from the start checks the plan.
+    // The controls themselves (vx, vy, yaw rate, duration per control), and the step
+    // they were propagated in (each step a fresh simulation): replaying them through the
+    // physics from the start, step by step, checks the plan.
+    step.values["step"] = {step_seconds};
     std::vector<double>& controls = step.values["controls"];
     for (std::size_t i = 0; i < path.getControlCount(); ++i) {
       const double* u = path.getControl(i)->as<oc::RealVectorControlSpace::ControlType>()->values;

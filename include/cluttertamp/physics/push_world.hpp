@@ -59,8 +59,9 @@ struct PushOutcome {
 /// support, whose friction is each object's `friction`; fixed bodies are static.
 class CLUTTERTAMP_API PushWorld {
  public:
-  /// `initial` says which objects are present (removed ones take no part). The plane
-  /// the gripper moves in: the bottom of the target, raised by gripper_clearance.
+  /// `initial` says which objects are present (removed ones take no part) and at what
+  /// height each stands (kept upright: states hold only x, y and yaw). The plane the
+  /// gripper moves in: the bottom of the target, raised by gripper_clearance.
   /// Throws std::invalid_argument for a movable object without a positive mass.
   PushWorld(const Scene& scene, const WorldState& initial, PushSettings settings = {});
   ~PushWorld();
