@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -61,6 +60,20 @@ class Cli : public ::testing::Test {
 
   CliRun plan(const fs::path& problem_file, const std::string& extra = "") {
     return run("plan " + problem_file.string() + " --output " + (dir_ / "out").string() + " " + extra);
+  }
+
+  // A bundled problem file copied into the test's directory with `edits` (text, its
+  // replacement) applied and its relative scene and ../../ paths made absolute.
+  fs::path bundled_copy(const fs::path& source, const std::string& name,
+                        const std::vector<std::pair<std::string, std::string>>& edits) {
+    std::string yaml = test::read_text(source);
+    for (const auto& [from, to] : edits) yaml = test::replaced(yaml, from, to);
+    const std::size_t scene = yaml.find("\nscene: ") + 8;  // the key, not a comment's words
+    yaml.insert(scene, (source.parent_path() / "").string());
+    while (yaml.find("../../") != std::string::npos) yaml.replace(yaml.find("../../"), 6, std::string(CLUTTERTAMP_SOURCE_DIR) + "/");
+    const fs::path file = dir_ / name;
+    std::ofstream(file) << yaml;
+    return file;
   }
 
   nlohmann::json result() const {
@@ -247,17 +260,9 @@ TEST_F(Cli, StackedObjectsAreMovedInOrderWithStreams) {
 // With an unchecked pruner, stacked8's target path is free in the plane, so no obstacle
 // is movable: the run cannot succeed, and its failures say why.
 TEST_F(Cli, AStreamRunWithNothingMovableSaysSo) {
-  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked8.yaml";
-  std::ifstream in(source);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string yaml = text.str();
-  yaml.replace(yaml.find("object_pruner: retrieval_graph"), 30,
-               "object_pruner: {plugin: retrieval_graph, parameters: {checked: false}}");
-  yaml.replace(yaml.find("scene: scene8.yaml"), 18, "scene: " + (source.parent_path() / "scene8.yaml").string());
-  while (yaml.find("../../") != std::string::npos) yaml.replace(yaml.find("../../"), 6, std::string(CLUTTERTAMP_SOURCE_DIR) + "/");
-  const fs::path file = dir_ / "unchecked.yaml";
-  std::ofstream(file) << yaml;
+  const fs::path file =
+      bundled_copy(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked8.yaml", "unchecked.yaml",
+                   {{"object_pruner: retrieval_graph", "object_pruner: {plugin: retrieval_graph, parameters: {checked: false}}"}});
   const CliRun r = plan(file, "--time-limit 2");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("the object pruner's sequences named no object to move"), std::string::npos) << r.output;
@@ -268,15 +273,7 @@ TEST_F(Cli, AStreamRunWithNothingMovableSaysSo) {
 TEST_F(Cli, ValidateChecksTheStreamFilesAndBindingsOfAStreamProblem) {
   const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked4.yaml";
   EXPECT_EQ(run("validate " + source.string()).exit_code, 0);
-  std::ifstream in(source);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string yaml = text.str();
-  yaml.replace(yaml.find("plan-place: clutter_streams"), 27, "plan-plaice: clutter_streams");
-  yaml.replace(yaml.find("scene: scene4.yaml"), 18, "scene: " + (source.parent_path() / "scene4.yaml").string());
-  while (yaml.find("../../") != std::string::npos) yaml.replace(yaml.find("../../"), 6, std::string(CLUTTERTAMP_SOURCE_DIR) + "/");
-  const fs::path file = dir_ / "bad_streams.yaml";
-  std::ofstream(file) << yaml;
+  const fs::path file = bundled_copy(source, "bad_streams.yaml", {{"plan-place: clutter_streams", "plan-plaice: clutter_streams"}});
   const CliRun r = run("validate " + file.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("stream.pddl:11:3: error: 'plan-place' is bound to no stream_sampler"), std::string::npos) << r.output;
@@ -346,8 +343,7 @@ TEST_F(Cli, GeneratedSceneWithAKnownMinimumAndThePlannersOnIt) {
                        " --problem " + problem_file.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
   EXPECT_FALSE(fs::exists(scene.string() + ".tmp"));
-  std::ifstream text(problem_file);
-  const std::string header((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+  const std::string header = test::read_text(problem_file);
   EXPECT_NE(header.find("fewest objects to move, target included: 2"), std::string::npos) << header;
 
   const CliRun best = plan(problem_file, "--planner exhaustive --seed 0");
@@ -486,15 +482,7 @@ TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
   const physics::PushWorld world(scene, initial);
   for (const std::string planner : {"rrt", "kpiece"}) {
     SCOPED_TRACE(planner);
-    const fs::path file = dir_ / ("push_" + planner + ".yaml");
-    std::ifstream in(problem_file);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string yaml = text.str();
-    yaml.replace(yaml.find("scene: easy-scene.yaml"), 22, "scene: " + (problem_file.parent_path() / "easy-scene.yaml").string());
-    yaml.replace(yaml.find("../../domains"), 13, std::string(CLUTTERTAMP_SOURCE_DIR) + "/domains");
-    yaml.replace(yaml.find("planner: rrt"), 12, "planner: " + planner);
-    std::ofstream(file) << yaml;
+    const fs::path file = bundled_copy(problem_file, "push_" + planner + ".yaml", {{"planner: rrt", "planner: " + planner}});
     const CliRun r = plan(file, "--seed 1");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = result();

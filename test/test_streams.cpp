@@ -2,9 +2,7 @@
 // pure-symbolic domain with a toy sampler: blocks on a line.
 
 #include <cmath>
-#include <fstream>
 #include <random>
-#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -335,18 +333,8 @@ TEST_F(BlocksLine, AStreamWithoutCodeIsBadInput) {
 
 // ---- streams with :fluents ----------------------------------------------------------
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
+using test::read_text;
+using test::replaced;
 
 // blocks-line where a place also needs (Free ?b ?p): a test with :fluents (AtPose) that
 // reads the blocks standing in the state the place happens in. Free of a in the goal is

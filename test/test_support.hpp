@@ -2,6 +2,8 @@
 // Shared helpers for the tests: paths of the test data and fixtures.
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -24,6 +26,21 @@ inline std::filesystem::path data(const std::string& relative) {
 
 inline std::filesystem::path plugin_dir(const std::string& name) {
   return std::filesystem::path(CLUTTERTAMP_TEST_PLUGINS) / name;
+}
+
+/// The whole text of a file.
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// `text` with the first `from` replaced by `to`; a failure when `from` is missing.
+inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
 }
 
 /// Runs `load`, expects InputError, and returns its diagnostics.

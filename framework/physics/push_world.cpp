@@ -62,13 +62,13 @@ double bottom_of(const Shape& shape, const Eigen::Isometry3d& pose) { return wor
 struct PushWorld::Impl {
   const Scene& scene;
   PushSettings settings;
-  std::vector<bool> present;  // per scene object
-  std::vector<double> z;      // per scene object: its centre's height in the initial state, m
+  std::vector<bool> present = {};  // per scene object
+  std::vector<double> z = {};      // per scene object: its centre's height in the initial state, m
   double plane = 0;           // the gripper's bottom, m
   double gripper_z = 0;       // the gripper's centre, m
-  std::vector<std::unique_ptr<btCollisionShape>> fixed_shapes, object_shapes;
-  std::unique_ptr<btCollisionShape> gripper_shape;
-  std::vector<btVector3> inertia;  // per object, for its mass
+  std::vector<std::unique_ptr<btCollisionShape>> fixed_shapes = {}, object_shapes = {};
+  std::unique_ptr<btCollisionShape> gripper_shape = nullptr;
+  std::vector<btVector3> inertia = {};  // per object, for its mass
 
   // One simulation, built afresh per propagation: Bullet keeps contact caches and
   // solver warm starts between steps, so reusing a world would make the outcome depend
@@ -118,7 +118,7 @@ struct PushWorld::Impl {
 };
 
 PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings settings)
-    : impl_(std::make_unique<Impl>(Impl{scene, settings, {}, {}, 0, 0, {}, {}, nullptr, {}})) {
+    : impl_(std::make_unique<Impl>(Impl{scene, settings})) {
   Impl& w = *impl_;
   if (!(settings.time_step > 0)) throw std::invalid_argument("PushWorld: time_step must be positive");
   for (const FixedBody& f : scene.fixed) w.fixed_shapes.push_back(make_shape(f.shape));
@@ -197,7 +197,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
   Eigen::Vector3d gripper = from.gripper;
   for (int k = 0; k < steps && dt > 0; ++k) {
     gripper += control.velocity * dt;
-    sim.states.back()->setWorldTransform(planar(gripper, w.gripper_z));  // the kinematic body follows
+    sim.gripper->getMotionState()->setWorldTransform(planar(gripper, w.gripper_z));  // the kinematic body follows
     sim.world.stepSimulation(btScalar(dt), 0);
     const int manifolds = sim.dispatcher.getNumManifolds();
     for (int m = 0; m < manifolds; ++m) {

@@ -100,8 +100,23 @@ class Layout {
     return s;
   }
 
-  bool valid(const ob::State* state) const {
-    return state->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(1)->values[6 * objects_] > 0.5;
+  bool valid(const ob::State* state) const { return reals(state)[6 * objects_] > 0.5; }
+
+  static Eigen::Vector2d gripper_xy(const ob::State* state) {
+    const auto* g = state->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
+    return {g->getX(), g->getY()};
+  }
+  static double gripper_yaw(const ob::State* state) {
+    return state->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0)->getYaw();
+  }
+  static Eigen::Vector2d object_xy(const ob::State* state, std::size_t object) {
+    const double* v = reals(state);
+    return {v[6 * object], v[6 * object + 1]};
+  }
+
+ private:
+  static const double* reals(const ob::State* state) {
+    return state->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(1)->values;
   }
 
  private:
@@ -160,10 +175,8 @@ class ReachGoal final : public ob::GoalSampleableRegion {
 
   // Relative to where the target is in `state`: pushes may have moved it.
   double distanceGoal(const ob::State* state) const override {
-    const auto* g = state->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
-    const double* v = state->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(1)->values;
-    const Eigen::Vector2d to = Eigen::Vector2d(v[6 * target_index_], v[6 * target_index_ + 1]) - Eigen::Vector2d(g->getX(), g->getY());
-    const double off = std::abs(std::remainder(std::atan2(to.y(), to.x()) - g->getYaw(), 2 * M_PI));
+    const Eigen::Vector2d to = Layout::object_xy(state, target_index_) - Layout::gripper_xy(state);
+    const double off = std::abs(std::remainder(std::atan2(to.y(), to.x()) - Layout::gripper_yaw(state), 2 * M_PI));
     return std::abs(to.norm() - reach_) + std::max(0.0, off - settings_.goal_heading);
   }
 
@@ -193,11 +206,7 @@ class GripperProjection final : public ob::ProjectionEvaluator {
   explicit GripperProjection(const ob::StateSpacePtr& space) : ob::ProjectionEvaluator(space) {}
   unsigned int getDimension() const override { return 2; }
   void defaultCellSizes() override { cellSizes_ = {0.05, 0.05}; }
-  void project(const ob::State* state, Eigen::Ref<Eigen::VectorXd> out) const override {
-    const auto* g = state->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
-    out[0] = g->getX();
-    out[1] = g->getY();
-  }
+  void project(const ob::State* state, Eigen::Ref<Eigen::VectorXd> out) const override { out = Layout::gripper_xy(state); }
 };
 
 class RtcPlanner final : public plugin::TaskPlanner {
@@ -226,7 +235,8 @@ class RtcPlanner final : public plugin::TaskPlanner {
     const Eigen::Vector3d gripper_start(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
     Bounds bounds;
     bounds.gripper = Eigen::AlignedBox2d(scene.workspace.min().head<2>(), scene.workspace.max().head<2>());
-    bounds.objects = support_region(scene, initial, target);
+    bounds.objects = support_region(scene, initial.world_T_objects[target].translation().head<2>(),
+                                    world.plane_z() - ps.gripper_clearance);
 
     const Layout layout(scene.objects.size());
     auto se2 = std::make_shared<ob::SE2StateSpace>();
@@ -258,10 +268,7 @@ class RtcPlanner final : public plugin::TaskPlanner {
       if (scene.objects[i].movable && !initial.removed[i]) checked.push_back(i);
     }
     si->setStatePropagator(std::make_shared<Propagator>(si, world, layout, bounds, std::move(checked), propagations));
-    si->setStateValidityChecker([&](const ob::State* s) {
-      const auto* g = s->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
-      return layout.valid(s) && bounds.gripper.contains(Eigen::Vector2d(g->getX(), g->getY()));
-    });
+    si->setStateValidityChecker([&](const ob::State* s) { return layout.valid(s); });  // set by the propagator
     si->setPropagationStepSize(settings_.step);
     si->setMinMaxControlDuration(1, static_cast<unsigned int>(settings_.max_steps));
     si->setup();
@@ -301,10 +308,9 @@ class RtcPlanner final : public plugin::TaskPlanner {
   }
 
  private:
-  // The region the objects must stay in: the top of the target's support in the plane.
-  static Eigen::AlignedBox2d support_region(const Scene& scene, const WorldState& initial, ObjectIndex target) {
-    const double bottom = world_bounds(scene.objects[target].shape, initial.world_T_objects[target]).min().z();
-    const Eigen::Vector2d at = initial.world_T_objects[target].translation().head<2>();
+  // The region the objects must stay in: the fixed bodies whose top is the plane
+  // `bottom` the target (at `at`) stands on, in the plane; the workspace without any.
+  static Eigen::AlignedBox2d support_region(const Scene& scene, const Eigen::Vector2d& at, double bottom) {
     Eigen::AlignedBox2d region;
     for (const FixedBody& f : scene.fixed) {
       const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
@@ -320,14 +326,12 @@ class RtcPlanner final : public plugin::TaskPlanner {
   // where they ended.
   static void write_plan(oc::PathControl path, const Layout& layout, const WorldState& initial, const Scene& scene,
                          double step_seconds, Result& result) {
-    std::vector<double> times{0.0};
-    for (double d : path.getControlDurations()) times.push_back(times.back() + d);
     Trajectory t;
     t.joint_names = {"gripper_x", "gripper_y", "gripper_yaw"};
-    for (std::size_t i = 0; i < path.getStateCount(); ++i) {
-      const physics::PushState s = layout.read(path.getState(i));
-      t.positions.push_back(s.gripper);
-      t.times.push_back(times[std::min(i, times.size() - 1)]);
+    for (std::size_t i = 0; i < path.getStateCount(); ++i) {  // a state before each control, and the last
+      const ob::State* s = path.getState(i);
+      t.positions.push_back(Eigen::Vector3d(Layout::gripper_xy(s).x(), Layout::gripper_xy(s).y(), Layout::gripper_yaw(s)));
+      t.times.push_back(i == 0 ? 0.0 : t.times.back() + path.getControlDuration(i - 1));
     }
     const physics::PushState end = layout.read(path.getState(path.getStateCount() - 1));
     PlanStep step{"push", {}, {}, t};
