@@ -9,14 +9,24 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
-#include "cluttertamp/physics/push_world.hpp"
+#include "cluttertamp/physics/push_planning.hpp"
 #include "test_support.hpp"
 
 namespace cluttertamp {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A plan step's "controls" values ([vx vy yaw-rate duration] per control) as controls.
+std::vector<physics::PushControl> push_controls(const std::vector<double>& values) {
+  std::vector<physics::PushControl> controls;
+  for (std::size_t i = 0; i + 3 < values.size(); i += 4) {
+    controls.push_back({{values[i], values[i + 1], values[i + 2]}, values[i + 3]});
+  }
+  return controls;
+}
 
 struct CliRun {
   int exit_code;
@@ -68,9 +78,14 @@ class Cli : public ::testing::Test {
                         const std::vector<std::pair<std::string, std::string>>& edits) {
     std::string yaml = test::read_text(source);
     for (const auto& [from, to] : edits) yaml = test::replaced(yaml, from, to);
-    const std::size_t scene = yaml.find("\nscene: ") + 8;  // the key, not a comment's words
-    yaml.insert(scene, (source.parent_path() / "").string());
-    while (yaml.find("../../") != std::string::npos) yaml.replace(yaml.find("../../"), 6, std::string(CLUTTERTAMP_SOURCE_DIR) + "/");
+    // Relative paths after these keys (not in comments) are made absolute.
+    const std::string dir = (source.parent_path() / "").string();
+    for (const std::string key : {"\nscene: ", "description: ", "guidance: ", "domain: ", "streams: "}) {
+      for (std::size_t at = yaml.find(key); at != std::string::npos; at = yaml.find(key, at + key.size())) {
+        const std::size_t value = at + key.size();
+        if (yaml[value] != '/' && yaml.compare(value, 4, "auto") != 0) yaml.insert(value, dir);
+      }
+    }
     const fs::path file = dir_ / name;
     std::ofstream(file) << yaml;
     return file;
@@ -429,6 +444,81 @@ TEST_F(Cli, PluginsListsKindsAndVersions) {
   EXPECT_NE(r.output.find("plugin ABI version 999"), std::string::npos) << r.output;
 }
 
+// Guided planning (grtc) on a bundled shelf with its guidance file: one push step per
+// guide, then the reach; replayed step by step through the physics, each guide's object
+// ends in its region, nothing falls, and the gripper ends at the target.
+TEST_F(Cli, GuidedPlansSatisfyEveryGuideAndReachTheTargetWhenReplayed) {
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10/p06.yaml";
+  const fs::path file = bundled_copy(source, "guided.yaml",
+                                     {{"plugin: rtc_ompl", "plugin: grtc"},
+                                      {"parameters: {planner: rrt}",
+                                       "parameters: {planner: rrt, guidance: p06-guidance.yaml}\nplugins: {push_sampler: push_ompl}"}});
+  const CliRun r = plan(file, "--seed 1 --time-limit 60");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = result();
+  const Problem problem = io::load_problem(file);
+  const Scene& scene = problem.scene;
+  const auto guidance = io::load_guidance(source.parent_path() / "p06-guidance.yaml", scene,
+                                          physics::PushWorld(scene, WorldState::initial(scene)).support_region());
+  ASSERT_FALSE(guidance.empty());
+  ASSERT_EQ(j["plan"].size(), guidance.size() + 1) << "a push per guide, then the reach";
+  WorldState state = WorldState::initial(scene);
+  Eigen::Vector3d gripper(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+  for (std::size_t k = 0; k < j["plan"].size(); ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    const nlohmann::json& step = j["plan"][k];
+    EXPECT_EQ(step["action"], "push");
+    const physics::PushWorld world(scene, state);
+    const physics::Replay replay = physics::replay(world, world.state_of(state, gripper),
+                                                   push_controls(step["values"]["controls"].get<std::vector<double>>()),
+                                                   step["values"]["step"][0].get<double>());
+    EXPECT_TRUE(replay.valid);
+    if (k < guidance.size()) {
+      EXPECT_EQ(step["values"]["guide"][0].get<double>(), double(k + 1));
+      const Eigen::Vector2d object = replay.end.objects[guidance[k].object].pose.head<2>();
+      EXPECT_LE((object - guidance[k].centre).norm(), guidance[k].diameter / 2 + 1e-9) << "the guide holds";
+    } else {
+      const Eigen::Vector2d to = replay.end.objects[scene.target].pose.head<2>() - replay.end.gripper.head<2>();
+      const double reach = 0.02 + std::get<Cylinder>(scene.objects[scene.target].shape).radius;
+      EXPECT_NEAR(to.norm(), reach, 0.03 + 1e-6) << "the gripper's face at the target";
+    }
+    state = physics::world_state_of(state, replay.end);
+    gripper = replay.end.gripper;
+  }
+  EXPECT_EQ(j["counters"]["guides_satisfied"], guidance.size());
+}
+
+// A guidance file naming an unknown object, or a region off the shelf, is bad input.
+TEST_F(Cli, ABadGuidanceFileIsBadInputWithItsLine) {
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10/p06.yaml";
+  const fs::path guidance = dir_ / "bad-guidance.yaml";
+  std::ofstream(guidance) << "version: 1\nguides:\n  - {object: o3, centre: [0.7, 0.1], diameter: 0.1}\n"
+                             "  - {object: o99, centre: [0.7, 0.1], diameter: 0.1}\n"
+                             "  - {object: o2, centre: [2.5, 0.1], diameter: 0.1}\n";
+  const fs::path file = bundled_copy(source, "bad-guided.yaml",
+                                     {{"plugin: rtc_ompl", "plugin: grtc"},
+                                      {"parameters: {planner: rrt}", "parameters: {guidance: " + guidance.string() +
+                                                                         "}\nplugins: {push_sampler: push_ompl}"}});
+  const CliRun r = plan(file, "--time-limit 10");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad-guidance.yaml:4:14: error: guide #2: unknown object 'o99'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("bad-guidance.yaml:5:26: error: guide #3: the region about (2.5, 0.1)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("is not inside the shelf"), std::string::npos) << r.output;
+}
+
+// `guide` writes the automatic guidance, which load_guidance reads back.
+TEST_F(Cli, GuideWritesTheAutomaticGuidance) {
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10/p06.yaml";
+  const CliRun r = run("guide " + source.string() + " --output " + (dir_ / "g.yaml").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("guide"), std::string::npos);
+  const Problem problem = io::load_problem(source);
+  const auto guidance = io::load_guidance(dir_ / "g.yaml", problem.scene,
+                                          physics::PushWorld(problem.scene, WorldState::initial(problem.scene)).support_region());
+  EXPECT_FALSE(guidance.empty());
+}
+
 }  // namespace
 }  // namespace cluttertamp
 
@@ -493,17 +583,10 @@ TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
     ASSERT_EQ(controls.size() % 4, 0u);
     const double step = j["plan"][0]["values"]["step"][0].get<double>();
     const Eigen::Vector3d start(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
-    physics::PushState state = world.state_of(initial, start);
-    for (std::size_t i = 0; i < controls.size(); i += 4) {
-      // OMPL propagates a control step by step: replay it the same way.
-      const int steps = static_cast<int>(std::lround(controls[i + 3] / step));
-      for (int k = 0; k < steps; ++k) {
-        const physics::PushOutcome out = world.propagate(state, {{controls[i], controls[i + 1], controls[i + 2]}, step});
-        EXPECT_FALSE(out.gripper_hit_fixed);
-        EXPECT_TRUE(out.fallen.empty());
-        state = out.state;
-      }
-    }
+    // OMPL propagates a control step by step: replay() does the same.
+    const physics::Replay replay = physics::replay(world, world.state_of(initial, start), push_controls(controls), step);
+    EXPECT_TRUE(replay.valid) << "nothing fell, left the shelf or entered a wall";
+    const physics::PushState& state = replay.end;
     const Eigen::Vector2d target = state.objects[scene.target].pose.head<2>();
     const Eigen::Vector2d to = target - state.gripper.head<2>();
     const double reach = 0.02 + std::get<Cylinder>(scene.objects[scene.target].shape).radius;

@@ -72,6 +72,16 @@ struct GenerateArgs {
 /// Exit code 0 when a scene was written, 1 when no attempt needed a removal.
 int generate(const GenerateArgs& args);
 
+struct GuideArgs {
+  std::filesystem::path problem;  ///< a reach problem
+  std::filesystem::path output;   ///< the guidance file to write
+  int max_guides = 3;
+  double diameter = 0.1;             ///< m, every guide's region
+  Verbosity verbosity = Verbosity::normal;
+};
+/// Writes the automatic guidance of a reach problem; exit code 0.
+int guide(const GuideArgs& args);
+
 struct SelfCollisionArgs {
   std::filesystem::path robot;  ///< robot description file
   std::size_t samples = 20000;
@@ -82,7 +92,7 @@ struct SelfCollisionArgs {
 int self_collisions(const SelfCollisionArgs& args);
 
 struct BenchArgs {
-  std::string what;  ///< "collision", "pddl", "samplers", "retrieval" or "physics"
+  std::string what;  ///< "collision", "pddl", "samplers", "retrieval", "physics" or "push"
   std::uint64_t seed = 1;
   std::size_t samples = 5000;
   int objects = 20;
@@ -93,7 +103,9 @@ struct BenchArgs {
   double time_limit = 60;                ///< bench pddl, per search; bench retrieval, per run
   int instances = 5;                     ///< bench retrieval: scenes per object count
   std::vector<int> sizes;                ///< bench retrieval: object counts (default 12 16 20)
-  std::filesystem::path csv;             ///< bench retrieval
+  std::filesystem::path csv;             ///< bench retrieval, push
+  std::filesystem::path svg;             ///< bench push
+  std::filesystem::path push_scenes;     ///< bench push: directory of reach problems
   std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
   std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
   std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml
@@ -125,5 +137,8 @@ int bench_pddl(const BenchArgs& args);
 int bench_samplers(const BenchArgs& args);
 /// Tables I, V and VI of Tian et al.; exit code 0.
 int bench_retrieval(const BenchArgs& args);
+/// RRT, KPIECE and guided reaching through clutter on shelf scenes, beside Papallas &
+/// Dogar's Fig. 6; exit code 0 when guided beats both on success rate, 1 otherwise.
+int bench_push(const BenchArgs& args);
 
 }  // namespace cluttertamp::cli

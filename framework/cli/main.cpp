@@ -134,6 +134,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
   add_verbosity(*generate, generate_args.verbosity, "Also say which seeds were rejected");
 
+  cli::GuideArgs guide_args;
+  auto* guide = app.add_subcommand(
+      "guide", "Write the automatic guidance of a reach problem (Papallas & Dogar's GRTC): the objects on the straight "
+               "way from the exit to the target, each pushed sideways off it");
+  guide->add_option("problem", guide_args.problem, "Problem file with task: {reach: <target>}")->required()->check(CLI::ExistingFile);
+  guide->add_option("--output", guide_args.output, "Guidance file to write")->required();
+  guide->add_option("--max-guides", guide_args.max_guides, "At most this many guides")->capture_default_str()->check(CLI::Range(0, 100));
+  guide->add_option("--diameter", guide_args.diameter, "Diameter of every guide's region, m")->capture_default_str()->check(CLI::Range(0.01, 1.0));
+  add_verbosity(*guide, guide_args.verbosity, "Same output as the default");
+
   cli::SelfCollisionArgs self_args;
   auto* self = app.add_subcommand(
       "self-collisions",
@@ -148,10 +158,11 @@ int main(int argc, char** argv) {
       "bench",
       "Measure speed: 'collision' times FK, IK, collision and sweep queries; 'pddl' times searches on PDDL instances; "
       "'samplers' times grasp, motion and pick-and-place queries; 'retrieval' runs the retrieval planners on shelves "
-      "(Tables I, V and VI of Tian et al.); 'physics' times the pushing physics against real time");
+      "(Tables I, V and VI of Tian et al.); 'physics' times the pushing physics against real time; 'push' runs RRT, "
+      "KPIECE and guided reaching through clutter on the bundled shelves (Fig. 6 of Papallas & Dogar)");
   bench->add_option("what", bench_args.what, "What to measure")
       ->required()
-      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval", "physics"}));
+      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval", "physics", "push"}));
   bench->add_option("--seed", bench_args.seed, "Seed of the generated scene and samples")->capture_default_str();
   bench->add_option("--samples", bench_args.samples, "collision: queries per measurement; samplers: 1000 per generated scene")->capture_default_str()->check(CLI::Range(500, 10000000));
   auto* objects_option = bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf (physics: default 10)")->capture_default_str()->check(CLI::Range(1, 60));
@@ -165,13 +176,19 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(CLI::IsMember(cluttertamp::search::search_names()));
-  bench->add_option("--time-limit", bench_args.time_limit, "pddl: seconds per search; retrieval: per run")->capture_default_str()->check(CLI::PositiveNumber);
-  bench->add_option("--runs", bench_args.runs, "pddl, retrieval: runs per instance (seeds seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 100));
+  bench->add_option("--time-limit", bench_args.time_limit, "pddl: seconds per search; retrieval, push: per run")->capture_default_str()->check(CLI::PositiveNumber);
+  bench->add_option("--runs", bench_args.runs, "pddl, retrieval, push: runs per instance (seeds seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 100));
   bench->add_option("--scenes", bench_args.instances, "retrieval: generated scenes per object count (tables I and V)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
   bench->add_option("--sizes", bench_args.sizes, "retrieval: object counts (default 12 16 20)")->check(CLI::Range(1, 100));
-  bench->add_option("--csv", bench_args.csv, "retrieval: also write every run as CSV");
+  bench->add_option("--csv", bench_args.csv, "retrieval, push: also write every run as CSV");
+  bench->add_option("--svg", bench_args.svg, "push: also plot success rates and mean times (SVG)");
+  bench_args.push_scenes = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10";
+  bench->add_option("--push-scenes", bench_args.push_scenes,
+                    "push: directory of reach problems pNN.yaml, each with its guidance pNN-guidance.yaml (else: generated)")
+      ->capture_default_str()
+      ->check(CLI::ExistingDirectory);
   bench->add_option("--table", bench_args.tables,
                     "retrieval: I (12/16/20 objects, L strategies), V (100 objects, against traversability_graph), "
                     "VI (known minima, against exhaustive); repeatable, default I")
@@ -240,6 +257,7 @@ int main(int argc, char** argv) {
       if (bench_args.what == "pddl") return cli::bench_pddl(bench_args);
       if (bench_args.what == "samplers") return cli::bench_samplers(bench_args);
       if (bench_args.what == "retrieval") return cli::bench_retrieval(bench_args);
+      if (bench_args.what == "push") return cli::bench_push(bench_args);
       if (bench_args.what == "physics") {
         if (!objects_option->count()) bench_args.objects = 10;  // the speed goal is for 10
         return cli::bench_physics(bench_args);
@@ -248,6 +266,7 @@ int main(int argc, char** argv) {
     }
     if (*pddl) return cli::pddl(pddl_args);
     if (*generate) return cli::generate(generate_args);
+    if (*guide) return cli::guide(guide_args);
     if (*validate_plan) return cli::validate_plan(validate_plan_args);
     if (*self) return cli::self_collisions(self_args);
   } catch (const cluttertamp::InputError& e) {

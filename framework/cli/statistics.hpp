@@ -31,4 +31,17 @@ inline double stddev(const std::vector<double>& v) {
   return std::sqrt(sum / double(v.size() - 1));
 }
 
+/// Half the width of the 95 % confidence interval of the mean (Student's t, n − 1
+/// degrees of freedom); 0 for fewer than two values.
+inline double ci95_half_width(const std::vector<double>& v) {
+  if (v.size() < 2) return 0.0;
+  // t quantiles (0.975) for 1..30 degrees of freedom; beyond, the normal's.
+  static constexpr double t[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                 2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+                                 2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+  const std::size_t df = v.size() - 1;
+  const double q = df <= 30 ? t[df - 1] : 1.960;
+  return q * stddev(v) / std::sqrt(double(v.size()));
+}
+
 }  // namespace cluttertamp::cli

@@ -64,6 +64,8 @@ struct PushWorld::Impl {
   PushSettings settings;
   std::vector<bool> present = {};  // per scene object
   std::vector<double> z = {};      // per scene object: its centre's height in the initial state, m
+  std::vector<ObjectIndex> pushable = {};
+  Eigen::AlignedBox2d support = {};
   double plane = 0;           // the gripper's bottom, m
   double gripper_z = 0;       // the gripper's centre, m
   std::vector<std::unique_ptr<btCollisionShape>> fixed_shapes = {}, object_shapes = {};
@@ -133,9 +135,42 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
       w.object_shapes.back()->calculateLocalInertia(btScalar(o.mass), inertia);
     }
     w.inertia.push_back(inertia);
+    if (o.movable && w.present.back()) w.pushable.push_back(i);
   }
   const ObjectIndex target = scene.target;
-  w.plane = bottom_of(scene.objects.at(target).shape, initial.world_T_objects.at(target)) + settings.gripper_clearance;
+  const double support_top = bottom_of(scene.objects.at(target).shape, initial.world_T_objects.at(target));
+  w.plane = support_top + settings.gripper_clearance;
+  const Eigen::Vector2d target_xy = initial.world_T_objects.at(target).translation().head<2>();
+  for (const FixedBody& f : scene.fixed) {
+    const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
+    const Eigen::AlignedBox2d board(b.min().head<2>(), b.max().head<2>());
+    if (std::abs(b.max().z() - support_top) < 0.01 && board.contains(target_xy)) w.support.extend(board);
+  }
+  if (w.support.isEmpty()) w.support = Eigen::AlignedBox2d(scene.workspace.min().head<2>(), scene.workspace.max().head<2>());
+  // Walls standing on the support cut it back: of the four ways to cut a wall's
+  // footprint off, keep the one that leaves the most room about the target.
+  for (const FixedBody& f : scene.fixed) {
+    const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
+    const Eigen::AlignedBox2d wall(b.min().head<2>(), b.max().head<2>());
+    if (b.max().z() < support_top + 0.005 || b.min().z() > w.plane + settings.gripper_size.z() ||
+        w.support.intersection(wall).isEmpty() || wall.contains(target_xy)) {
+      continue;
+    }
+    Eigen::AlignedBox2d best = w.support;
+    double best_area = -1;
+    for (int axis = 0; axis < 2; ++axis) {
+      for (const bool below : {true, false}) {
+        Eigen::AlignedBox2d cut = w.support;
+        if (below) cut.max()[axis] = std::min(cut.max()[axis], wall.min()[axis]);
+        else cut.min()[axis] = std::max(cut.min()[axis], wall.max()[axis]);
+        if (!cut.isEmpty() && cut.contains(target_xy) && cut.volume() > best_area) {
+          best = cut;
+          best_area = cut.volume();
+        }
+      }
+    }
+    if (best_area >= 0) w.support = best;
+  }
   w.gripper_z = w.plane + settings.gripper_size.z() / 2;
   const Eigen::Vector3d half = settings.gripper_size / 2;
   w.gripper_shape = std::make_unique<btBoxShape>(btVector3(btScalar(half.x()), btScalar(half.y()), btScalar(half.z())));
@@ -144,7 +179,33 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
 PushWorld::~PushWorld() = default;
 
 const PushSettings& PushWorld::settings() const { return impl_->settings; }
+const Scene& PushWorld::scene() const { return impl_->scene; }
 double PushWorld::plane_z() const { return impl_->plane; }
+const std::vector<ObjectIndex>& PushWorld::pushable() const { return impl_->pushable; }
+const Eigen::AlignedBox2d& PushWorld::support_region() const { return impl_->support; }
+
+Eigen::AlignedBox2d PushWorld::gripper_region() const {
+  const Scene& scene = impl_->scene;
+  const Eigen::AlignedBox2d& support = impl_->support;
+  const double exit_x = scene.world_T_exit.translation().x();
+  Eigen::AlignedBox2d region(Eigen::Vector2d(std::min(exit_x, support.min().x()) - 0.05, support.min().y()),
+                             support.max());
+  const Eigen::AlignedBox2d workspace(scene.workspace.min().head<2>(), scene.workspace.max().head<2>());
+  return region.intersection(workspace);
+}
+
+double PushWorld::footprint_radius(ObjectIndex object) const {
+  return std::visit(
+      [](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Box>) {
+          return s.size.template head<2>().norm() / 2;
+        } else {
+          return s.radius;
+        }
+      },
+      impl_->scene.objects.at(object).shape);
+}
 
 PushState PushWorld::state_of(const WorldState& initial, const Eigen::Vector3d& gripper) const {
   PushState s;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "cluttertamp/core/scene.hpp"
 #include "cluttertamp/core/world_state.hpp"
@@ -75,7 +76,21 @@ class CLUTTERTAMP_API PushWorld {
   PushOutcome propagate(const PushState& from, const PushControl& control) const;
 
   const PushSettings& settings() const;
+  const Scene& scene() const;
   double plane_z() const;  ///< height of the gripper's bottom, m
+
+  /// The objects a push can move: present in the initial state and movable (sorted).
+  const std::vector<ObjectIndex>& pushable() const;
+  /// Where pushed objects must stay (world x, y, m): the fixed boards whose top is the
+  /// target's support plane and that hold the target, merged (the workspace without
+  /// any), less the footprints of walls standing on them, cut off on the side away
+  /// from the target.
+  const Eigen::AlignedBox2d& support_region() const;
+  /// Where the gripper's centre may be (world x, y, m): over the support region and in
+  /// front of it as far as the exit x_s and 5 cm beyond, within the scene's workspace.
+  Eigen::AlignedBox2d gripper_region() const;
+  /// Radius of the smallest circle about an object's centre that holds its footprint, m.
+  double footprint_radius(ObjectIndex object) const;
 
  private:
   struct Impl;

@@ -11,18 +11,25 @@
 namespace cluttertamp::plugin {
 
 /// Push `object` until its centre lies within `goal_radius` of `goal_xy` (world
-/// frame, metres, in the plane of its support).
+/// frame, metres, in the plane of its support), the gripper moving in the plane of the
+/// target's support from its planar pose `gripper` (x, y in m, yaw in rad, world frame;
+/// yaw 0 faces +x).
 struct PushQuery {
   ObjectIndex object = 0;
   Eigen::Vector2d goal_xy = Eigen::Vector2d::Zero();
   double goal_radius = 0.0;
   const WorldState* state = nullptr;  ///< not null
+  Eigen::Vector3d gripper = Eigen::Vector3d::Zero();
 };
 
+/// Either a push that was executed in simulation, or why none was found.
 struct PushAnswer {
-  std::optional<Trajectory> trajectory;  ///< the executed gripper motion
-  std::optional<WorldState> resulting_state;
-  std::optional<Failure> failure;
+  /// The executed push: action "push", the gripper's trajectory and its controls
+  /// (physics::push_step describes the values).
+  std::optional<PlanStep> step;
+  std::optional<WorldState> resulting_state;  ///< every object where the push left it
+  Eigen::Vector3d gripper_end = Eigen::Vector3d::Zero();  ///< where the gripper stopped (x, y, yaw)
+  std::optional<Failure> failure;  ///< set when `step` is not
 };
 
 /// Moves objects without grasping them.

@@ -1,0 +1,561 @@
+#include "cluttertamp/physics/push_planning.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/ProjectionEvaluator.h>
+#include <ompl/base/StateSampler.h>
+#include <ompl/base/goals/GoalSampleableRegion.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/base/spaces/SE2StateSpace.h>
+#include <ompl/control/ControlSampler.h>
+#include <ompl/control/PathControl.h>
+#include <ompl/control/SpaceInformation.h>
+#include <ompl/control/planners/kpiece/KPIECE1.h>
+#include <ompl/control/planners/rrt/RRT.h>
+#include <ompl/control/spaces/RealVectorControlSpace.h>
+#include <ompl/datastructures/NearestNeighborsLinear.h>
+#include <ompl/util/Console.h>
+
+namespace cluttertamp::physics {
+
+namespace ob = ompl::base;
+namespace oc = ompl::control;
+
+namespace {
+
+double angle_between(double a, double b) { return std::abs(std::remainder(a - b, 2 * M_PI)); }
+
+// The state layout: SE2 (gripper) then a real vector of the objects' planar poses and
+// velocities (6 per object) and a last entry, 1 while the state is valid. Only the
+// gripper counts for distances (the objects' subspace has weight 0).
+class Layout {
+ public:
+  explicit Layout(std::size_t objects) : objects_(objects) {}
+  std::size_t reals() const { return 6 * objects_ + 1; }
+
+  void write(const PushState& s, bool valid, ob::State* state) const {
+    auto* g = gripper(state);
+    g->setXY(s.gripper.x(), s.gripper.y());
+    g->setYaw(s.gripper.z());
+    double* v = values(state);
+    for (std::size_t i = 0; i < objects_; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        v[6 * i + k] = s.objects[i].pose[k];
+        v[6 * i + 3 + k] = s.objects[i].velocity[k];
+      }
+    }
+    v[6 * objects_] = valid ? 1.0 : 0.0;
+  }
+
+  PushState read(const ob::State* state) const {
+    const auto* g = gripper(state);
+    const double* v = values(state);
+    PushState s;
+    s.gripper = {g->getX(), g->getY(), g->getYaw()};
+    s.objects.resize(objects_);
+    for (std::size_t i = 0; i < objects_; ++i) {
+      s.objects[i].pose = {v[6 * i], v[6 * i + 1], v[6 * i + 2]};
+      s.objects[i].velocity = {v[6 * i + 3], v[6 * i + 4], v[6 * i + 5]};
+    }
+    return s;
+  }
+
+  bool valid(const ob::State* state) const { return values(state)[6 * objects_] > 0.5; }
+
+  static Eigen::Vector3d gripper_pose(const ob::State* state) {
+    const auto* g = gripper(state);
+    return {g->getX(), g->getY(), g->getYaw()};
+  }
+  static Eigen::Vector2d gripper_xy(const ob::State* state) { return gripper_pose(state).head<2>(); }
+
+ private:
+  static const ob::SE2StateSpace::StateType* gripper(const ob::State* state) {
+    return state->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
+  }
+  static ob::SE2StateSpace::StateType* gripper(ob::State* state) {
+    return state->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
+  }
+  static const double* values(const ob::State* state) {
+    return state->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(1)->values;
+  }
+  static double* values(ob::State* state) {
+    return state->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(1)->values;
+  }
+
+  std::size_t objects_;
+};
+
+class Propagator final : public oc::StatePropagator {
+ public:
+  Propagator(const oc::SpaceInformationPtr& si, const PushWorld& world, const Layout& layout, std::uint64_t& propagations)
+      : oc::StatePropagator(si), world_(world), layout_(layout), propagations_(propagations) {}
+
+  void propagate(const ob::State* from, const oc::Control* control, double duration, ob::State* result) const override {
+    if (!layout_.valid(from)) {  // nothing grows from an invalid state
+      si_->copyState(result, from);
+      return;
+    }
+    const double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
+    ++propagations_;
+    const PushOutcome out = world_.propagate(layout_.read(from), PushControl{{u[0], u[1], u[2]}, duration});
+    PushState s = out.state;
+    s.gripper.z() = std::remainder(s.gripper.z(), 2 * M_PI);  // SE2's yaw bounds; x, y are checked, never clamped
+    layout_.write(s, valid_outcome(world_, out), result);
+  }
+
+  bool canPropagateBackward() const override { return false; }
+
+ private:
+  const PushWorld& world_;
+  const Layout& layout_;
+  std::uint64_t& propagations_;
+};
+
+// OMPL's view of a PushGoal; goal samples scatter about the goal's gripper target in
+// the start state, drawn from our own seeded generator.
+class OmplGoal final : public ob::GoalSampleableRegion {
+ public:
+  OmplGoal(const oc::SpaceInformationPtr& si, const Layout& layout, const PushGoal& goal, const PushState& start,
+           std::uint64_t seed)
+      : ob::GoalSampleableRegion(si), layout_(layout), goal_(goal), start_(start), rng_(seed) {
+    setThreshold(goal.tolerance());
+  }
+
+  double distanceGoal(const ob::State* state) const override { return goal_.distance(layout_.read(state)); }
+
+  void sampleGoal(ob::State* state) const override {
+    const Eigen::Vector3d centre = goal_.goal_gripper(start_);
+    const Eigen::Vector3d spread = goal_.sample_spread();
+    PushState s = start_;  // the objects' part does not count for distances
+    for (int k = 0; k < 3; ++k) s.gripper[k] = centre[k] + std::uniform_real_distribution<double>(-1, 1)(rng_) * spread[k];
+    s.gripper.z() = std::remainder(s.gripper.z(), 2 * M_PI);
+    layout_.write(s, true, state);
+  }
+
+  unsigned int maxSampleCount() const override { return std::numeric_limits<unsigned int>::max(); }
+
+ private:
+  const Layout& layout_;
+  const PushGoal& goal_;
+  PushState start_;
+  mutable std::mt19937_64 rng_;
+};
+
+// Uniform gripper poses in the gripper's region (the objects' part is the start's: it
+// does not count for distances), from a seeded generator.
+class GripperSampler final : public ob::StateSampler {
+ public:
+  GripperSampler(const ob::StateSpace* space, const Layout& layout, const PushState& start,
+                 const Eigen::AlignedBox2d& region, std::uint64_t seed)
+      : ob::StateSampler(space), layout_(layout), start_(start), region_(region), rng_(seed) {}
+
+  void sampleUniform(ob::State* state) override {
+    PushState s = start_;
+    s.gripper = {uniform(region_.min().x(), region_.max().x()), uniform(region_.min().y(), region_.max().y()),
+                 uniform(-M_PI, M_PI)};
+    layout_.write(s, true, state);
+  }
+  void sampleUniformNear(ob::State* state, const ob::State* near, double distance) override {
+    PushState s = start_;
+    const Eigen::Vector3d c = Layout::gripper_pose(near);
+    s.gripper = {std::clamp(c.x() + uniform(-distance, distance), region_.min().x(), region_.max().x()),
+                 std::clamp(c.y() + uniform(-distance, distance), region_.min().y(), region_.max().y()),
+                 std::remainder(c.z() + uniform(-distance, distance), 2 * M_PI)};
+    layout_.write(s, true, state);
+  }
+  void sampleGaussian(ob::State* state, const ob::State* mean, double stdDev) override {
+    sampleUniformNear(state, mean, stdDev);
+  }
+
+ private:
+  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+
+  const Layout& layout_;
+  const PushState& start_;
+  Eigen::AlignedBox2d region_;
+  std::mt19937_64 rng_;
+};
+
+// Controls uniform within their bounds or, a `steer` fraction of the time, heading
+// from the state they extend towards the goal's gripper target. Seeded.
+class PushControlSampler final : public oc::ControlSampler {
+ public:
+  PushControlSampler(const oc::ControlSpace* space, const Layout& layout, const PushGoal& goal,
+                     const KinodynamicSettings& settings, std::uint64_t seed)
+      : oc::ControlSampler(space), layout_(layout), goal_(goal), settings_(settings), rng_(seed) {}
+
+  void sample(oc::Control* control) override {
+    steered_steps_ = 0;
+    double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
+    u[0] = uniform(-settings_.max_side_speed, settings_.max_speed);
+    u[1] = uniform(-settings_.max_side_speed, settings_.max_side_speed);
+    u[2] = uniform(-settings_.max_turn, settings_.max_turn);
+  }
+
+  void sample(oc::Control* control, const ob::State* state) override {
+    steered_steps_ = 0;
+    if (settings_.steer <= 0 || uniform(0, 1) >= settings_.steer || !layout_.valid(state)) return sample(control);
+    const PushState s = layout_.read(state);
+    const Eigen::Vector3d to = goal_.gripper_target(s) - s.gripper;
+    double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
+    // Headed for the target at a random fraction of the speed that stays in bounds.
+    Eigen::Vector2d v = to.head<2>().normalized() * uniform(0.5, 1.0) * settings_.max_speed;
+    const double scale = std::min({1.0, v.x() > 0 ? settings_.max_speed / v.x() : settings_.max_side_speed / -v.x(),
+                                   settings_.max_side_speed / std::max(std::abs(v.y()), 1e-9)});
+    v *= scale;
+    u[0] = v.x();
+    u[1] = v.y();
+    // Long enough to get there, not to overshoot (sampleStepCount is asked next).
+    const double travel = to.head<2>().norm() / std::max(v.norm(), 1e-9);
+    steered_steps_ = static_cast<unsigned int>(std::max(1.0, std::round(travel / settings_.step)));
+    const double turn_time = std::max(travel, settings_.step);
+    u[2] = std::clamp(std::remainder(to.z(), 2 * M_PI) / turn_time, -settings_.max_turn, settings_.max_turn);
+  }
+
+  void sampleNext(oc::Control* control, const oc::Control*, const ob::State* state) override { sample(control, state); }
+
+  // OMPL's planners ask for a control, then for its step count: a steered control's
+  // count is the one that reaches its target.
+  unsigned int sampleStepCount(unsigned int min_steps, unsigned int max_steps) override {
+    if (steered_steps_) return std::clamp(std::exchange(steered_steps_, 0u), min_steps, max_steps);
+    return std::uniform_int_distribution<unsigned int>(min_steps, max_steps)(rng_);
+  }
+
+ private:
+  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+
+  const Layout& layout_;
+  const PushGoal& goal_;
+  const KinodynamicSettings& settings_;
+  std::mt19937_64 rng_;
+  unsigned int steered_steps_ = 0;  // of the last steered control, until asked
+};
+
+// KPIECE's projection: the gripper's position (set explicitly: OMPL 1.5.2's default
+// projection has a size bug, dependencies.md pitfall 3).
+class GripperProjection final : public ob::ProjectionEvaluator {
+ public:
+  explicit GripperProjection(const ob::StateSpacePtr& space) : ob::ProjectionEvaluator(space) {}
+  unsigned int getDimension() const override { return 2; }
+  void defaultCellSizes() override { cellSizes_ = {0.05, 0.05}; }
+  void project(const ob::State* state, Eigen::Ref<Eigen::VectorXd> out) const override { out = Layout::gripper_xy(state); }
+};
+
+// The planners with their own random generators seeded (OMPL's otherwise draw from one
+// process-wide seed) and, for RRT, exact nearest neighbours (GNAT draws its own numbers).
+class SeededRrt final : public oc::RRT {
+ public:
+  SeededRrt(const oc::SpaceInformationPtr& si, std::uint64_t seed) : oc::RRT(si) {
+    rng_.setLocalSeed(static_cast<std::uint_fast32_t>(seed));
+    setNearestNeighbors<ompl::NearestNeighborsLinear>();
+  }
+};
+class SeededKpiece final : public oc::KPIECE1 {
+ public:
+  SeededKpiece(const oc::SpaceInformationPtr& si, std::uint64_t seed) : oc::KPIECE1(si) {
+    rng_.setLocalSeed(static_cast<std::uint_fast32_t>(seed));
+  }
+};
+
+std::uint64_t mix(std::uint64_t seed, std::uint64_t salt) {
+  std::uint64_t h = seed ^ (0x9e3779b97f4a7c15ull * (salt + 1));
+  h ^= h >> 31;
+  h *= 0xbf58476d1ce4e5b9ull;
+  return h ^ (h >> 29);
+}
+
+}  // namespace
+
+void KinodynamicSettings::read(const Parameters& p) {
+  planner = p.get_string("planner", planner);
+  step = p.get_double("step", step);
+  max_steps = static_cast<int>(p.get_int("max_steps", max_steps));
+  max_speed = p.get_double("max_speed", max_speed);
+  max_side_speed = p.get_double("max_side_speed", max_side_speed);
+  max_turn = p.get_double("max_turn", max_turn);
+  goal_bias = p.get_double("goal_bias", goal_bias);
+  steer = p.get_double("steer", steer);
+  p.require(planner == "rrt" || planner == "kpiece", "planner", "must be rrt or kpiece");
+  p.require(step > 0, "step", "must be positive (seconds)");
+  p.require(max_steps >= 1, "max_steps", "must be at least 1");
+  p.require(max_speed > 0, "max_speed", "must be positive (m/s)");
+  p.require(max_side_speed > 0, "max_side_speed", "must be positive (m/s)");
+  p.require(max_turn > 0, "max_turn", "must be positive (rad/s)");
+  p.require(goal_bias >= 0 && goal_bias <= 1, "goal_bias", "must be in [0, 1]");
+  p.require(steer >= 0 && steer <= 1, "steer", "must be in [0, 1]");
+}
+
+PushGoal::~PushGoal() = default;
+
+void ReachTolerances::read(const Parameters& p) {
+  distance = p.get_double("goal_distance", distance);
+  heading = p.get_double("goal_heading", heading);
+  p.require(distance > 0, "goal_distance", "must be positive (m)");
+  p.require(heading > 0, "goal_heading", "must be positive (rad)");
+}
+
+ReachGoal::ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTolerances& tolerances)
+    : PushGoal(tolerances.distance), target_(target),
+      reach_(world.settings().gripper_size.x() / 2 + world.footprint_radius(target)), heading_(tolerances.heading) {}
+
+double ReachGoal::distance(const PushState& s) const {
+  const Eigen::Vector2d to = s.objects.at(target_).pose.head<2>() - s.gripper.head<2>();
+  const double off = angle_between(std::atan2(to.y(), to.x()), s.gripper.z());
+  return std::abs(to.norm() - reach_) + std::max(0.0, off - heading_);
+}
+
+Eigen::Vector3d ReachGoal::gripper_target(const PushState& s) const {
+  const Eigen::Vector2d target = s.objects.at(target_).pose.head<2>();
+  Eigen::Vector2d from = target - s.gripper.head<2>();
+  // Straight at the target from where the gripper is; from the front (-x) when on it.
+  const double yaw = from.norm() > 1e-6 ? std::atan2(from.y(), from.x()) : 0.0;
+  return {target.x() - reach_ * std::cos(yaw), target.y() - reach_ * std::sin(yaw), yaw};
+}
+
+GripperPoseGoal::GripperPoseGoal(std::vector<Eigen::Vector3d> poses, double position, double heading)
+    : PushGoal(position), poses_(std::move(poses)), position_(position), heading_(heading) {
+  if (poses_.empty()) throw std::invalid_argument("GripperPoseGoal: no pose");
+}
+
+double GripperPoseGoal::distance(const PushState& s) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& p : poses_) {
+    const double off = angle_between(s.gripper.z(), p.z());
+    best = std::min(best, (s.gripper.head<2>() - p.head<2>()).norm() + std::max(0.0, off - heading_));
+  }
+  return best;
+}
+
+Eigen::Vector3d GripperPoseGoal::gripper_target(const PushState& s) const {
+  return *std::min_element(poses_.begin(), poses_.end(), [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a.head<2>() - s.gripper.head<2>()).norm() < (b.head<2>() - s.gripper.head<2>()).norm();
+  });
+}
+
+ObjectInRegionGoal::ObjectInRegionGoal(const PushWorld& world, ObjectIndex object, const Eigen::Vector2d& centre,
+                                       double radius)
+    : PushGoal(radius), object_(object), centre_(centre),
+      standoff_(world.settings().gripper_size.x() / 2 + world.footprint_radius(object)) {}
+
+double ObjectInRegionGoal::distance(const PushState& s) const {
+  return (s.objects.at(object_).pose.head<2>() - centre_).norm();
+}
+
+Eigen::Vector3d ObjectInRegionGoal::gripper_target(const PushState& s) const {
+  const Eigen::Vector2d object = s.objects.at(object_).pose.head<2>();
+  const Eigen::Vector2d along = centre_ - object;
+  const double yaw = along.norm() > 1e-6 ? std::atan2(along.y(), along.x()) : s.gripper.z();
+  // Behind the object, on the line that pushes it to the centre: until behind, head
+  // there; once there, the same point lies ahead and pushing it carries the object.
+  const Eigen::Vector2d dir(std::cos(yaw), std::sin(yaw));
+  const Eigen::Vector2d behind = object - standoff_ * dir;
+  const bool lined_up = (s.gripper.head<2>() - behind).norm() < 0.02 && angle_between(s.gripper.z(), yaw) < 0.3;
+  const Eigen::Vector2d at = lined_up ? Eigen::Vector2d(centre_ - standoff_ * dir) : behind;
+  return {at.x(), at.y(), yaw};
+}
+
+Eigen::Vector3d ObjectInRegionGoal::goal_gripper(const PushState& start) const {
+  const Eigen::Vector2d along = centre_ - start.objects.at(object_).pose.head<2>();
+  const double yaw = along.norm() > 1e-6 ? std::atan2(along.y(), along.x()) : start.gripper.z();
+  const Eigen::Vector2d at = centre_ - standoff_ * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+  return {at.x(), at.y(), yaw};
+}
+
+double PushPath::duration() const {
+  double total = 0;
+  for (const PushControl& c : controls) total += c.duration;
+  return total;
+}
+
+bool valid_outcome(const PushWorld& world, const PushOutcome& out) {
+  if (out.gripper_hit_fixed || !out.fallen.empty() || !world.gripper_region().contains(out.state.gripper.head<2>())) {
+    return false;
+  }
+  const Eigen::AlignedBox2d& support = world.support_region();
+  return std::all_of(world.pushable().begin(), world.pushable().end(),
+                     [&](ObjectIndex i) { return support.contains(out.state.objects[i].pose.head<2>()); });
+}
+
+KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, const PushGoal& goal,
+                               const KinodynamicSettings& settings, double seconds, std::uint64_t seed) {
+  if (start.objects.size() != world.scene().objects.size()) {
+    throw std::invalid_argument("plan_pushes: the start state needs one body per scene object");
+  }
+  ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
+  KinodynamicOutcome outcome;
+  const Layout layout(start.objects.size());
+  const Eigen::AlignedBox2d region = world.gripper_region();
+
+  auto se2 = std::make_shared<ob::SE2StateSpace>();
+  ob::RealVectorBounds xy(2);
+  xy.setLow(0, region.min().x());
+  xy.setLow(1, region.min().y());
+  xy.setHigh(0, region.max().x());
+  xy.setHigh(1, region.max().y());
+  se2->setBounds(xy);
+  auto rest = std::make_shared<ob::RealVectorStateSpace>(static_cast<unsigned int>(layout.reals()));
+  rest->setBounds(-1e3, 1e3);
+  auto space = std::make_shared<ob::CompoundStateSpace>();
+  space->addSubspace(se2, 1.0);
+  space->addSubspace(rest, 0.0);
+  space->setStateSamplerAllocator([&, s = mix(seed, 1)](const ob::StateSpace* sp) {
+    return std::make_shared<GripperSampler>(sp, layout, start, region, s);
+  });
+
+  auto controls = std::make_shared<oc::RealVectorControlSpace>(space, 3);
+  ob::RealVectorBounds cb(3);
+  cb.setLow(0, -settings.max_side_speed);
+  cb.setHigh(0, settings.max_speed);
+  cb.setLow(1, -settings.max_side_speed);
+  cb.setHigh(1, settings.max_side_speed);
+  cb.setLow(2, -settings.max_turn);
+  cb.setHigh(2, settings.max_turn);
+  controls->setBounds(cb);
+  std::uint64_t samplers = 0;  // each sampler its own stream
+  controls->setControlSamplerAllocator([&](const oc::ControlSpace* cs) {
+    return std::make_shared<PushControlSampler>(cs, layout, goal, settings, mix(seed, 2 + samplers++));
+  });
+
+  auto si = std::make_shared<oc::SpaceInformation>(space, controls);
+  si->setStatePropagator(std::make_shared<Propagator>(si, world, layout, outcome.propagations));
+  si->setStateValidityChecker([&](const ob::State* s) { return layout.valid(s); });  // set by the propagator
+  si->setPropagationStepSize(settings.step);
+  si->setMinMaxControlDuration(1, static_cast<unsigned int>(settings.max_steps));
+  si->setup();
+
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+  ob::ScopedState<> start_state(space);
+  layout.write(start, true, start_state.get());
+  pdef->addStartState(start_state);
+  pdef->setGoal(std::make_shared<OmplGoal>(si, layout, goal, start, mix(seed, 0)));
+
+  ob::PlannerPtr planner;
+  if (settings.planner == "kpiece") {
+    auto kpiece = std::make_shared<SeededKpiece>(si, mix(seed, 100));
+    kpiece->setProjectionEvaluator(std::make_shared<GripperProjection>(space));
+    planner = kpiece;
+  } else {
+    auto rrt = std::make_shared<SeededRrt>(si, mix(seed, 100));
+    rrt->setGoalBias(settings.goal_bias);
+    planner = rrt;
+  }
+  planner->setProblemDefinition(pdef);
+  planner->setup();
+  const auto started = std::chrono::steady_clock::now();
+  const ob::PlannerStatus status = planner->solve(std::max(0.0, seconds));
+  if (status != ob::PlannerStatus::EXACT_SOLUTION) {
+    outcome.time_limit_reached = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >= seconds;
+    outcome.reason = outcome.time_limit_reached ? "time limit reached" : "no solution: " + status.asString();
+    return outcome;
+  }
+  const auto& path = *pdef->getSolutionPath()->as<oc::PathControl>();
+  PushPath result;
+  result.step = settings.step;
+  for (std::size_t i = 0; i < path.getStateCount(); ++i) result.states.push_back(layout.read(path.getState(i)));
+  for (std::size_t i = 0; i < path.getControlCount(); ++i) {
+    const double* u = path.getControl(i)->as<oc::RealVectorControlSpace::ControlType>()->values;
+    result.controls.push_back({{u[0], u[1], u[2]}, path.getControlDuration(i)});
+  }
+  result.states.front() = start;  // bit for bit: OMPL normalised nothing, but the yaw
+  outcome.path = std::move(result);
+  return outcome;
+}
+
+std::vector<PushControl> straight_controls(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                           const KinodynamicSettings& settings) {
+  Eigen::Vector3d delta = to - from;
+  delta.z() = std::remainder(delta.z(), 2 * M_PI);
+  const double seconds = std::max({std::abs(delta.x()) / (delta.x() > 0 ? settings.max_speed : settings.max_side_speed),
+                                   std::abs(delta.y()) / settings.max_side_speed, std::abs(delta.z()) / settings.max_turn});
+  if (delta.head<2>().norm() < 1e-9 && std::abs(delta.z()) < 1e-9) return {};
+  const int steps = std::max(1, static_cast<int>(std::ceil(seconds / settings.step - 1e-9)));
+  const Eigen::Vector3d velocity = delta / (steps * settings.step);
+  std::vector<PushControl> controls;
+  for (int done = 0; done < steps; done += settings.max_steps) {
+    controls.push_back({velocity, std::min(settings.max_steps, steps - done) * settings.step});
+  }
+  return controls;
+}
+
+bool simulate(const PushWorld& world, PushPath& path, const std::vector<PushControl>& controls) {
+  if (!(path.step > 0) || path.states.empty()) throw std::invalid_argument("simulate: a path with a start and a step");
+  for (const PushControl& c : controls) {
+    PushState s = path.states.back();
+    const int steps = std::max(1, static_cast<int>(std::lround(c.duration / path.step)));
+    for (int k = 0; k < steps; ++k) {
+      const PushOutcome out = world.propagate(s, {c.velocity, path.step});
+      if (!valid_outcome(world, out)) return false;
+      s = out.state;
+      s.gripper.z() = std::remainder(s.gripper.z(), 2 * M_PI);
+    }
+    path.states.push_back(std::move(s));
+    path.controls.push_back(c);
+  }
+  return true;
+}
+
+Replay replay(const PushWorld& world, const PushState& start, const std::vector<PushControl>& controls, double step) {
+  if (!(step > 0)) throw std::invalid_argument("replay: step must be positive");
+  Replay r;
+  r.end = start;
+  std::set<ObjectIndex> touched;
+  for (const PushControl& c : controls) {
+    const int steps = std::max(1, static_cast<int>(std::lround(c.duration / step)));
+    for (int k = 0; k < steps; ++k) {
+      const PushOutcome out = world.propagate(r.end, {c.velocity, step});
+      touched.insert(out.touched.begin(), out.touched.end());
+      r.valid = r.valid && valid_outcome(world, out);
+      r.end = out.state;
+      r.end.gripper.z() = std::remainder(r.end.gripper.z(), 2 * M_PI);
+    }
+  }
+  r.touched.assign(touched.begin(), touched.end());
+  return r;
+}
+
+PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldState& before) {
+  const Scene& scene = world.scene();
+  Trajectory t;
+  t.joint_names = {"gripper_x", "gripper_y", "gripper_yaw"};
+  for (std::size_t i = 0; i < path.states.size(); ++i) {
+    t.positions.push_back(path.states[i].gripper);
+    t.times.push_back(i == 0 ? 0.0 : t.times.back() + path.controls[i - 1].duration);
+  }
+  PlanStep step{"push", {}, {}, t};
+  // The controls themselves and the step they were propagated in: replaying them
+  // through the physics from the start checks the plan (replay()).
+  step.values["step"] = {path.step};
+  std::vector<double>& controls = step.values["controls"];
+  for (const PushControl& c : path.controls) controls.insert(controls.end(), {c.velocity.x(), c.velocity.y(), c.velocity.z(), c.duration});
+  const PushState& end = path.states.back();
+  for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
+    if ((end.objects[i].pose.head<2>() - before.world_T_objects[i].translation().head<2>()).norm() > 0.01) {
+      step.objects.push_back(i);
+      step.values[scene.objects[i].id] = {end.objects[i].pose.x(), end.objects[i].pose.y(), end.objects[i].pose.z()};
+    }
+  }
+  return step;
+}
+
+WorldState world_state_of(const WorldState& before, const PushState& state) {
+  WorldState after = before;
+  for (std::size_t i = 0; i < after.world_T_objects.size() && i < state.objects.size(); ++i) {
+    Eigen::Isometry3d& pose = after.world_T_objects[i];
+    const Eigen::Vector3d x = pose.rotation().col(0);
+    const double turn = state.objects[i].pose.z() - std::atan2(x.y(), x.x());
+    pose.linear() = Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix() * pose.linear();
+    pose.translation().head<2>() = state.objects[i].pose.head<2>();
+  }
+  return after;
+}
+
+}  // namespace cluttertamp::physics

@@ -1,0 +1,35 @@
+#pragma once
+// Guidance for reaching through clutter (Papallas & Dogar 2020, Section II-B): an
+// ordered list of guides, each an object to push and a disc in the shelf plane that its
+// centre should end in.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/physics/push_world.hpp"
+
+namespace cluttertamp::physics {
+
+/// Push `object` until its centre is within diameter / 2 of `centre` (world x, y, m).
+struct Guide {
+  ObjectIndex object = 0;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double diameter = 0.0;  ///< m
+  SourceLocation where;   ///< the guide in its file (empty when generated)
+};
+
+/// The guides, in the order they are to be satisfied.
+using Guidance = std::vector<Guide>;
+
+/// An automatic guidance: the objects whose footprint meets the gripper's straight way
+/// from `from` (world x, y, m) to the target in `state` (as wide as the gripper plus
+/// 4 cm), nearest `from` first, at most `max_guides`; each pushed square to the way, to
+/// the side where its push is cheaper, just far enough to clear the way. Cost: the
+/// push's length plus 0.15 m per object in its path. A side is out when the region,
+/// `diameter` wide, would leave the support; an object with neither side gets no guide.
+/// Deterministic.
+CLUTTERTAMP_API Guidance generate_guidance(const PushWorld& world, const PushState& state, const Eigen::Vector2d& from,
+                                           int max_guides, double diameter);
+}  // namespace cluttertamp::physics

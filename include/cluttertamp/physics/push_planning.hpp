@@ -1,0 +1,180 @@
+#pragma once
+// Kinodynamic planning over the pushing physics (Papallas & Dogar, ICRA 2020,
+// Section IV): OMPL's control-based RRT or KPIECE1 grows a tree of gripper controls
+// propagated through PushWorld until a goal holds. OMPL stays in the .cpp file.
+//
+// A state is valid while no pushable object has fallen or left the support region and
+// the gripper is inside its region and has not entered fixed geometry.
+
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cluttertamp/core/parameters.hpp"
+#include "cluttertamp/core/result.hpp"
+#include "cluttertamp/physics/push_world.hpp"
+
+namespace cluttertamp::physics {
+
+/// How the kinodynamic search samples and propagates controls. The defaults are ours:
+/// the seed paper gives its time limit (300 s) but not these values.
+struct KinodynamicSettings {
+  std::string planner = "rrt";  ///< "rrt" or "kpiece"
+  double step = 0.1;            ///< s: one propagation (each a fresh simulation)
+  int max_steps = 10;           ///< a control lasts 1..max_steps steps
+  double max_speed = 0.15;      ///< m/s along world +x (into the shelf)
+  double max_side_speed = 0.1;  ///< m/s along world y either way, and along -x
+  double max_turn = 0.5;        ///< rad/s, either way
+  double goal_bias = 0.05;      ///< RRT: fraction of samples drawn from the goal
+  /// Fraction of sampled controls steered towards the goal's gripper target from the
+  /// state they extend (the seed's Section V-A steers its approaches); 0 for the plain
+  /// planners of Section IV.
+  double steer = 0.0;
+
+  /// Reads the keys named like the members (`planner`, `step`, ...); throws InputError
+  /// naming the value for a bad one.
+  void read(const Parameters& parameters);
+};
+
+/// What a kinodynamic search is after. Satisfied when distance(state) <= tolerance().
+class CLUTTERTAMP_API PushGoal {
+ public:
+  explicit PushGoal(double tolerance) : tolerance_(tolerance) {}
+  virtual ~PushGoal();
+
+  virtual double distance(const PushState& state) const = 0;
+  /// A gripper pose (x, y m, yaw rad) to head for from `state` to get nearer the goal:
+  /// steered controls head for it.
+  virtual Eigen::Vector3d gripper_target(const PushState& state) const = 0;
+  /// Where the gripper is once the goal holds, as foreseen from `start`: goal samples
+  /// are drawn about it. Defaults to gripper_target(start).
+  virtual Eigen::Vector3d goal_gripper(const PushState& start) const { return gripper_target(start); }
+  /// How far goal samples scatter about goal_gripper (x, y in m, yaw in rad).
+  virtual Eigen::Vector3d sample_spread() const { return {0.01, 0.01, 0.1}; }
+
+  double tolerance() const { return tolerance_; }
+
+ private:
+  double tolerance_;
+};
+
+/// When the target counts as reached: the gripper's face within `distance` m of its
+/// surface, the target within `heading` rad of the gripper's heading.
+struct ReachTolerances {
+  double distance = 0.03;
+  double heading = 0.5;
+
+  /// Reads `goal_distance` and `goal_heading`; throws InputError for a bad one.
+  void read(const Parameters& parameters);
+};
+
+/// Reaching through clutter (Section II-A): the target within the tolerances, wherever
+/// pushes have moved it.
+class CLUTTERTAMP_API ReachGoal final : public PushGoal {
+ public:
+  ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTolerances& tolerances);
+  double distance(const PushState& state) const override;
+  Eigen::Vector3d gripper_target(const PushState& state) const override;
+  Eigen::Vector3d sample_spread() const override { return {0.0, 0.0, heading_}; }
+
+ private:
+  ObjectIndex target_;
+  double reach_;    // gripper centre to target centre when the face touches it, m
+  double heading_;  // rad
+};
+
+/// The gripper at one of `poses` (x, y m, yaw rad) within `position` metres and
+/// `heading` radians: an approach state of Section V-A.
+class CLUTTERTAMP_API GripperPoseGoal final : public PushGoal {
+ public:
+  GripperPoseGoal(std::vector<Eigen::Vector3d> poses, double position, double heading);
+  double distance(const PushState& state) const override;
+  Eigen::Vector3d gripper_target(const PushState& state) const override;  ///< the nearest pose
+  Eigen::Vector3d sample_spread() const override { return {position_ / 2, position_ / 2, heading_ / 2}; }
+
+ private:
+  std::vector<Eigen::Vector3d> poses_;
+  double position_, heading_;
+};
+
+/// An object's centre within `radius` of `centre` (world x, y, m): a guide satisfied.
+/// The gripper target is where the gripper's face would be with the object at the centre,
+/// pushed straight from where it is.
+class CLUTTERTAMP_API ObjectInRegionGoal final : public PushGoal {
+ public:
+  ObjectInRegionGoal(const PushWorld& world, ObjectIndex object, const Eigen::Vector2d& centre, double radius);
+  double distance(const PushState& state) const override;
+  Eigen::Vector3d gripper_target(const PushState& state) const override;
+  Eigen::Vector3d goal_gripper(const PushState& start) const override;
+
+ private:
+  ObjectIndex object_;
+  Eigen::Vector2d centre_;
+  double standoff_;  // gripper centre behind the object's centre when pushing it, m
+};
+
+/// A pushing plan: `states[k + 1]` is `controls[k]` applied to `states[k]` in
+/// propagations of `step` seconds (each control lasts a whole number of them).
+struct PushPath {
+  std::vector<PushState> states;
+  std::vector<PushControl> controls;
+  double step = 0.0;
+
+  double duration() const;
+};
+
+struct KinodynamicOutcome {
+  std::optional<PushPath> path;      ///< set when the goal was reached
+  std::string reason;                ///< why not, otherwise
+  std::uint64_t propagations = 0;    ///< physics propagations of `step` seconds
+  bool time_limit_reached = false;
+};
+
+/// Plans from `start` until `goal` holds, for at most `seconds` of wall-clock time.
+/// The same seed and the same number of propagations give the same tree: a search cut
+/// short by its time limit is repeatable only as far as it got.
+/// Throws std::invalid_argument when `start` does not fit the world.
+CLUTTERTAMP_API KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, const PushGoal& goal,
+                                               const KinodynamicSettings& settings, double seconds, std::uint64_t seed);
+
+/// Controls that move the gripper from `from` to `to` (x, y m, yaw rad) along a straight
+/// line, turning evenly, as fast as the settings' speed bounds allow, in whole
+/// propagation steps and at most max_steps per control. Empty when `to` is `from`.
+CLUTTERTAMP_API std::vector<PushControl> straight_controls(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                                           const KinodynamicSettings& settings);
+
+/// Applies `controls` to the end of `path` in propagations of path.step seconds,
+/// appending the state after each control. Stops and returns false at the first
+/// propagation that is not valid (see the top of this file), appending nothing of it.
+CLUTTERTAMP_API bool simulate(const PushWorld& world, PushPath& path, const std::vector<PushControl>& controls);
+
+/// The outcome of applying a plan's controls to `start` in propagations of `step`
+/// seconds, with whether every intermediate state stayed valid (see the top of this
+/// file): an independent check of a plan.
+struct Replay {
+  PushState end;
+  bool valid = true;
+  std::vector<ObjectIndex> touched;  ///< objects the gripper touched (sorted)
+};
+CLUTTERTAMP_API Replay replay(const PushWorld& world, const PushState& start, const std::vector<PushControl>& controls,
+                              double step);
+
+/// A pushing path as a plan step: action "push"; its trajectory the gripper's planar
+/// pose (joints gripper_x, gripper_y m, gripper_yaw rad) at the start and the end of
+/// every control; values "controls" ([vx vy yaw-rate duration] per control), "step"
+/// (the propagation step, s) and, under each object's id, the end pose [x y yaw] of
+/// every object that moved more than 1 cm from `before` (also listed in `objects`).
+CLUTTERTAMP_API PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldState& before);
+
+/// `before` with each object where `state` has it: x, y and a turn about z; its height
+/// and tilt kept.
+CLUTTERTAMP_API WorldState world_state_of(const WorldState& before, const PushState& state);
+
+/// Whether a propagation outcome keeps the plan valid (see the top of this file).
+CLUTTERTAMP_API bool valid_outcome(const PushWorld& world, const PushOutcome& outcome);
+
+}  // namespace cluttertamp::physics

@@ -1,0 +1,150 @@
+// grtc: guided reaching through clutter (Papallas & Dogar, ICRA 2020, Algorithm 1).
+// A guidance is an ordered list of guides (object, region); each is satisfied with the
+// run's push sampler, from wherever the gripper stopped, and then the remaining
+// reaching problem is solved by kinodynamic planning in the time that is left. The
+// guidance comes from a file or from physics::generate_guidance.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "cluttertamp/io/guidance_io.hpp"
+#include "cluttertamp/physics/guidance.hpp"
+#include "cluttertamp/physics/push_planning.hpp"
+#include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/push_sampler.hpp"
+#include "cluttertamp/plugin/task_planner.hpp"
+
+namespace {
+
+using namespace cluttertamp;
+using Clock = std::chrono::steady_clock;
+
+std::string describe(const Scene& scene, const physics::Guide& g) {
+  std::ostringstream out;
+  out.precision(3);
+  out << "push '" << scene.objects.at(g.object).id << "' into the " << g.diameter << " m disc about (" << g.centre.x()
+      << ", " << g.centre.y() << ")";
+  return out.str();
+}
+
+class GrtcPlanner final : public plugin::TaskPlanner {
+ public:
+  void configure(const Parameters& p) override {
+    search_.read(p);
+    guidance_ = p.get_string("guidance", guidance_);
+    guidance_where_ = p.location("guidance");
+    max_guides_ = static_cast<int>(p.get_int("max_guides", max_guides_));
+    diameter_ = p.get_double("guide_diameter", diameter_);
+    reach_.read(p);
+    p.require(!guidance_.empty(), "guidance", "must be a guidance file or 'auto'");
+    p.require(max_guides_ >= 0, "max_guides", "must not be negative");
+    p.require(diameter_ > 0, "guide_diameter", "must be positive (m)");
+  }
+
+  Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
+    const auto started = Clock::now();
+    Result result;
+    const Scene& scene = context.scene();
+    if (!std::get_if<ReachTask>(&context.problem.task)) {
+      result.reason = "grtc plans reach tasks only (task: {reach: <target>})";
+      return result;
+    }
+    if (!context.samplers.push) {
+      result.reason = "grtc satisfies its guides with a push sampler: name one in the problem file "
+                      "(plugins: {push_sampler: push_ompl})";
+      return result;
+    }
+    const Eigen::Vector3d exit(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+    const physics::PushWorld initial_world(scene, initial);
+    const physics::Guidance guidance = guidance_ == "auto"
+                                      ? physics::generate_guidance(initial_world, initial_world.state_of(initial, exit), exit.head<2>(),
+                                                          max_guides_, diameter_)
+                                      : io::load_guidance(guidance_file(context), scene, initial_world.support_region());
+    result.counters["guides"] = guidance.size();
+
+    // Algorithm 1, lines 2-6: satisfy each guide in order, from where the last push left things.
+    WorldState state = initial;
+    Eigen::Vector3d gripper = exit;
+    for (std::size_t k = 0; k < guidance.size(); ++k) {
+      const physics::Guide& g = guidance[k];
+      plugin::PushQuery query{g.object, g.centre, g.diameter / 2, &state, gripper};
+      plugin::PushAnswer answer = context.samplers.push->push(context, query);
+      if (!answer.step) {
+        Failure f = answer.failure.value_or(Failure{"push", "the push sampler gave no push and no reason", {}});
+        result.reason = "guide " + std::to_string(k + 1) + " (" + describe(scene, g) + ") not satisfied: " + f.reason;
+        result.failures.push_back(std::move(f));
+        return finish(result, context, started);
+      }
+      answer.step->values["guide"] = {double(k + 1)};
+      answer.step->values["region"] = {g.centre.x(), g.centre.y(), g.diameter};
+      for (ObjectIndex i : answer.step->objects) {
+        if (std::find(result.moved_objects.begin(), result.moved_objects.end(), i) == result.moved_objects.end()) {
+          result.moved_objects.push_back(i);
+        }
+      }
+      result.plan.push_back(std::move(*answer.step));
+      state = std::move(*answer.resulting_state);
+      gripper = answer.gripper_end;
+      result.counters["guides_satisfied"] += 1;
+    }
+    // The guidance time t_g counts as task planning, the remaining reach as motion planning.
+    result.time.task_planning = std::chrono::duration<double>(Clock::now() - started).count();
+
+    // Line 7: the remaining reaching problem, in the time left.
+    const physics::PushWorld world(scene, state);
+    const physics::ReachGoal goal(world, scene.target, reach_);
+    const physics::KinodynamicOutcome out =
+        physics::plan_pushes(world, world.state_of(state, gripper), goal, search_, context.deadline.remaining(),
+                             context.seed + guidance.size() + 1);
+    context.count("propagations", out.propagations);
+    if (!out.path) {
+      result.reason = "the guidance was satisfied (" + std::to_string(guidance.size()) + " guides), then reaching the target failed: " + out.reason;
+      result.failures.push_back(Failure{"reach", result.reason, {}});
+      return finish(result, context, started);
+    }
+    PlanStep step = physics::push_step(world, *out.path, state);
+    for (ObjectIndex i : step.objects) {
+      if (std::find(result.moved_objects.begin(), result.moved_objects.end(), i) == result.moved_objects.end()) {
+        result.moved_objects.push_back(i);
+      }
+    }
+    result.plan.push_back(std::move(step));
+    result.solved = true;
+    return finish(result, context, started);
+  }
+
+ private:
+  // Relative paths are read from the directory of the file that names them.
+  std::filesystem::path guidance_file(const plugin::PlanningContext& context) const {
+    const std::filesystem::path path(guidance_);
+    if (path.is_absolute()) return path;
+    const std::filesystem::path base = !guidance_where_.file.empty() ? std::filesystem::path(guidance_where_.file)
+                                                                     : context.problem.source_file;
+    return base.parent_path() / path;
+  }
+
+  static Result& finish(Result& result, const plugin::PlanningContext& context, Clock::time_point started) {
+    result.time.total = std::chrono::duration<double>(Clock::now() - started).count();
+    if (result.counters["guides_satisfied"] < result.counters["guides"]) result.time.task_planning = result.time.total;
+    result.time.motion_planning = result.time.total - result.time.task_planning;
+    const auto it = context.counters.find("propagations");  // counted by the push sampler too
+    result.counters[counter::samples] = it == context.counters.end() ? 0 : it->second;
+    return result;
+  }
+
+  physics::KinodynamicSettings search_;
+  std::string guidance_ = "auto";
+  SourceLocation guidance_where_;
+  int max_guides_ = 3;
+  double diameter_ = 0.1;        // m: generated guides' regions
+  physics::ReachTolerances reach_;
+};
+
+}  // namespace
+
+CLUTTERTAMP_EXPORT_TASK_PLANNER(GrtcPlanner, grtc,
+                                "Guided reaching through clutter: satisfy a guidance (file or generated) with the push "
+                                "sampler, then kinodynamic RRT or KPIECE1 to the target (Papallas & Dogar 2020, Alg. 1)",
+                                "0.1.0")

@@ -1,0 +1,230 @@
+// push_ompl: push one object into a region (Papallas & Dogar, ICRA 2020, Section V-A).
+// Two approach states are computed behind the object on the line to the region's
+// centre (Fig. 2): the gripper's face towards the region, and its side edge towards it.
+// First a quick pass tries a simulated feedback pusher (ours, not the paper's); then a
+// kinodynamic search (RRT or KPIECE1 over the pushing physics) reaches either, then a
+// second one pushes the object until its centre is in the region. Other objects may be
+// pushed along the way; none may fall or leave the shelf.
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <sstream>
+
+#include "cluttertamp/physics/push_planning.hpp"
+#include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/push_sampler.hpp"
+
+namespace {
+
+using namespace cluttertamp;
+
+std::string xy(const Eigen::Vector2d& v) {
+  std::ostringstream out;
+  out.precision(3);
+  out << "(" << v.x() << ", " << v.y() << ")";
+  return out.str();
+}
+
+// The run's seed mixed with the query, so that the same query gives the same push.
+std::uint64_t query_seed(std::uint64_t seed, const plugin::PushQuery& q) {
+  std::uint64_t h = seed ^ 0x9e3779b97f4a7c15ull;
+  for (double v : {double(q.object), q.goal_xy.x(), q.goal_xy.y(), q.goal_radius, q.gripper.x(), q.gripper.y(), q.gripper.z()}) {
+    h ^= std::hash<double>{}(v) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+  }
+  return h;
+}
+
+class PushOmpl final : public plugin::PushSampler {
+ public:
+  PushOmpl() { search_.steer = 0.3; }
+
+  void configure(const Parameters& p) override {
+    search_.read(p);
+    gap_ = p.get_double("approach_gap", gap_);
+    approach_position_ = p.get_double("approach_position", approach_position_);
+    approach_heading_ = p.get_double("approach_heading", approach_heading_);
+    approach_share_ = p.get_double("approach_share", approach_share_);
+    quick_rounds_ = static_cast<int>(p.get_int("quick_rounds", quick_rounds_));
+    quick_stroke_ = p.get_double("quick_stroke", quick_stroke_);
+    p.require(quick_rounds_ >= 0, "quick_rounds", "must not be negative (0: no quick pass)");
+    p.require(quick_stroke_ > 0, "quick_stroke", "must be positive (m)");
+    p.require(gap_ >= 0, "approach_gap", "must not be negative (m)");
+    p.require(approach_position_ > 0, "approach_position", "must be positive (m)");
+    p.require(approach_heading_ > 0, "approach_heading", "must be positive (rad)");
+    p.require(approach_share_ > 0 && approach_share_ < 1, "approach_share", "must be in (0, 1)");
+  }
+
+  plugin::PushAnswer push(plugin::PlanningContext& context, const plugin::PushQuery& q) override {
+    plugin::PushAnswer answer;
+    const Scene& scene = context.scene();
+    const WorldState& before = *q.state;
+    const physics::PushWorld world(scene, before);
+    const std::string& id = scene.objects.at(q.object).id;
+    const auto fail = [&](const std::string& reason, std::vector<ObjectIndex> blocking = {}) {
+      answer.failure = Failure{"push", reason, std::move(blocking)};
+      return answer;
+    };
+    if (!std::binary_search(world.pushable().begin(), world.pushable().end(), q.object)) {
+      return fail("'" + id + "' cannot be pushed: it is fixed or no longer in the scene");
+    }
+    if (!world.support_region().contains(q.goal_xy)) {
+      return fail("the goal " + xy(q.goal_xy) + " for '" + id + "' is off the shelf it stands on");
+    }
+    const physics::PushState start = world.state_of(before, q.gripper);
+    const physics::ObjectInRegionGoal in_region(world, q.object, q.goal_xy, q.goal_radius);
+    if (in_region.distance(start) <= q.goal_radius) return done(world, physics::PushPath{{start}, {}, search_.step}, before, answer);
+
+    std::string quick_failure;
+    if (quick_rounds_ > 0) {
+      if (auto path = quick_push(world, start, q, quick_failure)) {
+        context.count("quick_pushes");
+        return done(world, *path, before, answer);
+      }
+    }
+    const std::uint64_t seed = query_seed(context.seed, q);
+    const physics::GripperPoseGoal approach(approach_states(world, start, q), approach_position_, approach_heading_);
+    const auto approached = physics::plan_pushes(world, start, approach, search_,
+                                                 approach_share_ * context.deadline.remaining(), seed);
+    context.count("propagations", approached.propagations);
+    if (!approached.path) {
+      return fail("no approach to '" + id + "' (face or side towards " + xy(q.goal_xy) + "): " + approached.reason +
+                  quick_note(quick_failure));
+    }
+    const auto pushed = physics::plan_pushes(world, approached.path->states.back(), in_region, search_,
+                                             context.deadline.remaining(), seed + 1);
+    context.count("propagations", pushed.propagations);
+    if (!pushed.path) {
+      return fail("approached '" + id + "' but could not push it within " + std::to_string(q.goal_radius) + " m of " +
+                  xy(q.goal_xy) + ": " + pushed.reason + quick_note(quick_failure));
+    }
+    physics::PushPath path = *approached.path;
+    path.states.insert(path.states.end(), pushed.path->states.begin() + 1, pushed.path->states.end());
+    path.controls.insert(path.controls.end(), pushed.path->controls.begin(), pushed.path->controls.end());
+    return done(world, path, before, answer);
+  }
+
+ private:
+  // Fig. 2: a point behind the object on the line from the region's centre through it,
+  // as far from the object's centre as its enclosing circle plus the gripper's half
+  // depth (face towards the region) or half width (side edge towards it), plus a gap.
+  std::vector<Eigen::Vector3d> approach_states(const physics::PushWorld& world, const physics::PushState& s,
+                                               const plugin::PushQuery& q) const {
+    const Eigen::Vector2d object = s.objects.at(q.object).pose.head<2>();
+    const Eigen::Vector2d dir = (q.goal_xy - object).normalized();
+    const double yaw = std::atan2(dir.y(), dir.x());
+    const double r = world.footprint_radius(q.object) + gap_;
+    const Eigen::Vector3d& gripper = world.settings().gripper_size;
+    const Eigen::Vector2d face = object - (r + gripper.x() / 2) * dir;
+    const Eigen::Vector2d side = object - (r + gripper.y() / 2) * dir;
+    return {{face.x(), face.y(), yaw}, {side.x(), side.y(), std::remainder(yaw + M_PI / 2, 2 * M_PI)}};
+  }
+
+  // The quick pass, before any search: a feedback pusher simulated in the physics.
+  // Each round lines the gripper up behind the object on its line to the region's
+  // centre, face towards it, and pushes at most `quick_stroke` along that line. Of the
+  // ways to line up (line_up_routes) it takes the valid one that disturbs the fewest
+  // other objects. Null, with `why`, when no way or the push is valid, or the object is
+  // not in the region after quick_rounds rounds.
+  std::optional<physics::PushPath> quick_push(const physics::PushWorld& world, const physics::PushState& start,
+                                              const plugin::PushQuery& q, std::string& why) const {
+    const double standoff = world.footprint_radius(q.object) + world.settings().gripper_size.x() / 2 + gap_;
+    const double front = world.support_region().min().x() - world.settings().gripper_size.y() / 2 - gap_;
+    physics::PushPath path{{start}, {}, search_.step};
+    for (int round = 0; round < quick_rounds_; ++round) {
+      const physics::PushState& s = path.states.back();
+      const Eigen::Vector2d object = s.objects[q.object].pose.head<2>();
+      const Eigen::Vector2d to_goal = q.goal_xy - object;
+      if (to_goal.norm() <= q.goal_radius) return path;
+      const Eigen::Vector2d dir = to_goal.normalized();
+      const double yaw = std::atan2(dir.y(), dir.x());
+      const Eigen::Vector3d behind(object.x() - standoff * dir.x(), object.y() - standoff * dir.y(), yaw);
+      std::optional<physics::PushPath> best;
+      std::size_t best_disturbed = 0;
+      for (const std::vector<Eigen::Vector3d>& route : line_up_routes(s.gripper, behind, front)) {
+        physics::PushPath lined{{s}, {}, search_.step};
+        bool ok = true;
+        for (const Eigen::Vector3d& waypoint : route) {
+          ok = ok && physics::simulate(world, lined, physics::straight_controls(lined.states.back().gripper, waypoint, search_));
+        }
+        if (!ok) continue;
+        const std::size_t disturbed = disturbed_objects(s, lined.states.back(), q.object);
+        if (!best || disturbed < best_disturbed) {
+          best = std::move(lined);
+          best_disturbed = disturbed;
+        }
+      }
+      if (!best) {
+        why = "round " + std::to_string(round + 1) + ": no valid way to line up behind it";
+        return std::nullopt;
+      }
+      const physics::PushState& lined_up = best->states.back();
+      const Eigen::Vector2d now = q.goal_xy - lined_up.objects[q.object].pose.head<2>();
+      const double stroke = std::min(quick_stroke_, std::max(0.0, now.dot(dir)));
+      const Eigen::Vector3d pushed = lined_up.gripper + Eigen::Vector3d(stroke * dir.x(), stroke * dir.y(), 0.0);
+      if (!physics::simulate(world, *best, physics::straight_controls(lined_up.gripper, pushed, search_))) {
+        why = "round " + std::to_string(round + 1) + ": the push made an object fall or leave the shelf, or the gripper hit a wall";
+        return std::nullopt;
+      }
+      path.states.insert(path.states.end(), best->states.begin() + 1, best->states.end());
+      path.controls.insert(path.controls.end(), best->controls.begin(), best->controls.end());
+    }
+    const Eigen::Vector2d object = path.states.back().objects[q.object].pose.head<2>();
+    if ((q.goal_xy - object).norm() <= q.goal_radius) return path;
+    why = "after " + std::to_string(quick_rounds_) + " rounds it is " + std::to_string((q.goal_xy - object).norm()) +
+          " m from the centre";
+    return std::nullopt;
+  }
+
+  static std::string quick_note(const std::string& why) {
+    return why.empty() ? "" : " (the quick pass failed first: " + why + ")";
+  }
+
+  // Ways from the gripper pose `g` to the pose `behind`, as waypoints: straight there,
+  // turning on the way; turning first, then straight; straight, then turning; and, from
+  // inside the shelf (front of it at x = `front`), backing 3 cm away from what the face
+  // touches, out to the front, across and in.
+  static std::vector<std::vector<Eigen::Vector3d>> line_up_routes(const Eigen::Vector3d& g, const Eigen::Vector3d& behind,
+                                                                  double front) {
+    std::vector<std::vector<Eigen::Vector3d>> routes{
+        {behind}, {{g.x(), g.y(), behind.z()}, behind}, {{behind.x(), behind.y(), g.z()}, behind}};
+    if (g.x() > front) {
+      const Eigen::Vector3d back(g.x() - 0.03 * std::cos(g.z()), g.y() - 0.03 * std::sin(g.z()), g.z());
+      routes.push_back({back, {front, back.y(), g.z()}, {front, behind.y(), behind.z()}, behind});
+    }
+    return routes;
+  }
+
+  // Objects other than `pushed` that moved more than 1 cm between two states.
+  static std::size_t disturbed_objects(const physics::PushState& a, const physics::PushState& b, ObjectIndex pushed) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.objects.size(); ++i) {
+      n += i != pushed && (a.objects[i].pose.head<2>() - b.objects[i].pose.head<2>()).norm() > 0.01;
+    }
+    return n;
+  }
+
+  plugin::PushAnswer& done(const physics::PushWorld& world, const physics::PushPath& path, const WorldState& before,
+                           plugin::PushAnswer& answer) const {
+    physics::PushPath p = path;
+    p.step = search_.step;
+    answer.step = physics::push_step(world, p, before);
+    answer.resulting_state = physics::world_state_of(before, p.states.back());
+    answer.gripper_end = p.states.back().gripper;
+    return answer;
+  }
+
+  physics::KinodynamicSettings search_;
+  double gap_ = 0.01;                // m between the object's enclosing circle and the gripper at the approach
+  double approach_position_ = 0.02;  // m: approach reached within this of an approach state
+  double approach_heading_ = 0.2;    // rad
+  double approach_share_ = 0.5;      // of the time left, at most, for the approach
+  int quick_rounds_ = 6;             // of the quick pass; 0: none
+  double quick_stroke_ = 0.08;       // m: the quick pass pushes at most this far per round
+};
+
+}  // namespace
+
+CLUTTERTAMP_EXPORT_PUSH_SAMPLER(PushOmpl, push_ompl,
+                                "Push an object into a region: approach states behind it (face or side towards the "
+                                "region), then kinodynamic RRT or KPIECE1 over the pushing physics (Papallas & Dogar 2020)",
+                                "0.1.0")
