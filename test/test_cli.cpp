@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/physics/push_planning.hpp"
@@ -73,7 +74,7 @@ class Cli : public ::testing::Test {
   }
 
   // A bundled problem file copied into the test's directory with `edits` (text, its
-  // replacement) applied and its relative scene and ../../ paths made absolute.
+  // replacement) applied and its relative paths (scene, robot, guidance, PDDL) made absolute.
   fs::path bundled_copy(const fs::path& source, const std::string& name,
                         const std::vector<std::pair<std::string, std::string>>& edits) {
     std::string yaml = test::read_text(source);
@@ -486,6 +487,55 @@ TEST_F(Cli, GuidedPlansSatisfyEveryGuideAndReachTheTargetWhenReplayed) {
     gripper = replay.end.gripper;
   }
   EXPECT_EQ(j["counters"]["guides_satisfied"], guidance.size());
+}
+
+// Tian et al. VI-G: the retrieval planner pushes o3 aside instead of picking and
+// placing it. Replayed, the push moves o3 alone and stays valid; the retrieval's
+// configurations do not touch o3 where the push left it. Without a push sampler the
+// run says what is missing.
+TEST_F(Cli, RetrievalWithPushesPushesAsideWhatItCanAndRetrievesTheTarget) {
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/retrieve-push.yaml";
+  const CliRun r = plan(source, "--seed 0");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = result();
+  ASSERT_EQ(j["plan"].size(), 2u) << j["plan"].dump();
+  EXPECT_EQ(j["plan"][0]["action"], "push");
+  EXPECT_EQ(j["plan"][0]["objects"], nlohmann::json::array({"o3"}));
+  EXPECT_EQ(j["plan"][1]["action"], "retrieve");
+  EXPECT_EQ(j["counters"]["pushes"], 1);
+
+  const Problem problem = io::load_problem(source);
+  const Scene& scene = problem.scene;
+  WorldState state = WorldState::initial(scene);
+  state.robot_configuration = problem.robot.initial_configuration();
+  const physics::PushWorld world(scene, state);
+  const Eigen::Vector3d exit(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+  const physics::Replay replay =
+      physics::replay(world, world.state_of(state, exit), push_controls(j["plan"][0]["values"]["controls"].get<std::vector<double>>()),
+                      j["plan"][0]["values"]["step"][0].get<double>());
+  EXPECT_TRUE(replay.valid);
+  const ObjectIndex o3 = *scene.find_object("o3");
+  for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
+    const double moved = (replay.end.objects[i].pose.head<2>() - state.world_T_objects[i].translation().head<2>()).norm();
+    if (i == o3) EXPECT_GT(moved, 0.05); else EXPECT_LT(moved, 0.01) << scene.objects[i].id;
+  }
+  state = physics::world_state_of(state, replay.end);
+  collision::CollisionWorld collisions(scene, problem.robot.loaded);
+  collisions.sync(state);
+  const auto context = collisions.make_context();
+  std::vector<ObjectIndex> others;
+  for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
+    if (i != o3) others.push_back(i);
+  }
+  for (const auto& q : j["plan"][1]["trajectory"]["positions"]) {
+    const std::vector<double> v = q.get<std::vector<double>>();
+    EXPECT_FALSE(collisions.touches_object(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())), *context, others));
+  }
+
+  const fs::path without = bundled_copy(source, "no-push-sampler.yaml", {{"  push_sampler: push_ompl\n", ""}});
+  const CliRun missing = plan(without);
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_NE(missing.output.find("retrieval_graph with push: true needs a push sampler"), std::string::npos) << missing.output;
 }
 
 // A guidance file naming an unknown object, or a region off the shelf, is bad input.

@@ -139,17 +139,21 @@ void RemovalChecker::record_times(Result& result, std::chrono::steady_clock::tim
   result.counters["actions_planned"] = actions_planned_;
 }
 
-void RemovalChecker::write_plan(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const {
+void RemovalChecker::write_steps(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const {
   std::vector<ObjectIndex> key{};
-  auto add = [&](ObjectIndex object) {
+  for (ObjectIndex object : order) {
     key.push_back(object);
     const Step& s = steps_.at({key, salt});
     result.plan.insert(result.plan.end(), s.steps.begin(), s.steps.end());
     if (s.note) result.failures.push_back(*s.note);
     result.moved_objects.push_back(object);
-  };
-  for (ObjectIndex o : order) add(o);
-  add(context_.scene().target);
+  }
+}
+
+void RemovalChecker::write_plan(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const {
+  std::vector<ObjectIndex> with_target(order.begin(), order.end());
+  with_target.push_back(context_.scene().target);
+  write_steps(with_target, salt, result);
 }
 
 collision::Footprint held_footprint(const plugin::PlanningContext& context, const WorldState& state, ObjectIndex object) {

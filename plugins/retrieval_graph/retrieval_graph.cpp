@@ -37,6 +37,7 @@ struct Settings {
   bool shorten = true;  // drop objects the found order does not need
   double shorten_time = 0.5;  // s per object tried
   bool restart = true;  // after every limit failed: forget the feedback, draw afresh
+  bool push = false;    // Section VI-G: push instead of pick-and-place where a push works
 
   void read(const Parameters& p) {
     roadmap.samples = static_cast<int>(p.get_int("T", roadmap.samples));
@@ -347,6 +348,8 @@ class Search {
 
   void finish(Result& result, Clock::time_point start) {
     checker_.record_times(result, start);
+    result.time.motion_planning += push_seconds_;  // pushes and the checks around them
+    result.time.task_planning = std::max(0.0, result.time.task_planning - push_seconds_);
     result.counters["roadmap_nodes"] = roadmap_->size();
     result.counters["feedback_nodes"] = feedback_.size();
   }
@@ -461,7 +464,15 @@ class Search {
     const retrieval::RemovalCheck check = checker_.retrieve(removal.objects_in_order, reseeds_);
     if (check.ok) {
       const ObjectSet order = settings_.shorten ? shortened(removal.objects_in_order, result) : removal.objects_in_order;
-      checker_.write_plan(order, reseeds_, result);
+      if (settings_.push) {
+        const retrieval::PushReplacement pushes =
+            retrieval::write_plan_with_pushes(context_, checker_, initial_, order, settings_.region, reseeds_, result);
+        result.counters["pushes"] = pushes.pushes;
+        result.counters["pushes_tried"] = pushes.pushes_tried;
+        push_seconds_ = pushes.seconds;
+      } else {
+        checker_.write_plan(order, reseeds_, result);
+      }
       return Attempt::solved;
     }
     if (context_.deadline.expired()) return Attempt::retry;
@@ -488,13 +499,21 @@ class Search {
   std::vector<ObjectSet> tried_;  // every removal order checked, in order
   retrieval::RemovalChecker checker_;
   std::uint64_t reseeds_ = 0;
+  double push_seconds_ = 0.0;
 };
 
 class RetrievalGraphPlanner final : public plugin::TaskPlanner {
  public:
-  void configure(const Parameters& p) override { settings_.read(p); }
+  void configure(const Parameters& p) override {
+    settings_.read(p);
+    settings_.push = p.get_bool("push", settings_.push);
+  }
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
-    if (auto why = retrieval::retrieval_inputs_missing(context, "retrieval_graph")) {
+    std::optional<std::string> why = retrieval::retrieval_inputs_missing(context, "retrieval_graph");
+    if (!why && settings_.push && !context.samplers.push) {
+      why = "retrieval_graph with push: true needs a push sampler (plugins: {push_sampler: push_ompl})";
+    }
+    if (why) {
       Result r;
       r.reason = *why;
       return r;

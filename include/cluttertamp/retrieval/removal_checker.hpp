@@ -53,6 +53,8 @@ class CLUTTERTAMP_API RemovalChecker {
   /// note in `failures` for each object carried out of the workspace.
   /// Precondition: retrieve(order, salt) returned ok.
   void write_plan(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const;
+  /// The pick and place steps of a successful remove(order, salt), without the target's.
+  void write_steps(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const;
 
   double motion_seconds() const { return motion_seconds_; }  ///< spent planning actions, s
 
@@ -81,6 +83,30 @@ class CLUTTERTAMP_API RemovalChecker {
   double motion_seconds_ = 0.0;
   std::uint64_t actions_planned_ = 0;
 };
+
+/// What write_plan_with_pushes did.
+struct PushReplacement {
+  std::uint64_t pushes = 0;         ///< pick-and-place actions replaced by a push
+  std::uint64_t pushes_tried = 0;   ///< push sampler queries
+  double seconds = 0.0;             ///< spent pushing and re-checking, s
+};
+
+/// Tian et al., Section VI-G: the plan of a removal order that `checker` (rooted at
+/// `initial`) retrieved, with each object pushed instead of picked and placed where a
+/// push works. In order, each object is tried at up to three spots 8-16 cm away on its
+/// support, clear of the other objects and of the target's way out (the disc of
+/// held_footprint along the straight line to x_s), with the context's push sampler,
+/// the gripper coming from x_s facing into the shelf. A push counts when it moves no
+/// other object more than 1 cm and the rest of the order and the target's retrieval
+/// still work from the state it leaves (checked, so the later actions are planned
+/// around the pushed object). The push step is the planar gripper's (see push_ompl);
+/// the arm following it is not checked. Without a push sampler, or once the deadline
+/// has passed, the plan is checker.write_plan's. Precondition: checker.retrieve(order,
+/// salt) returned ok.
+CLUTTERTAMP_API PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, RemovalChecker& checker,
+                                                       const WorldState& initial, std::span<const ObjectIndex> order,
+                                                       const std::string& placement_region, std::uint64_t salt,
+                                                       Result& result);
 
 /// The disc `object` sweeps in the shelf plane while the gripper holds it (radius r_b
 /// of Tian et al., Appendix B) and the height band it occupies at its pose in `state`.

@@ -1,0 +1,106 @@
+// Tian et al., Section VI-G: pushes in place of pick-and-place in a retrieval plan.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "cluttertamp/physics/push_world.hpp"
+#include "cluttertamp/plugin/push_sampler.hpp"
+#include "cluttertamp/retrieval/removal_checker.hpp"
+
+namespace cluttertamp::retrieval {
+
+namespace {
+
+constexpr int kSpots = 3;          // pushes tried per object
+constexpr double kGap = 0.01;      // m between a spot's object and the others, or the way out
+constexpr double kRadius = 0.03;   // m: a push ends with the object's centre this near its spot
+constexpr double kPushSeconds = 2.0;  // at most, per push query: a push is an improvement
+
+double to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+
+// Spots 8-16 cm from `object` (every 30 degrees), nearest first: on its support, clear
+// of every other present object and of the target's way out to x_s.
+std::vector<Eigen::Vector2d> push_spots(const plugin::PlanningContext& context, const WorldState& state,
+                                        ObjectIndex object) {
+  const Scene& scene = context.scene();
+  const physics::PushWorld world(scene, state);
+  const double r = world.footprint_radius(object);
+  const Eigen::Vector2d here = state.world_T_objects[object].translation().head<2>();
+  const Eigen::Vector2d target = state.world_T_objects[scene.target].translation().head<2>();
+  const Eigen::Vector2d exit = scene.world_T_exit.translation().head<2>();
+  const double way = held_footprint(context, state, scene.target).radius;
+  Eigen::AlignedBox2d support = world.support_region();
+  support.min().array() += r;
+  support.max().array() -= r;
+  std::vector<Eigen::Vector2d> spots;
+  for (const double distance : {0.08, 0.12, 0.16}) {
+    for (int k = 0; k < 12; ++k) {
+      const double angle = k * M_PI / 6;
+      const Eigen::Vector2d spot = here + distance * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      if (!support.contains(spot) || to_segment(spot, target, exit) < way + r + kGap) continue;
+      bool clear = true;
+      for (ObjectIndex j = 0; j < scene.objects.size() && clear; ++j) {
+        if (j == object || state.removed[j]) continue;
+        const double rj = world.footprint_radius(j);
+        clear = (state.world_T_objects[j].translation().head<2>() - spot).norm() > r + rj + kGap;
+      }
+      if (clear) spots.push_back(spot);
+    }
+  }
+  return spots;
+}
+
+}  // namespace
+
+PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, RemovalChecker& checker,
+                                       const WorldState& initial, std::span<const ObjectIndex> order,
+                                       const std::string& placement_region, std::uint64_t salt, Result& result) {
+  PushReplacement done;
+  const auto start = std::chrono::steady_clock::now();
+  const Scene& scene = context.scene();
+  const Eigen::Vector3d from_exit(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+  std::vector<std::unique_ptr<RemovalChecker>> owned;
+  RemovalChecker* current = &checker;   // rooted where the last push left the world (or at `initial`)
+  std::vector<ObjectIndex> picked;      // objects picked and placed since `current`'s root
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const ObjectIndex object = order[i];
+    const std::vector<ObjectIndex> rest(order.begin() + static_cast<std::ptrdiff_t>(i) + 1, order.end());
+    bool pushed = false;
+    if (context.samplers.push && !context.deadline.expired()) {
+      const WorldState before = current->remove(picked, salt).state;  // planned already: cached
+      int tries = 0;
+      for (const Eigen::Vector2d& spot : push_spots(context, before, object)) {
+        if (tries++ == kSpots || context.deadline.expired()) break;
+        ++done.pushes_tried;
+        plugin::PlanningContext limited{context.problem,
+                                        plugin::Deadline::after(std::min(kPushSeconds, context.deadline.remaining())),
+                                        context.seed, context.counters, context.samplers, context.world};
+        const plugin::PushAnswer answer =
+            context.samplers.push->push(limited, {object, spot, kRadius, &before, from_exit});
+        if (!answer.step || answer.step->objects != std::vector<ObjectIndex>{object}) continue;
+        auto next = std::make_unique<RemovalChecker>(context, *answer.resulting_state, placement_region);
+        if (!next->retrieve(rest, salt).ok) continue;
+        current->write_steps(picked, salt, result);
+        result.plan.push_back(*answer.step);
+        result.moved_objects.push_back(object);
+        current = next.get();
+        owned.push_back(std::move(next));
+        picked.clear();
+        pushed = true;
+        ++done.pushes;
+        break;
+      }
+    }
+    if (!pushed) picked.push_back(object);
+  }
+  current->write_plan(picked, salt, result);
+  done.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return done;
+}
+
+}  // namespace cluttertamp::retrieval
