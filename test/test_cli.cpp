@@ -464,7 +464,7 @@ TEST_F(Cli, GuidedPlansSatisfyEveryGuideAndReachTheTargetWhenReplayed) {
   ASSERT_FALSE(guidance.empty());
   ASSERT_EQ(j["plan"].size(), guidance.size() + 1) << "a push per guide, then the reach";
   WorldState state = WorldState::initial(scene);
-  Eigen::Vector3d gripper(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+  Eigen::Vector3d gripper = physics::gripper_at_exit(scene);
   for (std::size_t k = 0; k < j["plan"].size(); ++k) {
     SCOPED_TRACE("step " + std::to_string(k + 1));
     const nlohmann::json& step = j["plan"][k];
@@ -509,9 +509,8 @@ TEST_F(Cli, RetrievalWithPushesPushesAsideWhatItCanAndRetrievesTheTarget) {
   WorldState state = WorldState::initial(scene);
   state.robot_configuration = problem.robot.initial_configuration();
   const physics::PushWorld world(scene, state);
-  const Eigen::Vector3d exit(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
   const physics::Replay replay =
-      physics::replay(world, world.state_of(state, exit), push_controls(j["plan"][0]["values"]["controls"].get<std::vector<double>>()),
+      physics::replay(world, world.state_of(state, physics::gripper_at_exit(scene)), push_controls(j["plan"][0]["values"]["controls"].get<std::vector<double>>()),
                       j["plan"][0]["values"]["step"][0].get<double>());
   EXPECT_TRUE(replay.valid);
   const ObjectIndex o3 = *scene.find_object("o3");
@@ -562,7 +561,9 @@ TEST_F(Cli, GuideWritesTheAutomaticGuidance) {
   const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10/p06.yaml";
   const CliRun r = run("guide " + source.string() + " --output " + (dir_ / "g.yaml").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("guide"), std::string::npos);
+  EXPECT_NE(r.output.find("wrote " + (dir_ / "g.yaml").string() + ": "), std::string::npos) << r.output;
+  EXPECT_EQ(test::read_text(dir_ / "g.yaml"), test::read_text(source.parent_path() / "p06-guidance.yaml"))
+      << "the bundled guidance is the generator's (scripts/make-push-scenes.sh)";
   const Problem problem = io::load_problem(source);
   const auto guidance = io::load_guidance(dir_ / "g.yaml", problem.scene,
                                           physics::PushWorld(problem.scene, WorldState::initial(problem.scene)).support_region());
@@ -632,9 +633,9 @@ TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
     ASSERT_FALSE(controls.empty());
     ASSERT_EQ(controls.size() % 4, 0u);
     const double step = j["plan"][0]["values"]["step"][0].get<double>();
-    const Eigen::Vector3d start(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
     // OMPL propagates a control step by step: replay() does the same.
-    const physics::Replay replay = physics::replay(world, world.state_of(initial, start), push_controls(controls), step);
+    const physics::Replay replay =
+        physics::replay(world, world.state_of(initial, physics::gripper_at_exit(scene)), push_controls(controls), step);
     EXPECT_TRUE(replay.valid) << "nothing fell, left the shelf or entered a wall";
     const physics::PushState& state = replay.end;
     const Eigen::Vector2d target = state.objects[scene.target].pose.head<2>();

@@ -54,6 +54,7 @@ TEST(PushPlanning, StraightControlsStayInBoundsAndEndWhereAsked) {
     EXPECT_NEAR(steps, std::round(steps), 1e-9) << "whole propagation steps";
     EXPECT_LE(std::round(steps), settings.max_steps);
     EXPECT_LE(c.velocity.x(), settings.max_speed + 1e-12);
+    EXPECT_GE(c.velocity.x(), -settings.max_side_speed - 1e-12);
     EXPECT_LE(std::abs(c.velocity.y()), settings.max_side_speed + 1e-12);
     EXPECT_LE(std::abs(c.velocity.z()), settings.max_turn + 1e-12);
     end += c.velocity * c.duration;
@@ -95,6 +96,7 @@ TEST(PushPlanning, APlannedPushPutsTheCylinderInItsRegionWhenReplayed) {
   ASSERT_EQ(again.path->controls.size(), out.path->controls.size());
   for (std::size_t i = 0; i < out.path->controls.size(); ++i) {
     EXPECT_EQ(again.path->controls[i].velocity, out.path->controls[i].velocity);
+    EXPECT_EQ(again.path->controls[i].duration, out.path->controls[i].duration);
   }
 }
 
@@ -124,7 +126,9 @@ TEST_F(PushSamplerTest, ASinglePushMovesAnIsolatedCylinderIntoItsGoalRegion) {
     Parameters parameters;
     if (!quick) parameters.set("quick_rounds", std::int64_t{0});
     const plugin::PushQuery query{1, centre, 0.04, &initial, {0.45, 0.0, 0.0}};
+    counters_.clear();
     const plugin::PushAnswer answer = push(scene, query, parameters);
+    EXPECT_EQ(counters_["quick_pushes"], quick ? 1u : 0u) << "the pass that pushed";
     ASSERT_TRUE(answer.step) << answer.failure->reason;
     ASSERT_TRUE(answer.resulting_state);
     EXPECT_LE((answer.resulting_state->world_T_objects[1].translation().head<2>() - centre).norm(), 0.04);
@@ -134,11 +138,8 @@ TEST_F(PushSamplerTest, ASinglePushMovesAnIsolatedCylinderIntoItsGoalRegion) {
     EXPECT_EQ(answer.step->trajectory->joint_names, (std::vector<std::string>{"gripper_x", "gripper_y", "gripper_yaw"}));
     // Its controls, replayed from the query's state, end where the answer says.
     const PushWorld world(scene, initial);
-    const std::vector<double>& v = answer.step->values.at("controls");
-    std::vector<physics::PushControl> controls;
-    for (std::size_t i = 0; i + 3 < v.size(); i += 4) controls.push_back({{v[i], v[i + 1], v[i + 2]}, v[i + 3]});
-    const physics::Replay replay =
-        physics::replay(world, world.state_of(initial, query.gripper), controls, answer.step->values.at("step")[0]);
+    const physics::Replay replay = physics::replay(world, world.state_of(initial, query.gripper),
+                                                   physics::controls_of(*answer.step), answer.step->values.at("step")[0]);
     EXPECT_TRUE(replay.valid);
     EXPECT_LT((replay.end.gripper - answer.gripper_end).norm(), 1e-9);
     EXPECT_LT((replay.end.objects[1].pose.head<2>() - answer.resulting_state->world_T_objects[1].translation().head<2>()).norm(), 1e-9);
@@ -151,7 +152,7 @@ TEST_F(PushSamplerTest, APushOffTheShelfOrOfAFixedObjectIsRefusedWithAReason) {
   const WorldState initial = WorldState::initial(scene);
   const plugin::PushAnswer off = push(scene, {1, {1.4, 0.0}, 0.03, &initial, {0.45, 0, 0}}, {});
   ASSERT_TRUE(off.failure);
-  EXPECT_NE(off.failure->reason.find("off the shelf"), std::string::npos) << off.failure->reason;
+  EXPECT_NE(off.failure->reason.find("off the support the target stands on"), std::string::npos) << off.failure->reason;
   scene.objects[1].movable = false;
   const plugin::PushAnswer fixed = push(scene, {1, {0.8, 0.2}, 0.03, &initial, {0.45, 0, 0}}, {});
   ASSERT_TRUE(fixed.failure);
@@ -181,6 +182,10 @@ TEST(Guidance, AGuidanceFileRoundTripsAndBadOnesNameTheirLines) {
     }
     return std::string("no error");
   };
+  struct Remove {
+    std::filesystem::path file;
+    ~Remove() { std::filesystem::remove(file); }
+  } remove_file{file};
   EXPECT_NE(error_of("version: 1\nguides:\n  - {object: o7, centre: [0.8, 0], diameter: 0.1}\n")
                 .find("cluttertamp_test_guidance.yaml:3:14: error: guide #1: unknown object 'o7'"),
             std::string::npos);

@@ -182,7 +182,7 @@ int bench_push(const BenchArgs& args) {
       throw InputError({file.string(), 0, 0}, "bench push needs problems with task: {reach: <target>}");
     }
     scenes.push_back(problem.name);
-    const fs::path guidance = file.parent_path() / (file.stem().string() + "-guidance.yaml");
+    const fs::path guidance = fs::absolute(file.parent_path() / (file.stem().string() + "-guidance.yaml"));
     run::RunOptions options;
     options.time_limit = args.time_limit;
     const plugin::Registry registry(run::plugin_search_paths(problem, options));

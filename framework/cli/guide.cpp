@@ -19,7 +19,7 @@ int guide(const GuideArgs& args) {
   const Scene& scene = problem.scene;
   const WorldState initial = WorldState::initial(scene);
   const physics::PushWorld world(scene, initial);
-  const Eigen::Vector3d exit(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+  const Eigen::Vector3d exit = physics::gripper_at_exit(scene);
   const physics::Guidance guidance = physics::generate_guidance(world, world.state_of(initial, exit), exit.head<2>(),
                                                                 args.max_guides, args.diameter);
   std::ofstream out(args.output);

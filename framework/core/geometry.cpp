@@ -1,11 +1,29 @@
 #include "cluttertamp/core/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cluttertamp {
 
 namespace {
 }  // namespace
+
+double footprint_radius(const Shape& shape, const Eigen::Isometry3d& world_T_shape) {
+  if (const auto* sphere = std::get_if<Sphere>(&shape)) return sphere->radius;
+  if (std::abs(world_T_shape.linear()(2, 2)) > 1.0 - 1e-9) {  // upright: its z along the world's
+    if (const auto* cylinder = std::get_if<Cylinder>(&shape)) return cylinder->radius;
+    if (const auto* box = std::get_if<Box>(&shape)) return box->size.head<2>().norm() / 2;
+  }
+  const Eigen::AlignedBox3d bounds = world_bounds(shape, world_T_shape);
+  return 0.5 * (bounds.max() - bounds.min()).head<2>().norm();
+}
+
+double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
 
 Eigen::AlignedBox3d world_bounds(const Shape& shape, const Eigen::Isometry3d& world_T_shape) {
   const Eigen::Matrix3d& R = world_T_shape.linear();

@@ -17,6 +17,16 @@ std::string xy(const Eigen::Vector2d& v) {
   return out.str();
 }
 
+// A YAML double-quoted scalar: any id reads back.
+std::string quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
 void read_guide(const detail::YamlFile& file, const YAML::Node& item, std::size_t number, const Scene& scene,
                 const Eigen::AlignedBox2d& shelf, physics::Guidance& guidance) {
   const std::string what = "guide #" + std::to_string(number);
@@ -117,7 +127,7 @@ std::string guidance_to_yaml(const Scene& scene, const physics::Guidance& guidan
   out << "# Guidance: push each object, in order, until its centre is in its region (README, \"Guidance files\").\n";
   out << "version: " << kGuidanceFormatVersion << "\nguides:" << (guidance.empty() ? " []\n" : "\n");
   for (const physics::Guide& g : guidance) {
-    out << "  - {object: " << scene.objects.at(g.object).id << ", centre: [" << g.centre.x() << ", " << g.centre.y()
+    out << "  - {object: " << quoted(scene.objects.at(g.object).id) << ", centre: [" << g.centre.x() << ", " << g.centre.y()
         << "], diameter: " << g.diameter << "}\n";
   }
   return out.str();

@@ -1,21 +1,13 @@
 #include "cluttertamp/physics/guidance.hpp"
 
 #include <algorithm>
+
+#include "cluttertamp/core/geometry.hpp"
 #include <limits>
 #include <optional>
 
 namespace cluttertamp::physics {
 
-namespace {
-
-// Distance from p to the segment a-b.
-double to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-
-}  // namespace
 
 Guidance generate_guidance(const PushWorld& world, const PushState& state, const Eigen::Vector2d& from, int max_guides,
                            double diameter) {
@@ -26,11 +18,13 @@ Guidance generate_guidance(const PushWorld& world, const PushState& state, const
   constexpr double kCrossing = 0.15;  // m of push length an object in the way costs
   const Eigen::Vector2d along = (target - from).normalized();
   const Eigen::Vector2d normal(-along.y(), along.x());
+  // The way ends where the gripper's centre stops, its face at the target.
+  const Eigen::Vector2d end = target - (world.settings().gripper_size.x() / 2 + world.footprint_radius(scene.target)) * along;
 
   std::vector<std::pair<double, ObjectIndex>> blockers;  // distance along the way, object
   for (ObjectIndex i : world.pushable()) {
     const Eigen::Vector2d p = state.objects[i].pose.head<2>();
-    if (i == scene.target || to_segment(p, from, target) > lane + world.footprint_radius(i)) continue;
+    if (i == scene.target || distance_to_segment(p, from, end) > lane + world.footprint_radius(i)) continue;
     blockers.emplace_back((p - from).dot(along), i);
   }
   std::sort(blockers.begin(), blockers.end());
@@ -48,6 +42,9 @@ Guidance generate_guidance(const PushWorld& world, const PushState& state, const
     std::optional<Eigen::Vector2d> best;
     double best_cost = std::numeric_limits<double>::infinity();
     for (const double s : {1.0, -1.0}) {
+      // Its centre clears the way by kClear; anywhere in its region (a person's guide
+      // is as loose) it may still reach into the way by up to diameter / 2: pushing
+      // further, to the walls, failed more often than the overlap hindered.
       const Eigen::Vector2d spot = here + (s * (lane + r + kClear) - side) * normal;
       if (spot.x() < shelf.min().x() + inset || spot.x() > shelf.max().x() - inset ||
           spot.y() < shelf.min().y() + inset || spot.y() > shelf.max().y() - inset) {
@@ -55,7 +52,7 @@ Guidance generate_guidance(const PushWorld& world, const PushState& state, const
       }
       double cost = (spot - here).norm();
       for (ObjectIndex j : world.pushable()) {
-        if (j != object && to_segment(at[j], here, spot) < r + world.footprint_radius(j)) cost += kCrossing;
+        if (j != object && distance_to_segment(at[j], here, spot) < r + world.footprint_radius(j)) cost += kCrossing;
       }
       if (cost < best_cost) {
         best = spot;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -133,7 +134,8 @@ class OmplGoal final : public ob::GoalSampleableRegion {
   double distanceGoal(const ob::State* state) const override { return goal_.distance(layout_.read(state)); }
 
   void sampleGoal(ob::State* state) const override {
-    const Eigen::Vector3d centre = goal_.goal_gripper(start_);
+    const std::vector<Eigen::Vector3d> centres = goal_.goal_grippers(start_);
+    const Eigen::Vector3d centre = centres[std::uniform_int_distribution<std::size_t>(0, centres.size() - 1)(rng_)];
     const Eigen::Vector3d spread = goal_.sample_spread();
     PushState s = start_;  // the objects' part does not count for distances
     for (int k = 0; k < 3; ++k) s.gripper[k] = centre[k] + std::uniform_real_distribution<double>(-1, 1)(rng_) * spread[k];
@@ -206,12 +208,15 @@ class PushControlSampler final : public oc::ControlSampler {
     if (settings_.steer <= 0 || uniform(0, 1) >= settings_.steer || !layout_.valid(state)) return sample(control);
     const PushState s = layout_.read(state);
     const Eigen::Vector3d to = goal_.gripper_target(s) - s.gripper;
+    if (to.head<2>().norm() < 1e-9) return sample(control);
     double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
     // Headed for the target at a random fraction of the speed that stays in bounds.
     Eigen::Vector2d v = to.head<2>().normalized() * uniform(0.5, 1.0) * settings_.max_speed;
-    const double scale = std::min({1.0, v.x() > 0 ? settings_.max_speed / v.x() : settings_.max_side_speed / -v.x(),
-                                   settings_.max_side_speed / std::max(std::abs(v.y()), 1e-9)});
-    v *= scale;
+    const double x_bound = v.x() > 0    ? settings_.max_speed / v.x()
+                           : v.x() < 0 ? settings_.max_side_speed / -v.x()
+                                       : std::numeric_limits<double>::infinity();
+    const double y_bound = v.y() != 0 ? settings_.max_side_speed / std::abs(v.y()) : std::numeric_limits<double>::infinity();
+    v *= std::min({1.0, x_bound, y_bound});
     u[0] = v.x();
     u[1] = v.y();
     // Long enough to get there, not to overshoot (sampleStepCount is asked next).
@@ -265,6 +270,17 @@ class SeededKpiece final : public oc::KPIECE1 {
     rng_.setLocalSeed(static_cast<std::uint_fast32_t>(seed));
   }
 };
+
+// Why `s` cannot start a valid plan (the rules of valid_outcome), or nothing.
+std::optional<std::string> invalid_start(const PushWorld& world, const PushState& s) {
+  if (!world.gripper_region().contains(s.gripper.head<2>())) return std::string("the gripper is outside its region");
+  for (ObjectIndex i : world.pushable()) {
+    if (!world.support_region().contains(s.objects[i].pose.head<2>())) {
+      return "'" + world.scene().objects[i].id + "' is not over the target's support";
+    }
+  }
+  return std::nullopt;
+}
 
 std::uint64_t mix(std::uint64_t seed, std::uint64_t salt) {
   std::uint64_t h = seed ^ (0x9e3779b97f4a7c15ull * (salt + 1));
@@ -363,11 +379,11 @@ Eigen::Vector3d ObjectInRegionGoal::gripper_target(const PushState& s) const {
   return {at.x(), at.y(), yaw};
 }
 
-Eigen::Vector3d ObjectInRegionGoal::goal_gripper(const PushState& start) const {
+std::vector<Eigen::Vector3d> ObjectInRegionGoal::goal_grippers(const PushState& start) const {
   const Eigen::Vector2d along = centre_ - start.objects.at(object_).pose.head<2>();
   const double yaw = along.norm() > 1e-6 ? std::atan2(along.y(), along.x()) : start.gripper.z();
   const Eigen::Vector2d at = centre_ - standoff_ * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
-  return {at.x(), at.y(), yaw};
+  return {Eigen::Vector3d(at.x(), at.y(), yaw)};
 }
 
 double PushPath::duration() const {
@@ -392,6 +408,11 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
   }
   ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
   KinodynamicOutcome outcome;
+  if (auto why = invalid_start(world, start)) {
+    outcome.reason = "the start is not valid: " + *why;
+    return outcome;
+  }
+  seconds = std::clamp(seconds, 0.0, 1e7);  // no limit (Deadline::never) overflows OMPL's clock
   const Layout layout(start.objects.size());
   const Eigen::AlignedBox2d region = world.gripper_region();
 
@@ -451,7 +472,7 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
   planner->setProblemDefinition(pdef);
   planner->setup();
   const auto started = std::chrono::steady_clock::now();
-  const ob::PlannerStatus status = planner->solve(std::max(0.0, seconds));
+  const ob::PlannerStatus status = planner->solve(seconds);
   if (status != ob::PlannerStatus::EXACT_SOLUTION) {
     outcome.time_limit_reached = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >= seconds;
     outcome.reason = outcome.time_limit_reached ? "time limit reached" : "no solution: " + status.asString();
@@ -544,6 +565,15 @@ PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldStat
     }
   }
   return step;
+}
+
+std::vector<PushControl> controls_of(const PlanStep& step) {
+  std::vector<PushControl> controls;
+  const auto it = step.values.find("controls");
+  if (it == step.values.end()) return controls;
+  const std::vector<double>& v = it->second;
+  for (std::size_t i = 0; i + 3 < v.size(); i += 4) controls.push_back({{v[i], v[i + 1], v[i + 2]}, v[i + 3]});
+  return controls;
 }
 
 WorldState world_state_of(const WorldState& before, const PushState& state) {

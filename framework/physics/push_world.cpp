@@ -64,6 +64,7 @@ struct PushWorld::Impl {
   PushSettings settings;
   std::vector<bool> present = {};  // per scene object
   std::vector<double> z = {};      // per scene object: its centre's height in the initial state, m
+  std::vector<Eigen::Isometry3d> initial_pose = {};  // per scene object
   std::vector<ObjectIndex> pushable = {};
   Eigen::AlignedBox2d support = {};
   double plane = 0;           // the gripper's bottom, m
@@ -128,6 +129,7 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
     const SceneObject& o = scene.objects[i];
     w.present.push_back(!initial.removed.at(i));
     w.z.push_back(initial.world_T_objects.at(i).translation().z());
+    w.initial_pose.push_back(initial.world_T_objects.at(i));
     w.object_shapes.push_back(make_shape(o.shape));
     btVector3 inertia(0, 0, 0);
     if (o.movable) {
@@ -195,16 +197,11 @@ Eigen::AlignedBox2d PushWorld::gripper_region() const {
 }
 
 double PushWorld::footprint_radius(ObjectIndex object) const {
-  return std::visit(
-      [](const auto& s) {
-        using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, Box>) {
-          return s.size.template head<2>().norm() / 2;
-        } else {
-          return s.radius;
-        }
-      },
-      impl_->scene.objects.at(object).shape);
+  return cluttertamp::footprint_radius(impl_->scene.objects.at(object).shape, impl_->initial_pose.at(object));
+}
+
+Eigen::Vector3d gripper_at_exit(const Scene& scene) {
+  return {scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0};
 }
 
 PushState PushWorld::state_of(const WorldState& initial, const Eigen::Vector3d& gripper) const {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 
+#include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/physics/push_world.hpp"
 #include "cluttertamp/plugin/push_sampler.hpp"
 #include "cluttertamp/retrieval/removal_checker.hpp"
@@ -16,12 +17,6 @@ constexpr int kSpots = 3;          // pushes tried per object
 constexpr double kGap = 0.01;      // m between a spot's object and the others, or the way out
 constexpr double kRadius = 0.03;   // m: a push ends with the object's centre this near its spot
 constexpr double kPushSeconds = 2.0;  // at most, per push query: a push is an improvement
-
-double to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
 
 // Spots 8-16 cm from `object` (every 30 degrees), nearest first: on its support, clear
 // of every other present object and of the target's way out to x_s.
@@ -42,7 +37,7 @@ std::vector<Eigen::Vector2d> push_spots(const plugin::PlanningContext& context, 
     for (int k = 0; k < 12; ++k) {
       const double angle = k * M_PI / 6;
       const Eigen::Vector2d spot = here + distance * Eigen::Vector2d(std::cos(angle), std::sin(angle));
-      if (!support.contains(spot) || to_segment(spot, target, exit) < way + r + kGap) continue;
+      if (!support.contains(spot) || distance_to_segment(spot, target, exit) < way + r + kGap) continue;
       bool clear = true;
       for (ObjectIndex j = 0; j < scene.objects.size() && clear; ++j) {
         if (j == object || state.removed[j]) continue;
@@ -58,14 +53,14 @@ std::vector<Eigen::Vector2d> push_spots(const plugin::PlanningContext& context, 
 }  // namespace
 
 PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, RemovalChecker& checker,
-                                       const WorldState& initial, std::span<const ObjectIndex> order,
+                                       std::span<const ObjectIndex> order,
                                        const std::string& placement_region, std::uint64_t salt, Result& result) {
   PushReplacement done;
   const auto start = std::chrono::steady_clock::now();
   const Scene& scene = context.scene();
-  const Eigen::Vector3d from_exit(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+  const Eigen::Vector3d from_exit = physics::gripper_at_exit(scene);
   std::vector<std::unique_ptr<RemovalChecker>> owned;
-  RemovalChecker* current = &checker;   // rooted where the last push left the world (or at `initial`)
+  RemovalChecker* current = &checker;   // rooted where the last push left the world (or at checker's)
   std::vector<ObjectIndex> picked;      // objects picked and placed since `current`'s root
   for (std::size_t i = 0; i < order.size(); ++i) {
     const ObjectIndex object = order[i];

@@ -14,23 +14,6 @@ namespace {
 
 using namespace cluttertamp;
 
-// Radius in the shelf plane of a disc covering the object's footprint (exact for an
-// upright cylinder, conservative for anything else).
-double footprint_radius(const SceneObject& object) {
-  const Eigen::AlignedBox3d bounds = world_bounds(object.shape, object.world_T_object);
-  if (const auto* cylinder = std::get_if<Cylinder>(&object.shape)) {
-    if (std::abs(object.world_T_object.linear()(2, 2)) > 1.0 - 1e-9) return cylinder->radius;
-  }
-  return 0.5 * (bounds.max() - bounds.min()).head<2>().norm();
-}
-
-double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
-
 class CorridorPruner final : public plugin::ObjectPruner {
  public:
   void configure(const Parameters& parameters) override {
@@ -44,7 +27,7 @@ class CorridorPruner final : public plugin::ObjectPruner {
     const Eigen::Vector2d start = state.world_T_objects[target].translation().head<2>();
     const Eigen::Vector2d exit = scene.world_T_exit.translation().head<2>();
     // r_b = r_g + r_f (Tian et al., Appendix B) for a gripper without a large base.
-    const double r_b = footprint_radius(scene.objects[target]) + finger_thickness_;
+    const double r_b = footprint_radius(scene.objects[target].shape, scene.objects[target].world_T_object) + finger_thickness_;
     const Eigen::AlignedBox3d target_bounds = world_bounds(scene.objects[target].shape, state.world_T_objects[target]);
 
     std::vector<std::pair<double, ObjectIndex>> in_corridor;  // (distance from exit, object)
@@ -55,7 +38,8 @@ class CorridorPruner final : public plugin::ObjectPruner {
       const bool same_level = bounds.min().z() < target_bounds.max().z() - 1e-6 &&
                               bounds.max().z() > target_bounds.min().z() + 1e-6;
       const Eigen::Vector2d centre = state.world_T_objects[i].translation().head<2>();
-      if (same_level && distance_to_segment(centre, start, exit) < r_b + footprint_radius(scene.objects[i])) {
+      const double r = footprint_radius(scene.objects[i].shape, scene.objects[i].world_T_object);
+      if (same_level && distance_to_segment(centre, start, exit) < r_b + r) {
         in_corridor.emplace_back((centre - exit).norm(), i);
       }
     }

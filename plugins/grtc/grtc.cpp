@@ -56,7 +56,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
                       "(plugins: {push_sampler: push_ompl})";
       return result;
     }
-    const Eigen::Vector3d exit(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
+    const Eigen::Vector3d exit = physics::gripper_at_exit(scene);
     const physics::PushWorld initial_world(scene, initial);
     const physics::Guidance guidance = guidance_ == "auto"
                                       ? physics::generate_guidance(initial_world, initial_world.state_of(initial, exit), exit.head<2>(),
@@ -69,8 +69,13 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     Eigen::Vector3d gripper = exit;
     for (std::size_t k = 0; k < guidance.size(); ++k) {
       const physics::Guide& g = guidance[k];
+      // Each guide may take its share of the time left (the reach counts as one more),
+      // so that one hard push does not starve the rest.
+      const double share = context.deadline.remaining() / double(guidance.size() - k + 1);
+      plugin::PlanningContext guide_context{context.problem, plugin::Deadline::after(share), context.seed,
+                                            context.counters, context.samplers, context.world};
       plugin::PushQuery query{g.object, g.centre, g.diameter / 2, &state, gripper};
-      plugin::PushAnswer answer = context.samplers.push->push(context, query);
+      plugin::PushAnswer answer = context.samplers.push->push(guide_context, query);
       if (!answer.step) {
         Failure f = answer.failure.value_or(Failure{"push", "the push sampler gave no push and no reason", {}});
         result.reason = "guide " + std::to_string(k + 1) + " (" + describe(scene, g) + ") not satisfied: " + f.reason;
@@ -79,12 +84,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
       }
       answer.step->values["guide"] = {double(k + 1)};
       answer.step->values["region"] = {g.centre.x(), g.centre.y(), g.diameter};
-      for (ObjectIndex i : answer.step->objects) {
-        if (std::find(result.moved_objects.begin(), result.moved_objects.end(), i) == result.moved_objects.end()) {
-          result.moved_objects.push_back(i);
-        }
-      }
-      result.plan.push_back(std::move(*answer.step));
+      add_step(std::move(*answer.step), result);
       state = std::move(*answer.resulting_state);
       gripper = answer.gripper_end;
       result.counters["guides_satisfied"] += 1;
@@ -104,13 +104,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
       result.failures.push_back(Failure{"reach", result.reason, {}});
       return finish(result, context, started);
     }
-    PlanStep step = physics::push_step(world, *out.path, state);
-    for (ObjectIndex i : step.objects) {
-      if (std::find(result.moved_objects.begin(), result.moved_objects.end(), i) == result.moved_objects.end()) {
-        result.moved_objects.push_back(i);
-      }
-    }
-    result.plan.push_back(std::move(step));
+    add_step(physics::push_step(world, *out.path, state), result);
     result.solved = true;
     return finish(result, context, started);
   }
@@ -123,6 +117,16 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     const std::filesystem::path base = !guidance_where_.file.empty() ? std::filesystem::path(guidance_where_.file)
                                                                      : context.problem.source_file;
     return base.parent_path() / path;
+  }
+
+  // Appends a push step; the objects it moved join moved_objects, each once.
+  static void add_step(PlanStep step, Result& result) {
+    for (ObjectIndex i : step.objects) {
+      if (std::find(result.moved_objects.begin(), result.moved_objects.end(), i) == result.moved_objects.end()) {
+        result.moved_objects.push_back(i);
+      }
+    }
+    result.plan.push_back(std::move(step));
   }
 
   static Result& finish(Result& result, const plugin::PlanningContext& context, Clock::time_point started) {

@@ -18,6 +18,13 @@ namespace {
 
 using namespace cluttertamp;
 
+std::string metres(double v) {
+  std::ostringstream out;
+  out.precision(3);
+  out << v << " m";
+  return out.str();
+}
+
 std::string xy(const Eigen::Vector2d& v) {
   std::ostringstream out;
   out.precision(3);
@@ -68,7 +75,7 @@ class PushOmpl final : public plugin::PushSampler {
       return fail("'" + id + "' cannot be pushed: it is fixed or no longer in the scene");
     }
     if (!world.support_region().contains(q.goal_xy)) {
-      return fail("the goal " + xy(q.goal_xy) + " for '" + id + "' is off the shelf it stands on");
+      return fail("the goal " + xy(q.goal_xy) + " for '" + id + "' is off the support the target stands on");
     }
     const physics::PushState start = world.state_of(before, q.gripper);
     const physics::ObjectInRegionGoal in_region(world, q.object, q.goal_xy, q.goal_radius);
@@ -76,7 +83,7 @@ class PushOmpl final : public plugin::PushSampler {
 
     std::string quick_failure;
     if (quick_rounds_ > 0) {
-      if (auto path = quick_push(world, start, q, quick_failure)) {
+      if (auto path = quick_push(world, start, q, context.deadline, quick_failure)) {
         context.count("quick_pushes");
         return done(world, *path, before, answer);
       }
@@ -94,7 +101,7 @@ class PushOmpl final : public plugin::PushSampler {
                                              context.deadline.remaining(), seed + 1);
     context.count("propagations", pushed.propagations);
     if (!pushed.path) {
-      return fail("approached '" + id + "' but could not push it within " + std::to_string(q.goal_radius) + " m of " +
+      return fail("approached '" + id + "' but could not push it within " + metres(q.goal_radius) + " of " +
                   xy(q.goal_xy) + ": " + pushed.reason + quick_note(quick_failure));
     }
     physics::PushPath path = *approached.path;
@@ -123,14 +130,20 @@ class PushOmpl final : public plugin::PushSampler {
   // Each round lines the gripper up behind the object on its line to the region's
   // centre, face towards it, and pushes at most `quick_stroke` along that line. Of the
   // ways to line up (line_up_routes) it takes the valid one that disturbs the fewest
-  // other objects. Null, with `why`, when no way or the push is valid, or the object is
+  // other objects. Null, with `why`, when no way or the push is valid, the deadline
+  // passes, or the object is
   // not in the region after quick_rounds rounds.
   std::optional<physics::PushPath> quick_push(const physics::PushWorld& world, const physics::PushState& start,
-                                              const plugin::PushQuery& q, std::string& why) const {
+                                              const plugin::PushQuery& q, const plugin::Deadline& deadline,
+                                              std::string& why) const {
     const double standoff = world.footprint_radius(q.object) + world.settings().gripper_size.x() / 2 + gap_;
     const double front = world.support_region().min().x() - world.settings().gripper_size.y() / 2 - gap_;
     physics::PushPath path{{start}, {}, search_.step};
     for (int round = 0; round < quick_rounds_; ++round) {
+      if (deadline.expired()) {
+        why = "time limit reached in round " + std::to_string(round + 1);
+        return std::nullopt;
+      }
       const physics::PushState& s = path.states.back();
       const Eigen::Vector2d object = s.objects[q.object].pose.head<2>();
       const Eigen::Vector2d to_goal = q.goal_xy - object;
@@ -141,6 +154,7 @@ class PushOmpl final : public plugin::PushSampler {
       std::optional<physics::PushPath> best;
       std::size_t best_disturbed = 0;
       for (const std::vector<Eigen::Vector3d>& route : line_up_routes(s.gripper, behind, front)) {
+        if (deadline.expired()) break;
         physics::PushPath lined{{s}, {}, search_.step};
         bool ok = true;
         for (const Eigen::Vector3d& waypoint : route) {
@@ -154,7 +168,8 @@ class PushOmpl final : public plugin::PushSampler {
         }
       }
       if (!best) {
-        why = "round " + std::to_string(round + 1) + ": no valid way to line up behind it";
+        why = "round " + std::to_string(round + 1) +
+              (deadline.expired() ? ": time limit reached" : ": no valid way to line up behind it");
         return std::nullopt;
       }
       const physics::PushState& lined_up = best->states.back();
@@ -162,7 +177,8 @@ class PushOmpl final : public plugin::PushSampler {
       const double stroke = std::min(quick_stroke_, std::max(0.0, now.dot(dir)));
       const Eigen::Vector3d pushed = lined_up.gripper + Eigen::Vector3d(stroke * dir.x(), stroke * dir.y(), 0.0);
       if (!physics::simulate(world, *best, physics::straight_controls(lined_up.gripper, pushed, search_))) {
-        why = "round " + std::to_string(round + 1) + ": the push made an object fall or leave the shelf, or the gripper hit a wall";
+        why = "round " + std::to_string(round + 1) +
+              ": the push made an object fall or leave the shelf, or the gripper hit a wall or left its region";
         return std::nullopt;
       }
       path.states.insert(path.states.end(), best->states.begin() + 1, best->states.end());
@@ -170,8 +186,8 @@ class PushOmpl final : public plugin::PushSampler {
     }
     const Eigen::Vector2d object = path.states.back().objects[q.object].pose.head<2>();
     if ((q.goal_xy - object).norm() <= q.goal_radius) return path;
-    why = "after " + std::to_string(quick_rounds_) + " rounds it is " + std::to_string((q.goal_xy - object).norm()) +
-          " m from the centre";
+    why = "after " + std::to_string(quick_rounds_) + " rounds it is " + metres((q.goal_xy - object).norm()) +
+          " from the centre";
     return std::nullopt;
   }
 

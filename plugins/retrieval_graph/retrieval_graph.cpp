@@ -466,7 +466,7 @@ class Search {
       const ObjectSet order = settings_.shorten ? shortened(removal.objects_in_order, result) : removal.objects_in_order;
       if (settings_.push) {
         const retrieval::PushReplacement pushes =
-            retrieval::write_plan_with_pushes(context_, checker_, initial_, order, settings_.region, reseeds_, result);
+            retrieval::write_plan_with_pushes(context_, checker_, order, settings_.region, reseeds_, result);
         result.counters["pushes"] = pushes.pushes;
         result.counters["pushes_tried"] = pushes.pushes_tried;
         push_seconds_ = pushes.seconds;

@@ -30,8 +30,7 @@ class RtcPlanner final : public plugin::TaskPlanner {
       return result;
     }
     const physics::PushWorld world(scene, initial);
-    const Eigen::Vector3d exit(scene.world_T_exit.translation().x(), scene.world_T_exit.translation().y(), 0.0);
-    const physics::PushState start = world.state_of(initial, exit);
+    const physics::PushState start = world.state_of(initial, physics::gripper_at_exit(scene));
     const physics::ReachGoal goal(world, scene.target, reach_);
     const physics::KinodynamicOutcome out =
         physics::plan_pushes(world, start, goal, search_, context.deadline.remaining(), context.seed);

@@ -31,6 +31,14 @@ using Shape = std::variant<Box, Cylinder, Sphere>;
 /// The world-frame axis-aligned bounding box of `shape` placed at `world_T_shape`.
 Eigen::AlignedBox3d world_bounds(const Shape& shape, const Eigen::Isometry3d& world_T_shape);
 
+/// Radius (m) of a disc in the world x-y plane, about the shape's centre, that covers
+/// its footprint: exact for an upright cylinder or box and a sphere, conservative (half
+/// the diagonal of its world bounding box) for anything tilted.
+double footprint_radius(const Shape& shape, const Eigen::Isometry3d& world_T_shape);
+
+/// Distance from `p` to the segment from `a` to `b` (to `a` when they coincide).
+double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+
 /// "box", "cylinder" or "sphere".
 const char* shape_name(const Shape& shape);
 

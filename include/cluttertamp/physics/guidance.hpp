@@ -24,9 +24,10 @@ struct Guide {
 using Guidance = std::vector<Guide>;
 
 /// An automatic guidance: the objects whose footprint meets the gripper's straight way
-/// from `from` (world x, y, m) to the target in `state` (as wide as the gripper plus
-/// 4 cm), nearest `from` first, at most `max_guides`; each pushed square to the way, to
-/// the side where its push is cheaper, just far enough to clear the way. Cost: the
+/// from `from` (world x, y, m) to where it touches the target in `state` (as wide as the
+/// gripper plus 4 cm), nearest `from` first, at most `max_guides`; each pushed square to
+/// the way, to the side where its push is cheaper, its centre 1 cm clear of the way
+/// (anywhere in its region it may reach into the way by up to diameter / 2). Cost: the
 /// push's length plus 0.15 m per object in its path. A side is out when the region,
 /// `diameter` wide, would leave the support; an object with neither side gets no guide.
 /// Deterministic.

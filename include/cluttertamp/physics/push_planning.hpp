@@ -50,10 +50,10 @@ class CLUTTERTAMP_API PushGoal {
   /// A gripper pose (x, y m, yaw rad) to head for from `state` to get nearer the goal:
   /// steered controls head for it.
   virtual Eigen::Vector3d gripper_target(const PushState& state) const = 0;
-  /// Where the gripper is once the goal holds, as foreseen from `start`: goal samples
-  /// are drawn about it. Defaults to gripper_target(start).
-  virtual Eigen::Vector3d goal_gripper(const PushState& start) const { return gripper_target(start); }
-  /// How far goal samples scatter about goal_gripper (x, y in m, yaw in rad).
+  /// Where the gripper may be once the goal holds, as foreseen from `start`: goal
+  /// samples are drawn about one of them at random. Defaults to gripper_target(start).
+  virtual std::vector<Eigen::Vector3d> goal_grippers(const PushState& start) const { return {gripper_target(start)}; }
+  /// How far goal samples scatter about goal_grippers (x, y in m, yaw in rad).
   virtual Eigen::Vector3d sample_spread() const { return {0.01, 0.01, 0.1}; }
 
   double tolerance() const { return tolerance_; }
@@ -73,7 +73,7 @@ struct ReachTolerances {
 };
 
 /// Reaching through clutter (Section II-A): the target within the tolerances, wherever
-/// pushes have moved it.
+/// pushes have moved it (distance: metres off plus radians beyond `heading`, a sum).
 class CLUTTERTAMP_API ReachGoal final : public PushGoal {
  public:
   ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTolerances& tolerances);
@@ -87,13 +87,15 @@ class CLUTTERTAMP_API ReachGoal final : public PushGoal {
   double heading_;  // rad
 };
 
-/// The gripper at one of `poses` (x, y m, yaw rad) within `position` metres and
-/// `heading` radians: an approach state of Section V-A.
+/// The gripper at one of `poses` (x, y m, yaw rad): an approach state of Section V-A.
+/// Distance: metres off the pose plus radians beyond `heading` (a sum, so a heading
+/// error may exceed `heading` by what the position leaves of `position`).
 class CLUTTERTAMP_API GripperPoseGoal final : public PushGoal {
  public:
   GripperPoseGoal(std::vector<Eigen::Vector3d> poses, double position, double heading);
   double distance(const PushState& state) const override;
   Eigen::Vector3d gripper_target(const PushState& state) const override;  ///< the nearest pose
+  std::vector<Eigen::Vector3d> goal_grippers(const PushState&) const override { return poses_; }
   Eigen::Vector3d sample_spread() const override { return {position_ / 2, position_ / 2, heading_ / 2}; }
 
  private:
@@ -109,7 +111,7 @@ class CLUTTERTAMP_API ObjectInRegionGoal final : public PushGoal {
   ObjectInRegionGoal(const PushWorld& world, ObjectIndex object, const Eigen::Vector2d& centre, double radius);
   double distance(const PushState& state) const override;
   Eigen::Vector3d gripper_target(const PushState& state) const override;
-  Eigen::Vector3d goal_gripper(const PushState& start) const override;
+  std::vector<Eigen::Vector3d> goal_grippers(const PushState& start) const override;
 
  private:
   ObjectIndex object_;
@@ -134,7 +136,8 @@ struct KinodynamicOutcome {
   bool time_limit_reached = false;
 };
 
-/// Plans from `start` until `goal` holds, for at most `seconds` of wall-clock time.
+/// Plans from `start` until `goal` holds, for at most `seconds` of wall-clock time (a
+/// start that is not valid is refused with a reason).
 /// The same seed and the same number of propagations give the same tree: a search cut
 /// short by its time limit is repeatable only as far as it got.
 /// Throws std::invalid_argument when `start` does not fit the world.
@@ -169,6 +172,9 @@ CLUTTERTAMP_API Replay replay(const PushWorld& world, const PushState& start, co
 /// (the propagation step, s) and, under each object's id, the end pose [x y yaw] of
 /// every object that moved more than 1 cm from `before` (also listed in `objects`).
 CLUTTERTAMP_API PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldState& before);
+
+/// The controls of a push step (its "controls" values; none without them).
+CLUTTERTAMP_API std::vector<PushControl> controls_of(const PlanStep& step);
 
 /// `before` with each object where `state` has it: x, y and a turn about z; its height
 /// and tilt kept.

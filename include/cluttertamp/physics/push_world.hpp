@@ -89,12 +89,19 @@ class CLUTTERTAMP_API PushWorld {
   /// Where the gripper's centre may be (world x, y, m): over the support region and in
   /// front of it as far as the exit x_s and 5 cm beyond, within the scene's workspace.
   Eigen::AlignedBox2d gripper_region() const;
-  /// Radius of the smallest circle about an object's centre that holds its footprint, m.
+  /// Radius of a circle about an object's centre that holds its footprint in the
+  /// initial state, m (cluttertamp::footprint_radius: exact for upright cylinders and
+  /// boxes; a box's circle reaches its corners, so a push or reach goal measured from
+  /// it is a circle's, not the box's faces').
   double footprint_radius(ObjectIndex object) const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// The gripper's planar pose at the scene's exit x_s, facing into the shelf (+x): where
+/// reaching and pushing start (x, y in m, yaw 0).
+CLUTTERTAMP_API Eigen::Vector3d gripper_at_exit(const Scene& scene);
 
 }  // namespace cluttertamp::physics

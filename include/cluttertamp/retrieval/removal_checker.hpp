@@ -91,8 +91,7 @@ struct PushReplacement {
   double seconds = 0.0;             ///< spent pushing and re-checking, s
 };
 
-/// Tian et al., Section VI-G: the plan of a removal order that `checker` (rooted at
-/// `initial`) retrieved, with each object pushed instead of picked and placed where a
+/// Tian et al., Section VI-G: the plan of a removal order that `checker` retrieved, with each object pushed instead of picked and placed where a
 /// push works. In order, each object is tried at up to three spots 8-16 cm away on its
 /// support, clear of the other objects and of the target's way out (the disc of
 /// held_footprint along the straight line to x_s), with the context's push sampler,
@@ -104,7 +103,7 @@ struct PushReplacement {
 /// has passed, the plan is checker.write_plan's. Precondition: checker.retrieve(order,
 /// salt) returned ok.
 CLUTTERTAMP_API PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, RemovalChecker& checker,
-                                                       const WorldState& initial, std::span<const ObjectIndex> order,
+                                                       std::span<const ObjectIndex> order,
                                                        const std::string& placement_region, std::uint64_t salt,
                                                        Result& result);
 
