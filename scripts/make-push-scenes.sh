@@ -3,7 +3,7 @@
 # VI-B): the target at the back, ten movable cylinders (radius 3.5-4 cm, height
 # 24-29 cm, 0.3 kg, friction 0.5) placed at random without overlap in a 0.55 m wide,
 # 0.4 m deep cabinet. Each gets a reach problem (pNN.yaml) and its automatic guidance
-# (pNN-guidance.yaml, `cluttertamp guide`), which a person may edit.
+# (pNN-guidance.yaml, `cluttertamp guide`: one guide), which a person may edit.
 # Usage: scripts/make-push-scenes.sh [BUILD_DIR]   (after scripts/build.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -75,7 +75,7 @@ int generate(const GenerateArgs& args);
 struct GuideArgs {
   std::filesystem::path problem;  ///< a reach problem
   std::filesystem::path output;   ///< the guidance file to write
-  int max_guides = 3;
+  int max_guides = 1;
   double diameter = 0.1;             ///< m, every guide's region
   Verbosity verbosity = Verbosity::normal;
 };
