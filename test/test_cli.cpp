@@ -79,7 +79,8 @@ class Cli : public ::testing::Test {
                         const std::vector<std::pair<std::string, std::string>>& edits) {
     std::string yaml = test::read_text(source);
     for (const auto& [from, to] : edits) yaml = test::replaced(yaml, from, to);
-    // Relative paths after these keys (not in comments) are made absolute.
+    // Relative paths after these keys are made absolute (a comment with one of the keys
+    // would be edited too; the bundled problems have none).
     const std::string dir = (source.parent_path() / "").string();
     for (const std::string key : {"\nscene: ", "description: ", "guidance: ", "domain: ", "streams: "}) {
       for (std::size_t at = yaml.find(key); at != std::string::npos; at = yaml.find(key, at + key.size())) {

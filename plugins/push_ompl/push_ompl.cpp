@@ -32,7 +32,8 @@ std::string xy(const Eigen::Vector2d& v) {
   return out.str();
 }
 
-// The run's seed mixed with the query, so that the same query gives the same push.
+// The run's seed mixed with the query: the same query gives the same push when its
+// searches end within their time (a search cut short is repeatable as far as it got).
 std::uint64_t query_seed(std::uint64_t seed, const plugin::PushQuery& q) {
   std::uint64_t h = seed ^ 0x9e3779b97f4a7c15ull;
   for (double v : {double(q.object), q.goal_xy.x(), q.goal_xy.y(), q.goal_radius, q.gripper.x(), q.gripper.y(), q.gripper.z()}) {
