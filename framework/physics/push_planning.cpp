@@ -35,6 +35,14 @@ namespace {
 
 double angle_between(double a, double b) { return std::abs(std::remainder(a - b, 2 * M_PI)); }
 
+// One propagation, the gripper's yaw normalised to SE2's bounds (x, y are checked by
+// valid_outcome, never clamped): the one step of the planner, simulate and replay.
+PushOutcome step_once(const PushWorld& world, const PushState& from, const Eigen::Vector3d& velocity, double seconds) {
+  PushOutcome out = world.propagate(from, {velocity, seconds});
+  out.state.gripper.z() = std::remainder(out.state.gripper.z(), 2 * M_PI);
+  return out;
+}
+
 // The state layout: SE2 (gripper) then a real vector of the objects' planar poses and
 // velocities (6 per object) and a last entry, 1 while the state is valid. Only the
 // gripper counts for distances (the objects' subspace has weight 0).
@@ -107,10 +115,8 @@ class Propagator final : public oc::StatePropagator {
     }
     const double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
     ++propagations_;
-    const PushOutcome out = world_.propagate(layout_.read(from), PushControl{{u[0], u[1], u[2]}, duration});
-    PushState s = out.state;
-    s.gripper.z() = std::remainder(s.gripper.z(), 2 * M_PI);  // SE2's yaw bounds; x, y are checked, never clamped
-    layout_.write(s, valid_outcome(world_, out), result);
+    const PushOutcome out = step_once(world_, layout_.read(from), {u[0], u[1], u[2]}, duration);
+    layout_.write(out.state, valid_outcome(world_, out), result);
   }
 
   bool canPropagateBackward() const override { return false; }
@@ -513,10 +519,9 @@ bool simulate(const PushWorld& world, PushPath& path, const std::vector<PushCont
     PushState s = path.states.back();
     const int steps = std::max(1, static_cast<int>(std::lround(c.duration / path.step)));
     for (int k = 0; k < steps; ++k) {
-      const PushOutcome out = world.propagate(s, {c.velocity, path.step});
+      const PushOutcome out = step_once(world, s, c.velocity, path.step);
       if (!valid_outcome(world, out)) return false;
       s = out.state;
-      s.gripper.z() = std::remainder(s.gripper.z(), 2 * M_PI);
     }
     path.states.push_back(std::move(s));
     path.controls.push_back(c);
@@ -532,11 +537,10 @@ Replay replay(const PushWorld& world, const PushState& start, const std::vector<
   for (const PushControl& c : controls) {
     const int steps = std::max(1, static_cast<int>(std::lround(c.duration / step)));
     for (int k = 0; k < steps; ++k) {
-      const PushOutcome out = world.propagate(r.end, {c.velocity, step});
+      const PushOutcome out = step_once(world, r.end, c.velocity, step);
       touched.insert(out.touched.begin(), out.touched.end());
       r.valid = r.valid && valid_outcome(world, out);
       r.end = out.state;
-      r.end.gripper.z() = std::remainder(r.end.gripper.z(), 2 * M_PI);
     }
   }
   r.touched.assign(touched.begin(), touched.end());
