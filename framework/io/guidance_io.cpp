@@ -100,14 +100,7 @@ physics::Guidance load_guidance(const std::filesystem::path& path, const Scene& 
     } else if (file.loaded()) {
       detail::MapReader top(file, file.root(), "the guidance", {"version", "guides"});
       if (top.valid()) {
-        const YAML::Node version = top.required("version");
-        if (version.IsDefined()) {
-          auto v = file.integer(version, "version");
-          if (v && *v != kGuidanceFormatVersion) {
-            file.error(version, "unsupported guidance format version " + std::to_string(*v) + " (this cluttertamp reads " +
-                                    std::to_string(kGuidanceFormatVersion) + ")");
-          }
-        }
+        file.check_version(top.required("version"), "guidance", kGuidanceFormatVersion);
         const YAML::Node guides = top.required("guides");
         if (guides.IsDefined() && !guides.IsSequence()) {
           file.error(guides, "guides must be a list of {object, centre, diameter}");

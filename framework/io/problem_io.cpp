@@ -81,14 +81,7 @@ Problem ProblemReader::read() {
   }
   MapReader top(file_, file_.root(), "the problem", {"version", "name", "scene", "robot", "task", "planner", "plugins"});
   if (!top.valid()) return problem_;
-  const YAML::Node version = top.required("version");
-  if (version.IsDefined()) {
-    auto v = file_.integer(version, "version");
-    if (v && *v != kProblemFormatVersion) {
-      file_.error(version, "unsupported problem format version " + std::to_string(*v) + " (this cluttertamp reads " +
-                               std::to_string(kProblemFormatVersion) + ")");
-    }
-  }
+  file_.check_version(top.required("version"), "problem", kProblemFormatVersion);
   if (top.has("name")) {
     if (auto name = file_.string(top.optional("name"), "name")) problem_.name = *name;
   }

@@ -111,14 +111,7 @@ Scene SceneReader::read() {
                 {"version", "name", "workspace", "robot_base", "exit", "camera", "fixed", "objects", "regions"});
   if (!top.valid()) return scene_;
 
-  const YAML::Node version = top.required("version");
-  if (version.IsDefined()) {
-    auto v = file_.integer(version, "version");
-    if (v && *v != kSceneFormatVersion) {
-      file_.error(version, "unsupported scene format version " + std::to_string(*v) + " (this cluttertamp reads " +
-                               std::to_string(kSceneFormatVersion) + ")");
-    }
-  }
+  file_.check_version(top.required("version"), "scene", kSceneFormatVersion);
   if (top.has("name")) {
     if (auto name = file_.string(top.optional("name"), "name")) scene_.name = *name;
   }

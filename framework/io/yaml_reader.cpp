@@ -193,6 +193,15 @@ std::optional<Eigen::Isometry3d> YamlFile::pose(const YAML::Node& node, const st
   return pose;
 }
 
+void YamlFile::check_version(const YAML::Node& version, const std::string& format, int expected) const {
+  if (!version.IsDefined()) return;
+  const auto v = integer(version, "version");
+  if (v && *v != expected) {
+    error(version, "unsupported " + format + " format version " + std::to_string(*v) + " (this cluttertamp reads " +
+                       std::to_string(expected) + ")");
+  }
+}
+
 Parameters YamlFile::parameters(const YAML::Node& node, const std::string& what) const {
   Parameters params;
   if (!node.IsDefined() || node.IsNull()) return params;

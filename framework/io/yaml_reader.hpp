@@ -59,6 +59,9 @@ class YamlFile {
   /// `{xyz: [x, y, z], rpy: [roll, pitch, yaw]}`; rpy in radians, optional (zero).
   /// Coordinates within +-kMaxCoordinate metres, angles within +-kMaxAngle radians.
   std::optional<Eigen::Isometry3d> pose(const YAML::Node& node, const std::string& what) const;
+  /// Reports a `version` node that is not the integer `expected`, naming the `format`
+  /// ("scene", "problem", ...); a missing node (undefined) is left to the caller.
+  void check_version(const YAML::Node& version, const std::string& format, int expected) const;
   /// A map of plugin parameters: numbers, integers, booleans, strings, number lists.
   Parameters parameters(const YAML::Node& node, const std::string& what) const;
 

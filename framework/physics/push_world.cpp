@@ -63,8 +63,7 @@ struct PushWorld::Impl {
   const Scene& scene;
   PushSettings settings;
   std::vector<bool> present = {};  // per scene object
-  std::vector<double> z = {};      // per scene object: its centre's height in the initial state, m
-  std::vector<Eigen::Isometry3d> initial_pose = {};  // per scene object
+  std::vector<Eigen::Isometry3d> initial_pose = {};  // per scene object: heights and footprints come from it
   std::vector<ObjectIndex> pushable = {};
   Eigen::AlignedBox2d support = {};
   double plane = 0;           // the gripper's bottom, m
@@ -120,6 +119,45 @@ struct PushWorld::Impl {
   };
 };
 
+Eigen::AlignedBox2d support_region(const Scene& scene, const WorldState& state, const PushSettings& settings) {
+  const ObjectIndex target = scene.target;
+  const double support_top = bottom_of(scene.objects.at(target).shape, state.world_T_objects.at(target));
+  const double plane = support_top + settings.gripper_clearance;
+  Eigen::AlignedBox2d support;
+  const Eigen::Vector2d target_xy = state.world_T_objects.at(target).translation().head<2>();
+  for (const FixedBody& f : scene.fixed) {
+    const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
+    const Eigen::AlignedBox2d board(b.min().head<2>(), b.max().head<2>());
+    if (std::abs(b.max().z() - support_top) < 0.01 && board.contains(target_xy)) support.extend(board);
+  }
+  if (support.isEmpty()) support = Eigen::AlignedBox2d(scene.workspace.min().head<2>(), scene.workspace.max().head<2>());
+  // Walls standing on the support cut it back: of the four ways to cut a wall's
+  // footprint off, keep the one that leaves the most room about the target.
+  for (const FixedBody& f : scene.fixed) {
+    const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
+    const Eigen::AlignedBox2d wall(b.min().head<2>(), b.max().head<2>());
+    if (b.max().z() < support_top + 0.005 || b.min().z() > plane + settings.gripper_size.z() ||
+        support.intersection(wall).isEmpty() || wall.contains(target_xy)) {
+      continue;
+    }
+    Eigen::AlignedBox2d best = support;
+    double best_area = -1;
+    for (int axis = 0; axis < 2; ++axis) {
+      for (const bool below : {true, false}) {
+        Eigen::AlignedBox2d cut = support;
+        if (below) cut.max()[axis] = std::min(cut.max()[axis], wall.min()[axis]);
+        else cut.min()[axis] = std::max(cut.min()[axis], wall.max()[axis]);
+        if (!cut.isEmpty() && cut.contains(target_xy) && cut.volume() > best_area) {
+          best = cut;
+          best_area = cut.volume();
+        }
+      }
+    }
+    if (best_area >= 0) support = best;
+  }
+  return support;
+}
+
 PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings settings)
     : impl_(std::make_unique<Impl>(Impl{scene, settings})) {
   Impl& w = *impl_;
@@ -128,7 +166,6 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     w.present.push_back(!initial.removed.at(i));
-    w.z.push_back(initial.world_T_objects.at(i).translation().z());
     w.initial_pose.push_back(initial.world_T_objects.at(i));
     w.object_shapes.push_back(make_shape(o.shape));
     btVector3 inertia(0, 0, 0);
@@ -142,37 +179,7 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
   const ObjectIndex target = scene.target;
   const double support_top = bottom_of(scene.objects.at(target).shape, initial.world_T_objects.at(target));
   w.plane = support_top + settings.gripper_clearance;
-  const Eigen::Vector2d target_xy = initial.world_T_objects.at(target).translation().head<2>();
-  for (const FixedBody& f : scene.fixed) {
-    const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
-    const Eigen::AlignedBox2d board(b.min().head<2>(), b.max().head<2>());
-    if (std::abs(b.max().z() - support_top) < 0.01 && board.contains(target_xy)) w.support.extend(board);
-  }
-  if (w.support.isEmpty()) w.support = Eigen::AlignedBox2d(scene.workspace.min().head<2>(), scene.workspace.max().head<2>());
-  // Walls standing on the support cut it back: of the four ways to cut a wall's
-  // footprint off, keep the one that leaves the most room about the target.
-  for (const FixedBody& f : scene.fixed) {
-    const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
-    const Eigen::AlignedBox2d wall(b.min().head<2>(), b.max().head<2>());
-    if (b.max().z() < support_top + 0.005 || b.min().z() > w.plane + settings.gripper_size.z() ||
-        w.support.intersection(wall).isEmpty() || wall.contains(target_xy)) {
-      continue;
-    }
-    Eigen::AlignedBox2d best = w.support;
-    double best_area = -1;
-    for (int axis = 0; axis < 2; ++axis) {
-      for (const bool below : {true, false}) {
-        Eigen::AlignedBox2d cut = w.support;
-        if (below) cut.max()[axis] = std::min(cut.max()[axis], wall.min()[axis]);
-        else cut.min()[axis] = std::max(cut.min()[axis], wall.max()[axis]);
-        if (!cut.isEmpty() && cut.contains(target_xy) && cut.volume() > best_area) {
-          best = cut;
-          best_area = cut.volume();
-        }
-      }
-    }
-    if (best_area >= 0) w.support = best;
-  }
+  w.support = physics::support_region(scene, initial, settings);
   w.gripper_z = w.plane + settings.gripper_size.z() / 2;
   const Eigen::Vector3d half = settings.gripper_size / 2;
   w.gripper_shape = std::make_unique<btBoxShape>(btVector3(btScalar(half.x()), btScalar(half.y()), btScalar(half.z())));
@@ -230,7 +237,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     if (!w.present[i]) continue;
     const SceneObject& o = scene.objects[i];
-    const double z = w.z[i];
+    const double z = w.initial_pose[i].translation().z();
     const PlanarBody& body = from.objects[i];
     btRigidBody* b = sim.add(w.object_shapes[i].get(), planar(body.pose, z), o.movable ? o.mass : 0.0, w.inertia[i]);
     // The support's friction: Bullet multiplies the two bodies' coefficients.
@@ -285,7 +292,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
     body.pose = {double(t.getOrigin().x()), double(t.getOrigin().y()), yaw_of(t)};
     body.velocity = {double(b->getLinearVelocity().x()), double(b->getLinearVelocity().y()),
                      double(b->getAngularVelocity().z())};
-    if (double(t.getOrigin().z()) < w.z[i] - w.settings.fall_drop) {
+    if (double(t.getOrigin().z()) < w.initial_pose[i].translation().z() - w.settings.fall_drop) {
       out.fallen.push_back(static_cast<ObjectIndex>(i));
     }
   }

@@ -23,13 +23,13 @@ constexpr double kPushSeconds = 2.0;  // at most, per push query: a push is an i
 std::vector<Eigen::Vector2d> push_spots(const plugin::PlanningContext& context, const WorldState& state,
                                         ObjectIndex object) {
   const Scene& scene = context.scene();
-  const physics::PushWorld world(scene, state);
-  const double r = world.footprint_radius(object);
+  const auto radius = [&](ObjectIndex i) { return footprint_radius(scene.objects[i].shape, state.world_T_objects[i]); };
+  const double r = radius(object);
   const Eigen::Vector2d here = state.world_T_objects[object].translation().head<2>();
   const Eigen::Vector2d target = state.world_T_objects[scene.target].translation().head<2>();
   const Eigen::Vector2d exit = scene.world_T_exit.translation().head<2>();
   const double way = held_footprint(context, state, scene.target).radius;
-  Eigen::AlignedBox2d support = world.support_region();
+  Eigen::AlignedBox2d support = physics::support_region(scene, state);
   support.min().array() += r;
   support.max().array() -= r;
   std::vector<Eigen::Vector2d> spots;
@@ -41,7 +41,7 @@ std::vector<Eigen::Vector2d> push_spots(const plugin::PlanningContext& context, 
       bool clear = true;
       for (ObjectIndex j = 0; j < scene.objects.size() && clear; ++j) {
         if (j == object || state.removed[j]) continue;
-        const double rj = world.footprint_radius(j);
+        const double rj = radius(j);
         clear = (state.world_T_objects[j].translation().head<2>() - spot).norm() > r + rj + kGap;
       }
       if (clear) spots.push_back(spot);

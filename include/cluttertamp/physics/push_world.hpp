@@ -100,6 +100,11 @@ class CLUTTERTAMP_API PushWorld {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Where pushed objects must stay in `state` (see PushWorld::support_region), without
+/// building a simulation: the board under the target less the walls standing on it.
+CLUTTERTAMP_API Eigen::AlignedBox2d support_region(const Scene& scene, const WorldState& state,
+                                                   const PushSettings& settings = {});
+
 /// The gripper's planar pose at the scene's exit x_s, facing into the shelf (+x): where
 /// reaching and pushing start (x, y in m, yaw 0).
 CLUTTERTAMP_API Eigen::Vector3d gripper_at_exit(const Scene& scene);
