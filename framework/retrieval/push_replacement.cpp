@@ -72,9 +72,7 @@ PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, Removal
       for (const Eigen::Vector2d& spot : push_spots(context, before, object)) {
         if (tries++ == kSpots || context.deadline.expired()) break;
         ++done.pushes_tried;
-        plugin::PlanningContext limited{context.problem,
-                                        plugin::Deadline::after(std::min(kPushSeconds, context.deadline.remaining())),
-                                        context.seed, context.counters, context.samplers, context.world};
+        plugin::PlanningContext limited = context.within(kPushSeconds);
         const plugin::PushAnswer answer =
             context.samplers.push->push(limited, {object, spot, kRadius, &before, from_exit});
         if (!answer.step || answer.step->objects != std::vector<ObjectIndex>{object}) continue;

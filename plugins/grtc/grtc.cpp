@@ -67,28 +67,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     // Algorithm 1, lines 2-6: satisfy each guide in order, from where the last push left things.
     WorldState state = initial;
     Eigen::Vector3d gripper = exit;
-    for (std::size_t k = 0; k < guidance.size(); ++k) {
-      const physics::Guide& g = guidance[k];
-      // Each guide may take its share of the time left (the reach counts as one more),
-      // so that one hard push does not starve the rest.
-      const double share = context.deadline.remaining() / double(guidance.size() - k + 1);
-      plugin::PlanningContext guide_context{context.problem, plugin::Deadline::after(share), context.seed,
-                                            context.counters, context.samplers, context.world};
-      plugin::PushQuery query{g.object, g.centre, g.diameter / 2, &state, gripper};
-      plugin::PushAnswer answer = context.samplers.push->push(guide_context, query);
-      if (!answer.step) {
-        Failure f = answer.failure.value_or(Failure{"push", "the push sampler gave no push and no reason", {}});
-        result.reason = "guide " + std::to_string(k + 1) + " (" + describe(scene, g) + ") not satisfied: " + f.reason;
-        result.failures.push_back(std::move(f));
-        return finish(result, context, started);
-      }
-      answer.step->values["guide"] = {double(k + 1)};
-      answer.step->values["region"] = {g.centre.x(), g.centre.y(), g.diameter};
-      add_step(std::move(*answer.step), result);
-      state = std::move(*answer.resulting_state);
-      gripper = answer.gripper_end;
-      result.counters["guides_satisfied"] += 1;
-    }
+    if (!satisfy(guidance, context, state, gripper, result)) return finish(result, context, started);
     // The guidance time t_g counts as task planning, the remaining reach as motion planning.
     result.time.task_planning = std::chrono::duration<double>(Clock::now() - started).count();
 
@@ -117,6 +96,33 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     const std::filesystem::path base = !guidance_where_.file.empty() ? std::filesystem::path(guidance_where_.file)
                                                                      : context.problem.source_file;
     return base.parent_path() / path;
+  }
+
+  // Pushes each guide's object into its region in turn, each in its share of the time
+  // left (the reach counts as one more, so that one hard push does not starve the
+  // rest); `state` and `gripper` follow. False, with the reason, at the first guide
+  // not satisfied.
+  static bool satisfy(const physics::Guidance& guidance, plugin::PlanningContext& context, WorldState& state,
+                      Eigen::Vector3d& gripper, Result& result) {
+    const Scene& scene = context.scene();
+    for (std::size_t k = 0; k < guidance.size(); ++k) {
+      const physics::Guide& g = guidance[k];
+      plugin::PlanningContext guide_context = context.within(context.deadline.remaining() / double(guidance.size() - k + 1));
+      plugin::PushAnswer answer = context.samplers.push->push(guide_context, {g.object, g.centre, g.diameter / 2, &state, gripper});
+      if (!answer.step) {
+        Failure f = answer.failure.value_or(Failure{"push", "the push sampler gave no push and no reason", {}});
+        result.reason = "guide " + std::to_string(k + 1) + " (" + describe(scene, g) + ") not satisfied: " + f.reason;
+        result.failures.push_back(std::move(f));
+        return false;
+      }
+      answer.step->values["guide"] = {double(k + 1)};
+      answer.step->values["region"] = {g.centre.x(), g.centre.y(), g.diameter};
+      add_step(std::move(*answer.step), result);
+      state = std::move(*answer.resulting_state);
+      gripper = answer.gripper_end;
+      result.counters["guides_satisfied"] += 1;
+    }
+    return true;
   }
 
   // Appends a push step; the objects it moved join moved_objects, each once.

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <map>
@@ -73,6 +74,10 @@ struct PlanningContext {
   /// The problem's robot; precondition: problem.robot.loaded is set.
   const robot::RobotDescription& robot() const { return *problem.robot.loaded; }
   void count(const std::string& name, std::uint64_t n = 1) { counters[name] += n; }
+  /// This context with its deadline at most `seconds` from now (a sub-task's budget).
+  PlanningContext within(double seconds) const {
+    return {problem, Deadline::after(std::min(seconds, deadline.remaining())), seed, counters, samplers, world};
+  }
 };
 
 }  // namespace cluttertamp::plugin
