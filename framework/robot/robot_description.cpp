@@ -21,11 +21,7 @@ RobotDescription RobotDescription::load(const std::filesystem::path& file) {
                 {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home", "disabled_collisions"});
   if (!top.valid()) diagnostics.throw_if_any();
 
-  if (const YAML::Node v = top.required("version"); v.IsDefined()) {
-    if (auto version = yaml.integer(v, "version"); version && *version != 1) {
-      yaml.error(v, "unsupported robot description version " + std::to_string(*version) + " (this cluttertamp reads 1)");
-    }
-  }
+  yaml.check_version(top.required("version"), "robot description", 1);
   if (top.has("name")) robot.name_ = yaml.string(top.optional("name"), "name").value_or(robot.name_);
   const YAML::Node urdf = top.required("urdf");
   const YAML::Node base = top.required("base_link");
