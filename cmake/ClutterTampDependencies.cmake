@@ -22,3 +22,13 @@ if(NOT TARGET cluttertamp_bullet)
   target_include_directories(cluttertamp_bullet SYSTEM INTERFACE ${BULLET_INCLUDE_DIRS})
   target_link_libraries(cluttertamp_bullet INTERFACE ${BULLET_LIBRARIES})
 endif()
+# The browser side (`cluttertamp view`, `cluttertamp guide`): cpp-httplib (Debian builds
+# it as a shared library; its pkg-config flags enable TLS, which we do not use) and
+# three.js from libjs-three, inlined into every plan page. The CLI only.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib>=0.11)
+find_path(CLUTTERTAMP_THREE_JS_DIR build/three.min.js PATHS /usr/share/javascript/three NO_DEFAULT_PATH)
+if(NOT CLUTTERTAMP_THREE_JS_DIR)
+  message(FATAL_ERROR "three.js not found in /usr/share/javascript/three: install libjs-three (scripts/install-deps.sh)")
+endif()
+find_package(Threads REQUIRED)

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages cluttertamp builds and tests with.
+# Installs the Debian 12 packages cluttertamp builds with; with --browser also
+# Chromium and ChromeDriver, which the browser tests drive (headless).
 # Idempotent: packages already installed are skipped, and apt is not touched at all
 # when nothing is missing. Needs root (or sudo) only when something must be installed.
 set -euo pipefail
@@ -11,7 +12,14 @@ packages=(
   libboost-serialization-dev libboost-program-options-dev
   libyaml-cpp-dev libgtest-dev libgmock-dev
   nlohmann-json3-dev libcli11-dev
+  libcpp-httplib-dev libjs-three
 )
+for arg in "$@"; do
+  case "$arg" in
+    --browser) packages+=(chromium chromium-driver) ;;
+    *) echo "install-deps: unknown option $arg (known: --browser)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

@@ -29,6 +29,6 @@ planner:
   seed: 0
   parameters: {planner: rrt}
 PROBLEM
-  "$bin" guide "$dir/$n.yaml" --output "$dir/$n-guidance.yaml" --quiet
+  "$bin" guide "$dir/$n.yaml" --auto --output "$dir/$n-guidance.yaml" --quiet
 done
 echo "wrote $dir: ten problems, scenes and guidance files"

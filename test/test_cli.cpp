@@ -560,7 +560,7 @@ TEST_F(Cli, ABadGuidanceFileIsBadInputWithItsLine) {
 // `guide` writes the automatic guidance, which load_guidance reads back.
 TEST_F(Cli, GuideWritesTheAutomaticGuidance) {
   const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10/p06.yaml";
-  const CliRun r = run("guide " + source.string() + " --output " + (dir_ / "g.yaml").string());
+  const CliRun r = run("guide " + source.string() + " --auto --output " + (dir_ / "g.yaml").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("wrote " + (dir_ / "g.yaml").string() + ": "), std::string::npos) << r.output;
   EXPECT_EQ(test::read_text(dir_ / "g.yaml"), test::read_text(source.parent_path() / "p06-guidance.yaml"))
@@ -569,6 +569,31 @@ TEST_F(Cli, GuideWritesTheAutomaticGuidance) {
   const auto guidance = io::load_guidance(dir_ / "g.yaml", problem.scene,
                                           physics::PushWorld(problem.scene, WorldState::initial(problem.scene)).support_region());
   EXPECT_FALSE(guidance.empty());
+  // Without --auto, guide serves a session into a directory: a guidance file named
+  // as the output is refused rather than served into.
+  const CliRun serve = run("guide " + source.string() + " --output " + (dir_ / "h.yaml").string());
+  EXPECT_EQ(serve.exit_code, 2) << serve.output;
+  EXPECT_NE(serve.output.find("add --auto"), std::string::npos) << serve.output;
+}
+
+TEST_F(Cli, PlanHtmlAndViewWriteAReplayPageAndABadResultIsBadInput) {
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/retrieve-push.yaml";
+  const CliRun r = run("plan " + source.string() + " --html -o " + (dir_ / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string page = test::read_text(dir_ / "out/plan.html");
+  EXPECT_NE(page.find("THREE.WebGLRenderer"), std::string::npos);  // three.js is inlined
+  EXPECT_EQ(page.find("src=\"http"), std::string::npos);           // and nothing is fetched
+  EXPECT_NE(page.find("\"action\":\"push\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir_ / "out/drawings.json"));
+
+  const CliRun view = run("view " + (dir_ / "out/result.json").string() + " -o " + (dir_ / "again.html").string());
+  ASSERT_EQ(view.exit_code, 0) << view.output;
+  EXPECT_TRUE(fs::exists(dir_ / "again.html"));
+
+  std::ofstream(dir_ / "bad.json") << "{\"problem\": 3}";
+  const CliRun bad = run("view " + (dir_ / "bad.json").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find((dir_ / "bad.json").string()), std::string::npos) << bad.output;
 }
 
 }  // namespace

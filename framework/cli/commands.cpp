@@ -1,6 +1,7 @@
 #include "cli/commands.hpp"
 
 #include <chrono>
+#include <fstream>
 #include <condition_variable>
 #include <cstdio>
 #include <iomanip>
@@ -20,6 +21,9 @@
 #include "cluttertamp/io/result_json.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/viewer/plan_html.hpp"
+
+#include <nlohmann/json.hpp>
 
 namespace cluttertamp::cli {
 
@@ -134,14 +138,55 @@ int plan(const PlanArgs& args) {
     // the run is still recorded so that scripts find a result.json with the reason.
     plugin_error = e;
     outcome.info = {problem.planner.name, options.time_limit.value_or(problem.time_limit),
-                    options.seed.value_or(problem.seed), ExitCode::bad_input};
+                    options.seed.value_or(problem.seed), ExitCode::bad_input, {}};
     outcome.result.reason = e.diagnostics().items().empty() ? e.what() : e.diagnostics().items().front().message;
   }
   const fs::path result_file = args.output / "result.json";
   io::write_result_json(result_file, problem, outcome.result, outcome.info);
   if (plugin_error) std::cerr << plugin_error->diagnostics().str();
   if (args.verbosity != Verbosity::quiet) print_summary(std::cout, problem, outcome, result_file);
+  if (args.html) {
+    const fs::path page = args.output / "plan.html";
+    viewer::write_plan_html(page, problem,
+                            {io::result_to_json(problem, outcome.result, outcome.info), io::drawings_to_json(outcome.result),
+                             result_file.string()});
+    if (args.verbosity != Verbosity::quiet) std::cout << "replay: " << page.string() << " (open it in a browser)\n";
+  }
   return outcome.info.exit_code;
+}
+
+namespace {
+std::string read_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError({file.string(), 0, 0}, "cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+}  // namespace
+
+int view(const ViewArgs& args) {
+  const std::string text = read_file(args.result);
+  fs::path problem_file;
+  if (args.problem) {
+    problem_file = *args.problem;
+  } else {
+    try {
+      problem_file = nlohmann::json::parse(text).at("problem").get<std::string>();
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError({args.result.string(), 0, 0}, std::string("not a result.json with a \"problem\": ") + e.what());
+    }
+    if (!fs::exists(problem_file)) {
+      throw InputError({args.result.string(), 0, 0}, "the problem it was planned for, " + problem_file.string() +
+                                                          ", is gone: name it with --problem");
+    }
+  }
+  const Problem problem = io::load_problem(problem_file);
+  const fs::path page = args.output.value_or(args.result.parent_path() / "plan.html");
+  const fs::path drawings = args.result.parent_path() / "drawings.json";
+  viewer::write_plan_html(page, problem, {text, fs::exists(drawings) ? read_file(drawings) : "", args.result.string()});
+  if (args.verbosity != Verbosity::quiet) std::cout << "wrote " << page.string() << " (open it in a browser)\n";
+  return 0;
 }
 
 namespace {

@@ -19,9 +19,18 @@ struct PlanArgs {
   std::optional<std::string> planner;  ///< replaces the problem's planner.plugin
   std::filesystem::path output = "cluttertamp-out";
   std::vector<std::filesystem::path> plugin_paths;
+  bool html = false;  ///< also write OUTPUT/plan.html (the replay page)
   Verbosity verbosity = Verbosity::normal;
 };
 int plan(const PlanArgs& args);
+
+struct ViewArgs {
+  std::filesystem::path result;
+  std::optional<std::filesystem::path> problem;  ///< instead of the problem result.json names
+  std::optional<std::filesystem::path> output;   ///< default: plan.html beside the result
+  Verbosity verbosity = Verbosity::normal;
+};
+int view(const ViewArgs& args);
 
 struct ValidateArgs {
   std::vector<std::filesystem::path> files;
@@ -74,12 +83,21 @@ int generate(const GenerateArgs& args);
 
 struct GuideArgs {
   std::filesystem::path problem;  ///< a reach problem
-  std::filesystem::path output;   ///< the guidance file to write
+  bool automatic = false;         ///< --auto: write the automatic guidance and exit
+  /// --auto: the guidance file; serving: the directory the session is saved in.
+  std::optional<std::filesystem::path> output;
   int max_guides = 1;
-  double diameter = 0.1;             ///< m, every guide's region
+  double diameter = 0.1;  ///< m, every guide's region
+  std::string host = "127.0.0.1";
+  int port = 8080;        ///< 0: any free port
+  double push_time = 10;  ///< s per guide
+  std::optional<double> time_limit;     ///< overrides the problem's
+  std::optional<std::uint64_t> seed;    ///< overrides the problem's
   Verbosity verbosity = Verbosity::normal;
 };
-/// Writes the automatic guidance of a reach problem; exit code 0.
+/// --auto: writes the automatic guidance of a reach problem (exit code 0). Otherwise
+/// serves the operator's page until stopped (exit code 0 when the session reached the
+/// target, 1 when not).
 int guide(const GuideArgs& args);
 
 struct SelfCollisionArgs {

@@ -1,32 +1,53 @@
-// `cluttertamp guide`: write the automatic guidance (physics::generate_guidance) of a
-// reach problem to a guidance file, for grtc to read, or for a person to edit.
+// `cluttertamp guide`: an operator guides a reach problem from a browser (GRTC-HITL,
+// run::GuidedSession behind a small HTTP API), or, with --auto, the automatic guidance
+// (physics::generate_guidance) is written to a file for grtc to read.
+#include <pthread.h>
+
+#include <atomic>
+#include <csignal>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <mutex>
+#include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/physics/guidance.hpp"
+#include "cluttertamp/run/guided_session.hpp"
+#include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/viewer/plan_html.hpp"
+
+// Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers after it.
+#include <httplib.h>
+
+namespace cluttertamp::assets {
+extern const char* const guide_html;  // framework/cli/guide.html, embedded at build time
+}
 
 namespace cluttertamp::cli {
 
-int guide(const GuideArgs& args) {
-  const Problem problem = io::load_problem(args.problem);
-  if (!std::holds_alternative<ReachTask>(problem.task)) {
-    throw InputError({args.problem.string(), 0, 0}, "guide needs a problem with task: {reach: <target>}");
-  }
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+int write_automatic_guidance(const GuideArgs& args, const Problem& problem) {
+  if (!args.output) throw InputError({"--output", 0, 0}, "guide --auto needs --output FILE, the guidance file to write");
   const Scene& scene = problem.scene;
   const WorldState initial = WorldState::initial(scene);
   const physics::PushWorld world(scene, initial);
   const Eigen::Vector3d exit = physics::gripper_at_exit(scene);
   const physics::Guidance guidance = physics::generate_guidance(world, world.state_of(initial, exit), exit.head<2>(),
                                                                 args.max_guides, args.diameter);
-  std::ofstream out(args.output);
-  if (!out) throw InputError({args.output.string(), 0, 0}, "cannot write the guidance file");
+  std::ofstream out(*args.output);
+  if (!out) throw InputError({args.output->string(), 0, 0}, "cannot write the guidance file");
   out << io::guidance_to_yaml(scene, guidance);
   if (args.verbosity != Verbosity::quiet) {
-    std::cout << "wrote " << args.output.string() << ": " << guidance.size() << " guide" << (guidance.size() == 1 ? "" : "s")
+    std::cout << "wrote " << args.output->string() << ": " << guidance.size() << " guide" << (guidance.size() == 1 ? "" : "s")
               << "\n";
     for (const physics::Guide& g : guidance) {
       std::cout << std::fixed << std::setprecision(3) << "  push " << scene.objects[g.object].id << " to (" << g.centre.x()
@@ -34,6 +55,162 @@ int guide(const GuideArgs& args) {
     }
   }
   return 0;
+}
+
+void write_file(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the session file");
+}
+
+// The session's files, rewritten after every input so that nothing is lost when the
+// server is stopped.
+void save(const run::GuidedSession& session, const fs::path& dir) {
+  write_file(dir / "guidance.yaml", session.guidance_yaml());
+  const std::string result = session.result_json();
+  write_file(dir / "result.json", result);
+  if (session.finished()) viewer::write_plan_html(dir / "plan.html", session.problem(), {result, "", (dir / "result.json").string()});
+}
+
+void reply(httplib::Response& res, int status, const Json& body) {
+  res.status = status;
+  res.set_content(body.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
+}
+
+void error(httplib::Response& res, int status, const std::string& message) { reply(res, status, {{"error", message}}); }
+
+// The body of a guide request: {"object": id, "x": m, "y": m, "diameter": m (optional)}.
+std::optional<std::string> read_guide(const std::string& body, std::string& object, Eigen::Vector2d& centre,
+                                      std::optional<double>& diameter) {
+  const Json j = Json::parse(body, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return "the request body is not a JSON object";
+  if (!j.contains("object") || !j["object"].is_string()) return "\"object\" must be an object id (a string)";
+  if (!j.contains("x") || !j["x"].is_number() || !j.contains("y") || !j["y"].is_number()) return "\"x\" and \"y\" must be numbers (m)";
+  if (j.contains("diameter") && !j["diameter"].is_number()) return "\"diameter\" must be a number (m)";
+  object = j["object"].get<std::string>();
+  centre = {j["x"].get<double>(), j["y"].get<double>()};
+  if (j.contains("diameter")) diameter = j["diameter"].get<double>();
+  return std::nullopt;
+}
+
+// Stops the server on SIGINT or SIGTERM: the signals are blocked in every thread and
+// taken by this one, so the server stops outside a signal handler.
+class StopOnSignal {
+ public:
+  explicit StopOnSignal(httplib::Server& server) {
+    sigemptyset(&signals_);
+    sigaddset(&signals_, SIGINT);
+    sigaddset(&signals_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals_, nullptr);
+    thread_ = std::thread([this, &server] {
+      int signal = 0;
+      sigwait(&signals_, &signal);
+      if (!done_) server.stop();
+    });
+  }
+  ~StopOnSignal() {
+    done_ = true;
+    pthread_kill(thread_.native_handle(), SIGTERM);
+    thread_.join();
+  }
+
+ private:
+  sigset_t signals_;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
+int serve(const GuideArgs& args, const Problem& problem) {
+  const fs::path dir = args.output.value_or("out/guide");
+  if (dir.extension() == ".yaml" || dir.extension() == ".yml") {
+    throw InputError({"--output", 0, 0}, "serving saves a session into a directory, not " + dir.string() +
+                                             "; to write the automatic guidance to a file, add --auto");
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError({dir.string(), 0, 0}, "cannot create the session directory: " + ec.message());
+
+  const plugin::Registry registry(run::plugin_search_paths(problem, {}));
+  run::GuidedSession session(problem, registry, {args.diameter, args.push_time});
+  save(session, dir);
+  std::mutex mutex;  // one request at a time touches the session
+  const bool quiet = args.verbosity == Verbosity::quiet;
+
+  httplib::Server server;
+  server.set_keep_alive_timeout(1);  // s: stopping waits for open connections to close
+  server.Get("/", [](const httplib::Request&, httplib::Response& res) { res.set_content(assets::guide_html, "text/html; charset=utf-8"); });
+  server.Get("/api/state", [&](const httplib::Request&, httplib::Response& res) {
+    const std::lock_guard lock(mutex);
+    res.set_content(session.state_json(), "application/json");
+  });
+  server.Post("/api/guide", [&](const httplib::Request& req, httplib::Response& res) {
+    std::string object;
+    Eigen::Vector2d centre;
+    std::optional<double> diameter;
+    if (const auto bad = read_guide(req.body, object, centre, diameter)) return error(res, 400, *bad);
+    const std::lock_guard lock(mutex);
+    const run::GuidedSession::Outcome out = session.guide(object, centre, diameter);
+    if (!out.planned) return error(res, session.finished() ? 409 : 400, out.message);
+    save(session, dir);
+    if (!quiet) std::cout << (out.ok ? "  ok     " : "  failed ") << out.message << std::endl;
+    reply(res, 200, {{"ok", out.ok}, {"message", out.message}, {"state", Json::parse(session.state_json())}});
+  });
+  server.Post("/api/finish", [&](const httplib::Request&, httplib::Response& res) {
+    const std::lock_guard lock(mutex);
+    const run::GuidedSession::Outcome out = session.finish();
+    if (!out.planned) return error(res, 409, out.message);
+    save(session, dir);
+    if (!quiet) std::cout << (out.ok ? "  SOLVED " : "  NOT SOLVED ") << out.message << "\n  saved " << dir.string() << std::endl;
+    reply(res, 200, {{"ok", out.ok}, {"message", out.message}, {"state", Json::parse(session.state_json())}});
+  });
+  server.Get("/replay", [&](const httplib::Request&, httplib::Response& res) {
+    const std::lock_guard lock(mutex);
+    if (!session.finished()) return error(res, 404, "the replay exists once the robot has finished");
+    res.set_content(viewer::plan_html(session.problem(), {session.result_json(), "", "session"}), "text/html; charset=utf-8");
+  });
+  server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr e) {
+    try {
+      std::rethrow_exception(e);
+    } catch (const std::exception& x) {
+      error(res, 500, std::string("internal error: ") + x.what());
+    } catch (...) {
+      error(res, 500, "internal error");
+    }
+  });
+
+  const int port = args.port == 0 ? server.bind_to_any_port(args.host) : (server.bind_to_port(args.host, args.port) ? args.port : -1);
+  if (port < 0) throw InputError({"--port", 0, 0}, "cannot listen on " + args.host + ":" + std::to_string(args.port) + " (in use? try --port 0)");
+  // The address line is what scripts (and the browser tests) wait for.
+  std::cout << "guide: serving " << problem.name << " on http://" << args.host << ":" << port << "/ (Ctrl-C to stop); "
+            << "the session is saved in " << dir.string() << std::endl;
+  {
+    const StopOnSignal stop(server);
+    server.listen_after_bind();
+  }
+  const std::lock_guard lock(mutex);
+  save(session, dir);
+  const Json state = Json::parse(session.state_json());
+  if (!quiet) {
+    int ok = 0;
+    for (const Json& in : state["inputs"]) ok += in["satisfied"].get<bool>() ? 1 : 0;
+    std::cout << "guide: stopped; " << ok << " successful and " << state["inputs"].size() - ok << " failed inputs; "
+              << (state["solved"].get<bool>() ? "the target was reached" : "the target was not reached") << "; saved in "
+              << dir.string() << std::endl;
+  }
+  return state["solved"].get<bool>() ? run::ExitCode::solved : run::ExitCode::no_plan;
+}
+
+}  // namespace
+
+int guide(const GuideArgs& args) {
+  Problem problem = io::load_problem(args.problem);
+  if (args.time_limit) problem.time_limit = *args.time_limit;
+  if (args.seed) problem.seed = *args.seed;
+  if (!std::holds_alternative<ReachTask>(problem.task)) {
+    throw InputError({args.problem.string(), 0, 0}, "guide needs a problem with task: {reach: <target>}");
+  }
+  return args.automatic ? write_automatic_guidance(args, problem) : serve(args, problem);
 }
 
 }  // namespace cluttertamp::cli

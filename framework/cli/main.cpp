@@ -64,7 +64,16 @@ int main(int argc, char** argv) {
       ->expected(1)
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  plan->add_flag("--html", plan_args.html, "Also write OUTPUT/plan.html, a page that replays the plan (see view)");
   add_verbosity(*plan, plan_args.verbosity, "Also print the plugin search (directories, plugins, failures)");
+
+  cli::ViewArgs view_args;
+  auto* view = app.add_subcommand(
+      "view", "Write one self-contained HTML page replaying a result.json in 3-D (opens from disk, no server, no network)");
+  view->add_option("result", view_args.result, "A result.json written by plan")->required()->check(CLI::ExistingFile);
+  view->add_option("--problem", view_args.problem, "The problem file (default: the one result.json names)")->check(CLI::ExistingFile);
+  view->add_option("-o,--output", view_args.output, "Page to write (default: plan.html beside the result)");
+  add_verbosity(*view, view_args.verbosity, "Same output as the default");
 
   cli::ValidateArgs validate_args;
   auto* validate = app.add_subcommand("validate", "Check problem and scene files; print every error with its location");
@@ -136,11 +145,26 @@ int main(int argc, char** argv) {
 
   cli::GuideArgs guide_args;
   auto* guide = app.add_subcommand(
-      "guide", "Write the automatic guidance of a reach problem (Papallas & Dogar's GRTC): the objects on the straight "
-               "way from the exit to the target, each pushed sideways off it");
+      "guide", "Guide a reach problem from a browser (Papallas & Dogar's GRTC-HITL): serves a page on localhost where "
+               "you click an object, then where it should go; the push is planned, and \"let the robot finish\" "
+               "reaches the target in the time left. With --auto, write the automatic guidance to a file instead");
   guide->add_option("problem", guide_args.problem, "Problem file with task: {reach: <target>}")->required()->check(CLI::ExistingFile);
-  guide->add_option("--output", guide_args.output, "Guidance file to write")->required();
-  guide->add_option("--max-guides", guide_args.max_guides, "At most this many guides")->capture_default_str()->check(CLI::Range(0, 100));
+  guide->add_flag("--auto", guide_args.automatic,
+                  "Write the automatic guidance (the objects on the straight way from the exit to the target, each "
+                  "pushed sideways off it) to --output and exit");
+  guide->add_option("-o,--output", guide_args.output,
+                    "With --auto: the guidance file to write (required). Serving: the directory the session is saved in "
+                    "after every input: guidance.yaml, result.json, and plan.html once finished (default: out/guide)");
+  guide->add_option("--port", guide_args.port, "Port to serve on (0: any free port; the address is printed)")
+      ->capture_default_str()->check(CLI::Range(0, 65535));
+  guide->add_option("--host", guide_args.host, "Address to serve on (127.0.0.1: this machine only)")->capture_default_str();
+  guide->add_option("--push-time", guide_args.push_time, "Planning seconds per guide at most (never beyond the time left)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  guide->add_option("--time-limit", guide_args.time_limit,
+                    "Planning seconds for the whole session, pushes and reach (overrides planner.time_limit)")
+      ->check(CLI::PositiveNumber);
+  guide->add_option("--seed", guide_args.seed, "Random seed (overrides planner.seed)");
+  guide->add_option("--max-guides", guide_args.max_guides, "With --auto: at most this many guides")->capture_default_str()->check(CLI::Range(0, 100));
   guide->add_option("--diameter", guide_args.diameter, "Diameter of every guide's region, m")->capture_default_str()->check(CLI::Range(0.01, 1.0));
   add_verbosity(*guide, guide_args.verbosity, "Same output as the default");
 
@@ -267,6 +291,7 @@ int main(int argc, char** argv) {
     if (*pddl) return cli::pddl(pddl_args);
     if (*generate) return cli::generate(generate_args);
     if (*guide) return cli::guide(guide_args);
+    if (*view) return cli::view(view_args);
     if (*validate_plan) return cli::validate_plan(validate_plan_args);
     if (*self) return cli::self_collisions(self_args);
   } catch (const cluttertamp::InputError& e) {

@@ -1,5 +1,6 @@
 #include "cluttertamp/io/result_json.hpp"
 
+#include <cmath>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -69,19 +70,58 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
   for (const auto& [key, value] : result.counters) counters[key] = value;
   out["counters"] = counters;
   out["failures"] = failures;
+  if (run.human_guidance) {
+    const HumanGuidance& h = *run.human_guidance;
+    Json inputs = Json::array();
+    int satisfied = 0;
+    double planning = 0.0;
+    for (const OperatorInput& in : h.inputs) {
+      satisfied += in.satisfied ? 1 : 0;
+      planning += in.planning_time;
+      inputs.push_back({{"object", in.object}, {"centre", {in.centre.x(), in.centre.y()}}, {"diameter", in.diameter},
+                        {"satisfied", in.satisfied}, {"planning_time", in.planning_time},
+                        {"reason", in.satisfied ? Json(nullptr) : Json(in.reason)}});
+    }
+    out["human_guidance"] = {{"successful_inputs", satisfied},
+                             {"failed_inputs", static_cast<int>(h.inputs.size()) - satisfied},
+                             {"interaction_time", h.interaction_time},
+                             {"guidance_planning_time", planning},
+                             {"inputs", inputs}};
+  }
   // Invalid UTF-8 from a plugin's text is replaced rather than making the file unwritable.
   return out.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
-void write_result_json(const std::filesystem::path& file, const Problem& problem, const Result& result,
-                       const RunInfo& run) {
-  const std::string text = result_to_json(problem, result, run);
+namespace {
+void write_text(const std::filesystem::path& file, const std::string& text, const char* what) {
   std::error_code ec;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
   std::ofstream out(file);
   out << text;
   out.close();
-  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the result file (is the output directory writable?)");
+  if (!out) throw InputError({file.string(), 0, 0}, std::string("cannot write the ") + what + " (is the output directory writable?)");
+}
+}  // namespace
+
+std::string drawings_to_json(const Result& result) {
+  Json drawings = Json::array();
+  for (const PlaneDrawing& d : result.drawings) {
+    Json nodes = Json::array();
+    for (const Eigen::Vector2d& x : d.nodes) nodes.push_back({std::round(x.x() * 1e4) / 1e4, std::round(x.y() * 1e4) / 1e4});
+    Json edges = Json::array();
+    for (const auto& [a, b] : d.edges) edges.push_back({a, b});
+    drawings.push_back({{"name", d.name}, {"nodes", nodes}, {"labels", d.labels}, {"edges", edges}, {"path", d.path}});
+  }
+  return Json{{"schema", "cluttertamp-drawings/1"}, {"drawings", drawings}}.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+void write_result_json(const std::filesystem::path& file, const Problem& problem, const Result& result,
+                       const RunInfo& run) {
+  write_text(file, result_to_json(problem, result, run), "result file");
+  const std::filesystem::path drawings = file.parent_path() / "drawings.json";
+  std::error_code ec;
+  if (!result.drawings.empty()) write_text(drawings, drawings_to_json(result), "drawings file");
+  else std::filesystem::remove(drawings, ec);
 }
 
 }  // namespace cluttertamp::io

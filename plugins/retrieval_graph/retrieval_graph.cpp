@@ -352,6 +352,37 @@ class Search {
     result.time.task_planning = std::max(0.0, result.time.task_planning - push_seconds_);
     result.counters["roadmap_nodes"] = roadmap_->size();
     result.counters["feedback_nodes"] = feedback_.size();
+    draw(result);
+  }
+
+  // The roadmap and the last retrieval graph (feedback nodes included) with its best
+  // path, for the plan viewer.
+  void draw(Result& result) {
+    PlaneDrawing roadmap{"roadmap", {}, {}, {}, {}};
+    const retrieval::RoadmapGraph& r = roadmap_->graph();
+    for (std::size_t v = 0; v < boost::num_vertices(r); ++v) roadmap.nodes.push_back(r[v].x);
+    for (auto [e, end] = boost::edges(r); e != end; ++e) {
+      roadmap.edges.emplace_back(static_cast<int>(boost::source(*e, r)), static_cast<int>(boost::target(*e, r)));
+    }
+    result.drawings.push_back(std::move(roadmap));
+
+    const retrieval::RetrievalGraph g = graph();
+    const Scene& scene = context_.scene();
+    PlaneDrawing drawing{"retrieval graph", {}, {}, {}, {}};
+    const retrieval::Graph& gg = g.graph();
+    for (std::size_t v = 0; v < g.size(); ++v) {
+      drawing.nodes.push_back(gg[v].position);
+      std::string label;
+      for (ObjectIndex o : gg[v].node_col) label += (label.empty() ? "" : " ") + scene.objects[o].id;
+      if (static_cast<int>(v) == g.start()) label = "start" + (label.empty() ? "" : ": " + label);
+      if (static_cast<int>(v) == g.goal()) label = "goal" + (label.empty() ? "" : ": " + label);
+      drawing.labels.push_back(label);
+    }
+    for (auto [e, end] = boost::edges(gg); e != end; ++e) {
+      drawing.edges.emplace_back(static_cast<int>(boost::source(*e, gg)), static_cast<int>(boost::target(*e, gg)));
+    }
+    if (const auto removal = g.removal_sequence()) drawing.path = removal->nodes;
+    result.drawings.push_back(std::move(drawing));
   }
 
   // Feedback for a failure while removing `object` on `removal`: new nodes with the

@@ -4,6 +4,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -38,6 +39,17 @@ struct PlanStep {
   std::optional<Trajectory> trajectory;
 };
 
+/// A planner's picture of its search for a person to look at, drawn top-down by the
+/// plan viewer: points in the world's x-y plane (m) joined by edges, e.g. a roadmap or
+/// a retrieval graph.
+struct PlaneDrawing {
+  std::string name;
+  std::vector<Eigen::Vector2d> nodes;
+  std::vector<std::string> labels;        ///< one per node, or none
+  std::vector<std::pair<int, int>> edges;  ///< indices into nodes
+  std::vector<int> path;                   ///< the nodes of the way the planner chose, in order
+};
+
 /// Wall-clock seconds spent in each part of a run.
 struct Timing {
   double task_planning = 0.0;
@@ -62,6 +74,7 @@ struct Result {
   Timing time;
   std::map<std::string, std::uint64_t> counters;
   std::vector<Failure> failures;  ///< what went wrong along the way, solved or not
+  std::vector<PlaneDrawing> drawings;  ///< optional: what the planner built, for the viewer
 };
 
 }  // namespace cluttertamp

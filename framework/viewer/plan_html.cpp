@@ -1,0 +1,437 @@
+#include "cluttertamp/viewer/plan_html.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cluttertamp/physics/push_planning.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
+
+namespace cluttertamp::assets {
+extern const char* const viewer_html;  // framework/viewer/viewer.html, embedded at build time
+}
+
+namespace cluttertamp::viewer {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Enough for a millimetre-true picture, and a third of the file of full precision.
+double rounded(double v) { return std::round(v * 1e5) / 1e5; }
+
+Json pose_json(const Eigen::Isometry3d& pose) {
+  const Eigen::Quaterniond q(pose.rotation());
+  const Eigen::Vector3d& t = pose.translation();
+  return Json::array({rounded(t.x()), rounded(t.y()), rounded(t.z()), rounded(q.x()), rounded(q.y()), rounded(q.z()),
+                      rounded(q.w())});
+}
+
+Json shape_json(const Shape& shape) {
+  if (const auto* b = std::get_if<Box>(&shape)) return {{"box", {b->size.x(), b->size.y(), b->size.z()}}};
+  if (const auto* c = std::get_if<Cylinder>(&shape)) return {{"cylinder", {c->radius, c->height}}};
+  return {{"sphere", std::get<Sphere>(shape).radius}};
+}
+
+Eigen::Isometry3d planar_pose(const Eigen::Vector3d& xy_yaw, double z) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(xy_yaw.x(), xy_yaw.y(), z);
+  pose.linear() = Eigen::AngleAxisd(xy_yaw.z(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return pose;
+}
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError({file.string(), 0, 0}, "cannot read (is Debian's libjs-three installed?)");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Text inlined into a <script> element must not close it early.
+std::string script_safe(std::string text) {
+  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
+  return text;
+}
+
+void replace_once(std::string& text, const std::string& marker, const std::string& with) {
+  const std::size_t at = text.find(marker);
+  if (at != std::string::npos) text.replace(at, marker.size(), with);
+}
+
+// Walks a plan step by step, keeping the world state, and writes the frames.
+class Replayer {
+ public:
+  Replayer(const Problem& problem, std::string name, double frame_step)
+      : problem_(problem), scene_(problem.scene), name_(std::move(name)), frame_step_(frame_step),
+        state_(WorldState::initial(problem.scene)) {
+    if (problem.robot.loaded) {
+      robot_ = problem.robot.loaded.get();
+      state_.robot_configuration = problem.robot.initial_configuration();
+      const auto& links = robot_->model()->links();
+      for (std::size_t i = 0; i < links.size(); ++i) {
+        if (!links[i].collision.empty()) drawn_links_.push_back(static_cast<robot::LinkIndex>(i));
+      }
+    }
+  }
+
+  Json robot_json() const {
+    if (!robot_) return nullptr;
+    Json links = Json::array();
+    for (robot::LinkIndex l : drawn_links_) {
+      const robot::Link& link = robot_->model()->links()[static_cast<std::size_t>(l)];
+      Json shapes = Json::array();
+      for (const robot::CollisionShape& s : link.collision) shapes.push_back({{"shape", shape_json(s.shape)}, {"pose", pose_json(s.link_T_shape)}});
+      links.push_back({{"name", link.name}, {"shapes", shapes}});
+    }
+    return {{"name", robot_->name()}, {"links", links}};
+  }
+
+  // Adds the step's frames from plan time `start`; returns its duration (s).
+  double step(const Json& step, double start) {
+    objects_of(step);  // every object named must be the scene's
+    const Json& trajectory = step.at("trajectory");
+    if (trajectory.is_null()) return 0.0;
+    const auto names = trajectory.at("joint_names").get<std::vector<std::string>>();
+    if (step.at("action").get<std::string>() == "push" || (!names.empty() && names.front() == "gripper_x")) {
+      return push(step, start);
+    }
+    return move_robot(step, names, start);
+  }
+
+  // The robot where the problem starts it, at time 0 (pushes do not move its links).
+  void initial_frame() {
+    if (!robot_) return;
+    std::vector<Eigen::Isometry3d> links;
+    robot_->model()->link_poses(state_.robot_configuration, links);
+    frames_.push_back({{"t", 0.0}, {"links", links_json(links)}});
+  }
+
+  Json take_frames() { return std::move(frames_); }
+  bool pushed() const { return pushed_; }
+  bool robot_moved() const { return robot_moved_; }
+  std::vector<std::string> warnings() const { return warnings_; }
+
+ private:
+  std::vector<ObjectIndex> objects_of(const Json& step) const {
+    std::vector<ObjectIndex> out;
+    for (const Json& id : step.at("objects")) {
+      const auto o = scene_.find_object(id.get<std::string>());
+      if (!o) throw InputError({name_, 0, 0}, "plan step names object '" + id.get<std::string>() + "', which the scene " + scene_.source_file + " does not have");
+      out.push_back(*o);
+    }
+    return out;
+  }
+
+  // The drawn links' world poses, flattened: 7 numbers per link.
+  Json links_json(const std::vector<Eigen::Isometry3d>& root_T_links) const {
+    Json flat = Json::array();
+    for (robot::LinkIndex l : drawn_links_) {
+      for (const Json& v : pose_json(scene_.world_T_robot_base * root_T_links[static_cast<std::size_t>(l)])) flat.push_back(v);
+    }
+    return flat;
+  }
+
+  Eigen::Isometry3d tool_pose(const std::vector<Eigen::Isometry3d>& root_T_links) const {
+    return scene_.world_T_robot_base * root_T_links[static_cast<std::size_t>(robot_->tip_link())];
+  }
+
+  double move_robot(const Json& step, const std::vector<std::string>& names, double start) {
+    if (!robot_) throw InputError({name_, 0, 0}, "plan step '" + step.at("action").get<std::string>() + "' moves joints, but the problem has no robot");
+    const robot::RobotModel& model = *robot_->model();
+    const std::vector<std::string> variables = model.variable_names();
+    std::vector<int> column;
+    for (const std::string& n : names) {
+      const auto it = std::find(variables.begin(), variables.end(), n);
+      if (it == variables.end()) throw InputError({name_, 0, 0}, "trajectory joint '" + n + "' is not a joint of robot '" + robot_->name() + "'");
+      column.push_back(static_cast<int>(it - variables.begin()));
+    }
+    const auto times = step.at("trajectory").at("times").get<std::vector<double>>();
+    const auto positions = step.at("trajectory").at("positions").get<std::vector<std::vector<double>>>();
+    if (times.empty() || times.size() != positions.size()) throw InputError({name_, 0, 0}, "a trajectory needs one position per time");
+    const double duration = times.back();
+
+    // The configurations at every waypoint and every frame_step between (joint-space
+    // linear): a grasp is told by what moves between two waypoints.
+    std::vector<double> at = times;
+    for (double t = 0.0; t < duration; t += frame_step_) at.push_back(t);
+    std::sort(at.begin(), at.end());
+    at.erase(std::unique(at.begin(), at.end(), [](double a, double b) { return b - a < 1e-6; }), at.end());
+    std::vector<Eigen::VectorXd> qs;
+    std::size_t k = 0;
+    for (double t : at) {
+      while (k + 1 < times.size() && times[k + 1] < t) ++k;
+      const std::size_t k1 = std::min(k + 1, times.size() - 1);
+      const double span = times[k1] - times[k];
+      const double s = span > 0 ? std::clamp((t - times[k]) / span, 0.0, 1.0) : 1.0;
+      Eigen::VectorXd q = state_.robot_configuration;
+      for (std::size_t j = 0; j < column.size(); ++j) {
+        if (positions[k].size() != column.size() || positions[k1].size() != column.size()) {
+          throw InputError({name_, 0, 0}, "a trajectory position has the wrong number of joints");
+        }
+        q[column[j]] = (1 - s) * positions[k][j] + s * positions[k1][j];
+      }
+      qs.push_back(std::move(q));
+    }
+
+    std::vector<std::vector<Eigen::Isometry3d>> links(qs.size());
+    for (std::size_t i = 0; i < qs.size(); ++i) model.link_poses(qs[i], links[i]);
+    const auto events = grasp_events(step, qs, links);
+    auto next = events.begin();
+    for (std::size_t i = 0; i < qs.size(); ++i) {
+      for (; next != events.end() && next->first == i; ++next) {
+        if (next->second) grasp(step, links[i]);
+        else state_.held.reset();
+      }
+      Json frame{{"t", rounded(start + at[i])}};
+      frame["links"] = links_json(links[i]);
+      if (state_.held) {
+        state_.world_T_objects[*state_.held] = tool_pose(links[i]) * tool_T_held_;
+        frame["objects"] = {{scene_.objects[*state_.held].id, pose_json(state_.world_T_objects[*state_.held])}};
+      }
+      frames_.push_back(std::move(frame));
+    }
+    state_.robot_configuration = qs.back();
+    robot_moved_ = true;
+    return duration;
+  }
+
+  // Where the hand grasps (true) or lets go (false), by frame. With fingers: the
+  // fingers moving while the arm holds still grasp the step object within reach of the
+  // tool, or let go of the held one (fingers set while the arm moves, as a transfer
+  // opens them, are neither). Without fingers: the grasp is where the tool comes
+  // nearest the object, the release where the tool is lowest.
+  std::vector<std::pair<std::size_t, bool>> grasp_events(const Json& step, const std::vector<Eigen::VectorXd>& qs,
+                                                         const std::vector<std::vector<Eigen::Isometry3d>>& links) {
+    std::vector<std::pair<std::size_t, bool>> events;
+    bool holding = state_.held.has_value();
+    if (const auto finger = robot_->finger_variable()) {
+      auto arm_still = [&](std::size_t a, std::size_t b) {
+        Eigen::VectorXd d = qs[b] - qs[a];
+        d[*finger] = 0;
+        return d.cwiseAbs().maxCoeff() <= 1e-6;
+      };
+      for (std::size_t i = 1; i < qs.size(); ++i) {
+        if (std::abs(qs[i][*finger] - qs[i - 1][*finger]) <= 1e-6) continue;
+        const std::size_t begin = i - 1;
+        while (i + 1 < qs.size() && std::abs(qs[i + 1][*finger] - qs[i][*finger]) > 1e-6) ++i;
+        bool still = true;
+        for (std::size_t k = begin; k < i && still; ++k) still = arm_still(k, k + 1);
+        if (!still) continue;  // fingers set on the way (a transfer opens them), not a grasp
+        if (!holding && graspable(step, links[i])) {
+          events.emplace_back(i, true);
+          holding = true;
+        } else if (holding) {
+          events.emplace_back(begin, false);
+          holding = false;
+        }
+      }
+      return events;
+    }
+    const std::vector<ObjectIndex> objects = objects_of(step);
+    if (!holding && objects.empty()) return events;
+    std::size_t best = 0;
+    double best_value = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < qs.size(); ++i) {
+      const Eigen::Vector3d tool = tool_pose(links[i]).translation();
+      const double value = holding ? tool.z() : (tool - state_.world_T_objects[objects.front()].translation()).norm();
+      if (value < best_value) best_value = value, best = i;
+    }
+    events.emplace_back(best, !holding);
+    return events;
+  }
+
+  // The step's object (any movable one when it names none) nearest the tool, within
+  // grasping distance.
+  std::optional<ObjectIndex> graspable(const Json& step, const std::vector<Eigen::Isometry3d>& links) const {
+    std::vector<ObjectIndex> candidates = objects_of(step);
+    if (candidates.empty()) {
+      for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) if (scene_.objects[o].movable) candidates.push_back(o);
+    }
+    const Eigen::Vector3d tool = tool_pose(links).translation();
+    std::optional<ObjectIndex> nearest;
+    double distance = 0.2;  // m: farther than this, the fingers close on nothing drawn
+    for (ObjectIndex o : candidates) {
+      const double d = (state_.world_T_objects[o].translation() - tool).norm();
+      if (d < distance) distance = d, nearest = o;
+    }
+    return nearest;
+  }
+
+  void grasp(const Json& step, const std::vector<Eigen::Isometry3d>& links) {
+    state_.held = graspable(step, links);
+    if (!state_.held) {  // no fingers: the nearest approach grasps whatever it is
+      const std::vector<ObjectIndex> objects = objects_of(step);
+      if (!objects.empty()) state_.held = objects.front();
+    }
+    if (state_.held) tool_T_held_ = tool_pose(links).inverse() * state_.world_T_objects[*state_.held];
+  }
+
+  double push(const Json& step, double start) {
+    PlanStep plan_step;
+    plan_step.action = "push";
+    plan_step.values = step.at("values").get<std::map<std::string, std::vector<double>>>();
+    const std::vector<physics::PushControl> controls = physics::controls_of(plan_step);
+    const auto step_values = plan_step.values.find("step");
+    const double dt = step_values != plan_step.values.end() && !step_values->second.empty() ? step_values->second.front() : 0.1;
+    const auto positions = step.at("trajectory").at("positions").get<std::vector<std::vector<double>>>();
+    if (positions.empty() || positions.front().size() != 3 || !(dt > 0)) {
+      throw InputError({name_, 0, 0}, "a push step needs gripper poses [x y yaw] and a positive step");
+    }
+    const physics::PushWorld world(scene_, state_);
+    physics::PushPath path;
+    path.step = dt;
+    path.states.push_back(world.state_of(state_, Eigen::Vector3d(positions[0][0], positions[0][1], positions[0][2])));
+    // One propagation per frame: a control of n steps is n propagations in the planner too.
+    std::vector<physics::PushControl> per_step;
+    for (const physics::PushControl& c : controls) {
+      const int n = std::max(1, static_cast<int>(std::lround(c.duration / dt)));
+      for (int i = 0; i < n; ++i) per_step.push_back({c.velocity, dt});
+    }
+    if (!physics::simulate(world, path, per_step)) {
+      warnings_.push_back("step " + std::to_string(step.value("index", 0)) + ": the push left the valid states in replay after " +
+                          std::to_string(path.states.size() - 1) + " of " + std::to_string(per_step.size()) + " propagations");
+    }
+    pushed_ = true;
+    const double pusher_z = world.plane_z() + world.settings().gripper_size.z() / 2;
+    const physics::PushState& first = path.states.front();
+    for (std::size_t k = 0; k < path.states.size(); ++k) {
+      const physics::PushState& s = path.states[k];
+      Json frame{{"t", rounded(start + k * dt)}, {"pusher", pose_json(planar_pose(s.gripper, pusher_z))}};
+      const WorldState w = physics::world_state_of(state_, s);
+      Json objects = Json::object();
+      for (ObjectIndex i = 0; i < scene_.objects.size(); ++i) {
+        if ((s.objects[i].pose - first.objects[i].pose).norm() > 1e-5) objects[scene_.objects[i].id] = pose_json(w.world_T_objects[i]);
+      }
+      if (!objects.empty()) frame["objects"] = objects;
+      frames_.push_back(std::move(frame));
+    }
+    state_ = physics::world_state_of(state_, path.states.back());
+    return (path.states.size() - 1) * dt;
+  }
+
+  const Problem& problem_;
+  const Scene& scene_;
+  std::string name_;
+  double frame_step_;
+  WorldState state_;
+  const robot::RobotDescription* robot_ = nullptr;
+  std::vector<robot::LinkIndex> drawn_links_;
+  Eigen::Isometry3d tool_T_held_ = Eigen::Isometry3d::Identity();
+  Json frames_ = Json::array();
+  bool pushed_ = false;
+  bool robot_moved_ = false;
+  std::vector<std::string> warnings_;
+};
+
+Json scene_json(const Scene& scene, const std::vector<std::string>& moved) {
+  Json fixed = Json::array();
+  for (const FixedBody& f : scene.fixed) fixed.push_back({{"id", f.id}, {"shape", shape_json(f.shape)}, {"pose", pose_json(f.world_T_body)}});
+  Json objects = Json::array();
+  for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& o = scene.objects[i];
+    const std::string role = i == scene.target ? "target"
+                             : !o.movable     ? "fixed"
+                             : std::find(moved.begin(), moved.end(), o.id) != moved.end() ? "moved"
+                                                                                         : "movable";
+    objects.push_back({{"id", o.id}, {"shape", shape_json(o.shape)}, {"pose", pose_json(o.world_T_object)}, {"role", role}});
+  }
+  Json regions = Json::array();
+  for (const Region& r : scene.regions) regions.push_back({{"id", r.id}, {"shape", shape_json(Box{r.size})}, {"pose", pose_json(r.world_T_region)}});
+  const Eigen::Vector3d exit = scene.world_T_exit.translation();
+  return {{"name", scene.name}, {"fixed", fixed}, {"objects", objects}, {"regions", regions},
+          {"exit", {exit.x(), exit.y(), exit.z()}},
+          {"workspace", {{"min", {scene.workspace.min().x(), scene.workspace.min().y(), scene.workspace.min().z()}},
+                         {"max", {scene.workspace.max().x(), scene.workspace.max().y(), scene.workspace.max().z()}}}}};
+}
+
+}  // namespace
+
+std::string replay_json(const Problem& problem, const PlanFiles& plan, double frame_step) {
+  const std::string& name = plan.name;
+  Json result, drawings = Json::array();
+  try {
+    result = Json::parse(plan.result_json);
+  } catch (const Json::parse_error& e) {
+    throw InputError({name, 0, 0}, std::string("not a result.json: ") + e.what());
+  }
+  if (!plan.drawings_json.empty()) {
+    try {
+      drawings = Json::parse(plan.drawings_json).at("drawings");
+    } catch (const Json::exception& e) {
+      throw InputError({name, 0, 0}, std::string("its drawings.json is not one: ") + e.what());
+    }
+  }
+  try {
+    Replayer replayer(problem, name, frame_step);
+    replayer.initial_frame();
+    Json steps = Json::array();
+    double clock = 0.0;
+    for (const Json& s : result.at("plan")) {
+      const double duration = replayer.step(s, clock);
+      Json step{{"index", s.value("index", steps.size())}, {"action", s.at("action")}, {"objects", s.at("objects")},
+                {"start", rounded(clock)}, {"duration", rounded(duration)}};
+      const Json& values = s.at("values");
+      if (values.contains("region")) step["region"] = values.at("region");  // a guide's disc: centre x, y and diameter
+      if (values.contains("guide")) step["guide"] = values.at("guide").at(0);
+      steps.push_back(std::move(step));
+      clock += duration;
+    }
+    const auto moved = result.value("moved_objects", std::vector<std::string>{});
+    Json out{{"problem", problem.name},
+             {"problem_file", problem.source_file.string()},
+             {"source", name},
+             {"planner", result.value("planner", "")},
+             {"solved", result.value("solved", false)},
+             {"reason", result.value("reason", Json(nullptr))},
+             {"time", result.value("time", Json::object())},
+             {"moved_objects", moved},
+             {"failures", result.value("failures", Json::array())},
+             {"drawings", drawings},
+             {"scene", scene_json(problem.scene, moved)},
+             {"robot", replayer.robot_json()},
+             {"steps", steps},
+             {"duration", rounded(clock)},
+             {"frames", replayer.take_frames()},
+             {"warnings", replayer.warnings()}};
+    if (replayer.pushed() && !replayer.robot_moved()) {
+      // A pushing plan moves the planar pusher only: the arm at home would only be in the way.
+      out["robot"] = nullptr;
+      for (Json& frame : out["frames"]) frame.erase("links");
+    }
+    if (replayer.pushed()) {
+      const physics::PushSettings settings;
+      out["pusher"] = {{"shape", shape_json(Box{settings.gripper_size})}};
+    }
+    if (result.contains("human_guidance")) out["human_guidance"] = result.at("human_guidance");
+    return out.dump(-1, ' ', false, Json::error_handler_t::replace);
+  } catch (const Json::exception& e) {
+    throw InputError({name, 0, 0}, std::string("does not look like a result.json: ") + e.what());
+  }
+}
+
+std::string plan_html(const Problem& problem, const PlanFiles& plan) {
+  const std::string data = replay_json(problem, plan);
+  const std::filesystem::path three(CLUTTERTAMP_THREE_JS_DIR);
+  std::string page = assets::viewer_html;
+  replace_once(page, "/*@THREE_JS@*/", script_safe(read_text(three / "build" / "three.min.js")));
+  replace_once(page, "/*@ORBIT_CONTROLS@*/", script_safe(read_text(three / "examples" / "js" / "controls" / "OrbitControls.js")));
+  replace_once(page, "/*@REPLAY_DATA@*/", script_safe(data));
+  return page;
+}
+
+void write_plan_html(const std::filesystem::path& file, const Problem& problem, const PlanFiles& plan) {
+  const std::string page = plan_html(problem, plan);
+  std::error_code ec;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
+  std::ofstream out(file, std::ios::binary);
+  out << page;
+  out.close();
+  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the page (is the directory writable?)");
+}
+
+}  // namespace cluttertamp::viewer

@@ -1,0 +1,184 @@
+// The browser side in a real browser: headless Chromium, driven through ChromeDriver,
+// uses the guidance page of `cluttertamp guide` and loads the replay pages of
+// `cluttertamp plan --html`. Screenshots are kept in build/test-artifacts/.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <future>
+#include <regex>
+
+#include "webdriver.hpp"
+
+namespace fs = std::filesystem;
+using browser_test::Child;
+using browser_test::Json;
+using browser_test::WebDriver;
+
+namespace {
+
+const std::string kCli = CLUTTERTAMP_CLI;
+const fs::path kSource = CLUTTERTAMP_SOURCE_DIR;
+const fs::path kArtifacts = CLUTTERTAMP_TEST_ARTIFACTS;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = kArtifacts / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+Json read_json(const fs::path& file) {
+  std::ifstream in(file);
+  return Json::parse(in);
+}
+
+// Starts `cluttertamp guide` on a free port; the URL it serves.
+std::string start_guide(Child& server) {
+  const std::string line = server.line();
+  std::smatch m;
+  if (!std::regex_search(line, m, std::regex("http://127\\.0\\.0\\.1:([0-9]+)/"))) {
+    throw std::runtime_error("guide did not say where it serves: '" + line + "'");
+  }
+  return m[0];
+}
+
+int port_of(const std::string& url) { return std::stoi(url.substr(url.rfind(':') + 1)); }
+
+std::vector<std::string> guide_command(const fs::path& dir, const std::string& time_limit) {
+  return {kCli, "guide", (kSource / "problems/push/shelf10/p01.yaml").string(), "--port", "0", "--output", dir.string(),
+          "--time-limit", time_limit};
+}
+
+}  // namespace
+
+// The seed's operator loop (Section V-B): click an object, click where it goes, see the
+// push; a click off the shelf is refused; then the robot finishes in the time left.
+TEST(Browser, AnOperatorPushesAnObjectFromTheGuidePageAndTheRobotFinishes) {
+  const fs::path dir = fresh_dir("guide-session");
+  Child server(guide_command(dir / "out", "90"), (dir / "server.log").string());
+  const std::string url = start_guide(server);
+  WebDriver browser(dir.string());
+  browser.go(url);
+  ASSERT_TRUE(browser.wait_for("window.guideReady", 30));
+  browser.screenshot((dir / "1-start.png").string());
+
+  browser.click("#object-o3");
+  const Json goal = browser.execute("return window.guide.toClient(arguments[0], arguments[1]);", Json::array({0.78, 0.06}));
+  browser.click_at(goal["x"].get<double>(), goal["y"].get<double>());
+  ASSERT_TRUE(browser.wait_for("window.guide.state.inputs.length === 1 && !window.guide.busy", 60));
+  const Json state = browser.execute("return window.guide.state;");
+  ASSERT_TRUE(state["inputs"][0]["satisfied"].get<bool>()) << state["inputs"][0]["reason"];
+  for (const Json& o : state["objects"]) {
+    if (o["id"] == "o3") EXPECT_LT(std::hypot(o["pose"][0].get<double>() - 0.78, o["pose"][1].get<double>() - 0.06), 0.05 + 1e-6);
+  }
+  EXPECT_NE(browser.execute("return document.getElementById('status').textContent;").get<std::string>().find("pushed o3"),
+            std::string::npos);
+  browser.screenshot((dir / "2-pushed.png").string());
+
+  // Off the shelf: refused, shown, and not an input of the record.
+  browser.click("#object-o1");
+  const Json off = browser.execute("return window.guide.toClient(arguments[0], arguments[1]);", Json::array({0.45, 0.0}));
+  browser.click_at(off["x"].get<double>(), off["y"].get<double>());
+  ASSERT_TRUE(browser.wait_for("document.getElementById('status').textContent.includes('does not lie on the shelf')", 10));
+  EXPECT_EQ(browser.execute("return window.guide.state.inputs.length;").get<int>(), 1);
+
+  browser.click("#finish");
+  ASSERT_TRUE(browser.wait_for("window.guide.state.finished && !window.guide.busy", 120));
+  browser.screenshot((dir / "3-finished.png").string());
+  const bool solved = browser.execute("return window.guide.state.solved;").get<bool>();
+  EXPECT_TRUE(solved) << browser.execute("return window.guide.state.reason;");
+  EXPECT_EQ(browser.execute("return window.guideErrors;"), Json::array());
+
+  // The session's files: the guidance grtc can read, the result with its record.
+  const Json result = read_json(dir / "out/result.json");
+  EXPECT_EQ(result["solved"].get<bool>(), solved);
+  EXPECT_EQ(result["human_guidance"]["successful_inputs"], 1);
+  EXPECT_EQ(result["human_guidance"]["failed_inputs"], 0);
+  EXPECT_GE(result["human_guidance"]["interaction_time"].get<double>(), 0.0);
+  EXPECT_EQ(result["plan"][0]["objects"][0], "o3");
+  std::ifstream guidance(dir / "out/guidance.yaml");
+  const std::string text((std::istreambuf_iterator<char>(guidance)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("object: \"o3\""), std::string::npos) << text;
+  if (solved) {
+    EXPECT_TRUE(fs::exists(dir / "out/plan.html"));
+    EXPECT_EQ(server.stop(), 0);
+  }
+}
+
+// Several tabs and bad requests: each answered with a reason, none stops the server.
+TEST(Browser, TheGuideServerAnswersBadRequestsAndManyTabsWithoutStopping) {
+  const fs::path dir = fresh_dir("guide-bad-requests");
+  Child server(guide_command(dir / "out", "30"), (dir / "server.log").string());
+  const std::string url = start_guide(server);
+  httplib::Client http("127.0.0.1", port_of(url));
+  http.set_read_timeout(60, 0);
+  const std::vector<std::pair<std::string, std::string>> bad{
+      {"{not json", "not a JSON object"},
+      {"[1, 2]", "not a JSON object"},
+      {R"({"object": "nothing", "x": 0.8, "y": 0.0})", "no object 'nothing'"},
+      {R"({"object": "o3", "x": 2.0, "y": 0.0})", "does not lie on the shelf"},
+      {R"({"object": "o3", "x": "far", "y": 0.0})", "must be numbers"},
+      {R"({"object": "o3", "x": 0.8, "y": 0.0, "diameter": -1})", "positive diameter"},
+      {R"({"object": "cabinet_back", "x": 0.8, "y": 0.0})", "no object 'cabinet_back'"}};
+  for (const auto& [body, reason] : bad) {
+    const auto r = http.Post("/api/guide", body, "application/json");
+    ASSERT_TRUE(r) << body;
+    EXPECT_EQ(r->status, 400) << body;
+    EXPECT_NE(r->body.find(reason), std::string::npos) << body << " -> " << r->body;
+  }
+  const auto missing = http.Get("/no/such/page");
+  ASSERT_TRUE(missing);
+  EXPECT_EQ(missing->status, 404);
+  const auto early = http.Get("/replay");
+  ASSERT_TRUE(early);
+  EXPECT_EQ(early->status, 404);
+
+  // Four tabs at once: one pushes while the others read the state.
+  std::vector<std::future<int>> tabs;
+  tabs.push_back(std::async(std::launch::async, [&] {
+    httplib::Client c("127.0.0.1", port_of(url));
+    c.set_read_timeout(60, 0);
+    const auto r = c.Post("/api/guide", R"({"object": "o3", "x": 0.78, "y": 0.06})", "application/json");
+    return r ? r->status : -1;
+  }));
+  for (int i = 0; i < 3; ++i) {
+    tabs.push_back(std::async(std::launch::async, [&] {
+      httplib::Client c("127.0.0.1", port_of(url));
+      c.set_read_timeout(60, 0);
+      int last = 0;
+      for (int k = 0; k < 5; ++k) last = c.Get("/api/state") ? 200 : -1;
+      return last;
+    }));
+  }
+  for (auto& t : tabs) EXPECT_EQ(t.get(), 200);
+  const auto state = http.Get("/api/state");
+  ASSERT_TRUE(state);
+  EXPECT_EQ(Json::parse(state->body)["inputs"].size(), 1u);
+}
+
+// Every replay page loads from disk without a JavaScript error, with WebGL, and
+// plays to its end.
+TEST(Browser, ReplayPagesOfRetrievalAndPushingPlansLoadWithoutErrors) {
+  const fs::path dir = fresh_dir("replay");
+  WebDriver browser(dir.string());
+  for (const std::string problem : {"problems/default.yaml", "problems/push/retrieve-push.yaml", "problems/push/easy.yaml"}) {
+    const std::string name = fs::path(problem).stem().string();
+    const fs::path out = dir / name;
+    const std::string command = kCli + " plan " + (kSource / problem).string() + " --html -q -o " + out.string();
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    ASSERT_TRUE(fs::exists(out / "plan.html"));
+    const Json result = read_json(out / "result.json");
+    browser.go("file://" + (out / "plan.html").string());
+    ASSERT_TRUE(browser.wait_for("window.viewerReady", 30)) << name;
+    EXPECT_EQ(browser.execute("return window.viewerErrors;"), Json::array()) << name;
+    EXPECT_EQ(browser.execute("return window.viewerRenderer;"), "webgl") << name;
+    EXPECT_EQ(browser.execute("return window.viewer.steps;").get<std::size_t>(), result["plan"].size()) << name;
+    EXPECT_GT(browser.execute("return window.viewer.frames;").get<int>(), 1) << name;
+    const std::size_t drawings = fs::exists(out / "drawings.json") ? read_json(out / "drawings.json")["drawings"].size() : 0;
+    EXPECT_EQ(browser.execute("return document.querySelectorAll('#drawings svg').length;").get<std::size_t>(), drawings) << name;
+    browser.execute("window.viewer.seek(window.viewer.duration / 2);");
+    browser.screenshot((dir / (name + ".png")).string());
+    EXPECT_EQ(browser.execute("return window.viewerErrors;"), Json::array()) << name;
+  }
+}

@@ -1,0 +1,111 @@
+// The plan viewer's replay (where it draws things) and the operator's guided session.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/io/result_json.hpp"
+#include "cluttertamp/run/guided_session.hpp"
+#include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/viewer/plan_html.hpp"
+#include "test_support.hpp"
+
+namespace cluttertamp {
+namespace {
+
+using Json = nlohmann::json;
+const std::filesystem::path kProblems = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems";
+
+// The last pose a replay gives object `id` (its scene pose when no frame moves it).
+Eigen::Vector3d last_position(const Json& replay, const std::string& id) {
+  Eigen::Vector3d at = Eigen::Vector3d::Constant(NAN);
+  for (const Json& o : replay["scene"]["objects"]) {
+    if (o["id"] == id) at = {o["pose"][0].get<double>(), o["pose"][1].get<double>(), o["pose"][2].get<double>()};
+  }
+  for (const Json& f : replay["frames"]) {
+    if (f.contains("objects") && f["objects"].contains(id)) {
+      const Json& p = f["objects"][id];
+      at = {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()};
+    }
+  }
+  return at;
+}
+
+class ViewerTest : public ::testing::Test {
+ protected:
+  plugin::Registry registry_{plugin::Registry::default_search_paths()};
+};
+
+// A pushed object ends where the physics left it in the plan; a retrieved target is
+// carried by the hand to the exit x_s; the frames are in time order.
+TEST_F(ViewerTest, ReplayMovesPushedAndHeldObjectsToWhereThePlanLeavesThem) {
+  const Problem problem = io::load_problem(kProblems / "push/retrieve-push.yaml");
+  const run::RunOutcome run = run::plan(problem, registry_, {});
+  ASSERT_TRUE(run.result.solved) << run.result.reason;
+  const Json replay = Json::parse(viewer::replay_json(problem, {io::result_to_json(problem, run.result, run.info),
+                                                                io::drawings_to_json(run.result), "memory"}));
+  ASSERT_EQ(replay["steps"].size(), 2u);
+  EXPECT_EQ(replay["steps"][0]["action"], "push");
+  EXPECT_EQ(replay["steps"][1]["action"], "retrieve");
+  const std::vector<double>& pushed = run.result.plan[0].values.at("o3");
+  const Eigen::Vector3d o3 = last_position(replay, "o3");
+  EXPECT_NEAR(o3.x(), pushed[0], 1e-3);
+  EXPECT_NEAR(o3.y(), pushed[1], 1e-3);
+  const Eigen::Vector3d exit = problem.scene.world_T_exit.translation();
+  EXPECT_LT((last_position(replay, "target") - exit).norm(), 0.01);
+  double t = -1;
+  for (const Json& f : replay["frames"]) {
+    EXPECT_GE(f["t"].get<double>(), t);
+    t = f["t"].get<double>();
+  }
+  EXPECT_NEAR(t, replay["duration"].get<double>(), 1e-6);
+  EXPECT_EQ(replay["drawings"].size(), run.result.drawings.size());
+  EXPECT_FALSE(replay["robot"].is_null());  // the retrieval moves the arm
+}
+
+TEST_F(ViewerTest, AResultThatIsNotJsonOrNamesAnUnknownObjectIsBadInputNamingIt) {
+  const Problem problem = io::load_problem(kProblems / "push/retrieve-push.yaml");
+  try {
+    viewer::replay_json(problem, {"{ not json", "", "out/result.json"});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("out/result.json"), std::string::npos) << e.what();
+  }
+  const std::string unknown = R"({"plan": [{"index": 0, "action": "pick", "objects": ["ghost"], "values": {},
+    "trajectory": {"joint_names": ["shoulder_pan_joint"], "times": [0, 1], "positions": [[0], [1]]}}]})";
+  try {
+    viewer::replay_json(problem, {unknown, "", "r.json"});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'ghost'"), std::string::npos) << e.what();
+  }
+}
+
+// GRTC-HITL: refused inputs are not inputs; a push that works moves its object into
+// the region and is recorded; the record reaches result.json.
+TEST_F(ViewerTest, AGuidedSessionRecordsItsInputsAndPushesIntoTheRegion) {
+  Problem problem = io::load_problem(kProblems / "push/shelf10/p01.yaml");
+  problem.time_limit = 60;
+  run::GuidedSession session(problem, registry_);
+  EXPECT_FALSE(session.guide("ghost", {0.8, 0.0}).planned);
+  EXPECT_FALSE(session.guide("o3", {2.0, 0.0}).planned);
+  const run::GuidedSession::Outcome out = session.guide("o3", {0.78, 0.06});
+  ASSERT_TRUE(out.ok) << out.message;
+  const Json state = Json::parse(session.state_json());
+  ASSERT_EQ(state["inputs"].size(), 1u);
+  for (const Json& o : state["objects"]) {
+    if (o["id"] == "o3") EXPECT_LE(std::hypot(o["pose"][0].get<double>() - 0.78, o["pose"][1].get<double>() - 0.06), 0.05);
+  }
+  EXPECT_NE(session.guidance_yaml().find("object: \"o3\""), std::string::npos);
+  const Json result = Json::parse(session.result_json());
+  EXPECT_FALSE(result["solved"].get<bool>());  // not finished yet
+  EXPECT_EQ(result["human_guidance"]["successful_inputs"], 1);
+  EXPECT_EQ(result["human_guidance"]["failed_inputs"], 0);
+  EXPECT_EQ(result["plan"].size(), 1u);
+  EXPECT_LT(session.time_left(), 60.0);
+}
+
+}  // namespace
+}  // namespace cluttertamp
