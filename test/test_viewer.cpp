@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
 #include <nlohmann/json.hpp>
 
+#include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/io/result_json.hpp"
 #include "cluttertamp/run/guided_session.hpp"
@@ -98,7 +100,14 @@ TEST_F(ViewerTest, AGuidedSessionRecordsItsInputsAndPushesIntoTheRegion) {
   for (const Json& o : state["objects"]) {
     if (o["id"] == "o3") EXPECT_LE(std::hypot(o["pose"][0].get<double>() - 0.78, o["pose"][1].get<double>() - 0.06), 0.05);
   }
-  EXPECT_NE(session.guidance_yaml().find("object: \"o3\""), std::string::npos);
+  // The session's guidance is a guidance file grtc reads.
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "cluttertamp_session_guidance.yaml";
+  std::ofstream(file) << session.guidance_yaml();
+  const physics::Guidance guidance = io::load_guidance(
+      file, problem.scene, physics::PushWorld(problem.scene, WorldState::initial(problem.scene)).support_region());
+  ASSERT_EQ(guidance.size(), 1u);
+  EXPECT_EQ(problem.scene.objects[guidance[0].object].id, "o3");
+  EXPECT_TRUE(guidance[0].centre.isApprox(Eigen::Vector2d(0.78, 0.06)));
   const Json result = Json::parse(session.result_json());
   EXPECT_FALSE(result["solved"].get<bool>());  // not finished yet
   EXPECT_EQ(result["human_guidance"]["successful_inputs"], 1);

@@ -22,6 +22,7 @@
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/viewer/plan_html.hpp"
+#include "io/text_file.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -143,30 +144,30 @@ int plan(const PlanArgs& args) {
   }
   const fs::path result_file = args.output / "result.json";
   io::write_result_json(result_file, problem, outcome.result, outcome.info);
+  // The planner's drawings beside it (a roadmap is tens of times the rest), never stale.
+  const fs::path drawings_file = args.output / "drawings.json";
+  std::error_code ec;
+  if (outcome.result.drawings.empty()) fs::remove(drawings_file, ec);
+  else io::detail::write_text_file(drawings_file, io::drawings_to_json(outcome.result), "drawings file");
   if (plugin_error) std::cerr << plugin_error->diagnostics().str();
   if (args.verbosity != Verbosity::quiet) print_summary(std::cout, problem, outcome, result_file);
   if (args.html) {
+    // The page is a view of the run: failing to write it is reported, not the run's outcome.
     const fs::path page = args.output / "plan.html";
-    viewer::write_plan_html(page, problem,
-                            {io::result_to_json(problem, outcome.result, outcome.info), io::drawings_to_json(outcome.result),
-                             result_file.string()});
-    if (args.verbosity != Verbosity::quiet) std::cout << "replay: " << page.string() << " (open it in a browser)\n";
+    try {
+      viewer::write_plan_html(page, problem,
+                              {io::result_to_json(problem, outcome.result, outcome.info),
+                               io::drawings_to_json(outcome.result), result_file.string()});
+      if (args.verbosity != Verbosity::quiet) std::cout << "replay: " << page.string() << " (open it in a browser)\n";
+    } catch (const InputError& e) {
+      std::cerr << "warning: no replay page: " << e.diagnostics().str();
+    }
   }
   return outcome.info.exit_code;
 }
 
-namespace {
-std::string read_file(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError({file.string(), 0, 0}, "cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-}  // namespace
-
 int view(const ViewArgs& args) {
-  const std::string text = read_file(args.result);
+  const std::string text = io::detail::read_text_file(args.result, "result file");
   fs::path problem_file;
   if (args.problem) {
     problem_file = *args.problem;
@@ -184,7 +185,9 @@ int view(const ViewArgs& args) {
   const Problem problem = io::load_problem(problem_file);
   const fs::path page = args.output.value_or(args.result.parent_path() / "plan.html");
   const fs::path drawings = args.result.parent_path() / "drawings.json";
-  viewer::write_plan_html(page, problem, {text, fs::exists(drawings) ? read_file(drawings) : "", args.result.string()});
+  viewer::write_plan_html(page, problem,
+                          {text, fs::exists(drawings) ? io::detail::read_text_file(drawings, "drawings file") : "",
+                           args.result.string()});
   if (args.verbosity != Verbosity::quiet) std::cout << "wrote " << page.string() << " (open it in a browser)\n";
   return 0;
 }

@@ -4,6 +4,8 @@
 #include <pthread.h>
 
 #include <atomic>
+#include <chrono>
+#include <cstdlib>
 #include <csignal>
 #include <fstream>
 #include <iomanip>
@@ -20,6 +22,7 @@
 #include "cluttertamp/run/guided_session.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/viewer/plan_html.hpp"
+#include "io/text_file.hpp"
 
 // Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers after it.
 #include <httplib.h>
@@ -57,20 +60,18 @@ int write_automatic_guidance(const GuideArgs& args, const Problem& problem) {
   return 0;
 }
 
-void write_file(const fs::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the session file");
-}
-
 // The session's files, rewritten after every input so that nothing is lost when the
-// server is stopped.
+// server is stopped. The replay page is a view: failing to write it is only reported.
 void save(const run::GuidedSession& session, const fs::path& dir) {
-  write_file(dir / "guidance.yaml", session.guidance_yaml());
+  io::detail::write_text_file(dir / "guidance.yaml", session.guidance_yaml(), "session file");
   const std::string result = session.result_json();
-  write_file(dir / "result.json", result);
-  if (session.finished()) viewer::write_plan_html(dir / "plan.html", session.problem(), {result, "", (dir / "result.json").string()});
+  io::detail::write_text_file(dir / "result.json", result, "session file");
+  if (!session.finished()) return;
+  try {
+    viewer::write_plan_html(dir / "plan.html", session.problem(), {result, "", (dir / "result.json").string()});
+  } catch (const InputError& e) {
+    std::cerr << "warning: no replay page: " << e.diagnostics().str();
+  }
 }
 
 void reply(httplib::Response& res, int status, const Json& body) {
@@ -94,29 +95,45 @@ std::optional<std::string> read_guide(const std::string& body, std::string& obje
   return std::nullopt;
 }
 
-// Stops the server on SIGINT or SIGTERM: the signals are blocked in every thread and
-// taken by this one, so the server stops outside a signal handler.
+// Only JSON requests change the session: a page on another site can send a "simple"
+// POST to localhost without asking, but not one with this content type.
+bool json_request(const httplib::Request& req, httplib::Response& res) {
+  if (req.get_header_value("Content-Type").rfind("application/json", 0) == 0) return true;
+  error(res, 415, "send the request as Content-Type: application/json");
+  return false;
+}
+
+// Stops the server on SIGINT or SIGTERM. Made before any other thread exists, it
+// blocks the signals in every thread and takes them in its own, so the server stops
+// outside a signal handler, once it runs; a second signal ends the process at once.
 class StopOnSignal {
  public:
   explicit StopOnSignal(httplib::Server& server) {
     sigemptyset(&signals_);
     sigaddset(&signals_, SIGINT);
     sigaddset(&signals_, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &signals_, nullptr);
+    pthread_sigmask(SIG_BLOCK, &signals_, &old_);
     thread_ = std::thread([this, &server] {
       int signal = 0;
       sigwait(&signals_, &signal);
-      if (!done_) server.stop();
+      if (done_) return;
+      while (!server.is_running() && !done_) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      server.stop();
+      sigwait(&signals_, &signal);
+      if (!done_) std::_Exit(128 + signal);
     });
   }
   ~StopOnSignal() {
     done_ = true;
     pthread_kill(thread_.native_handle(), SIGTERM);
     thread_.join();
+    pthread_sigmask(SIG_SETMASK, &old_, nullptr);
   }
+  StopOnSignal(const StopOnSignal&) = delete;
+  StopOnSignal& operator=(const StopOnSignal&) = delete;
 
  private:
-  sigset_t signals_;
+  sigset_t signals_, old_;
   std::atomic<bool> done_{false};
   std::thread thread_;
 };
@@ -127,6 +144,8 @@ int serve(const GuideArgs& args, const Problem& problem) {
     throw InputError({"--output", 0, 0}, "serving saves a session into a directory, not " + dir.string() +
                                              "; to write the automatic guidance to a file, add --auto");
   }
+  httplib::Server server;
+  const StopOnSignal stop(server);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError({dir.string(), 0, 0}, "cannot create the session directory: " + ec.message());
@@ -134,40 +153,55 @@ int serve(const GuideArgs& args, const Problem& problem) {
   const plugin::Registry registry(run::plugin_search_paths(problem, {}));
   run::GuidedSession session(problem, registry, {args.diameter, args.push_time});
   save(session, dir);
-  std::mutex mutex;  // one request at a time touches the session
+  // One request at a time plans; the others read the state as it was last saved
+  // (planning holds `planning`, never `shown`), or are told the session is busy.
+  std::mutex planning, shown;
+  std::string state = session.state_json();
+  auto show = [&] {
+    const std::lock_guard lock(shown);
+    state = session.state_json();
+  };
   const bool quiet = args.verbosity == Verbosity::quiet;
 
-  httplib::Server server;
   server.set_keep_alive_timeout(1);  // s: stopping waits for open connections to close
   server.Get("/", [](const httplib::Request&, httplib::Response& res) { res.set_content(assets::guide_html, "text/html; charset=utf-8"); });
   server.Get("/api/state", [&](const httplib::Request&, httplib::Response& res) {
-    const std::lock_guard lock(mutex);
-    res.set_content(session.state_json(), "application/json");
+    const std::lock_guard lock(shown);
+    res.set_content(state, "application/json");
   });
   server.Post("/api/guide", [&](const httplib::Request& req, httplib::Response& res) {
+    if (!json_request(req, res)) return;
     std::string object;
     Eigen::Vector2d centre;
     std::optional<double> diameter;
     if (const auto bad = read_guide(req.body, object, centre, diameter)) return error(res, 400, *bad);
-    const std::lock_guard lock(mutex);
+    std::unique_lock lock(planning, std::try_to_lock);
+    if (!lock) return error(res, 409, "busy: another request is being planned");
     const run::GuidedSession::Outcome out = session.guide(object, centre, diameter);
     if (!out.planned) return error(res, session.finished() ? 409 : 400, out.message);
     save(session, dir);
+    show();
     if (!quiet) std::cout << (out.ok ? "  ok     " : "  failed ") << out.message << std::endl;
     reply(res, 200, {{"ok", out.ok}, {"message", out.message}, {"state", Json::parse(session.state_json())}});
   });
-  server.Post("/api/finish", [&](const httplib::Request&, httplib::Response& res) {
-    const std::lock_guard lock(mutex);
+  server.Post("/api/finish", [&](const httplib::Request& req, httplib::Response& res) {
+    if (!json_request(req, res)) return;
+    std::unique_lock lock(planning, std::try_to_lock);
+    if (!lock) return error(res, 409, "busy: another request is being planned");
     const run::GuidedSession::Outcome out = session.finish();
     if (!out.planned) return error(res, 409, out.message);
     save(session, dir);
+    show();
     if (!quiet) std::cout << (out.ok ? "  SOLVED " : "  NOT SOLVED ") << out.message << "\n  saved " << dir.string() << std::endl;
     reply(res, 200, {{"ok", out.ok}, {"message", out.message}, {"state", Json::parse(session.state_json())}});
   });
   server.Get("/replay", [&](const httplib::Request&, httplib::Response& res) {
-    const std::lock_guard lock(mutex);
-    if (!session.finished()) return error(res, 404, "the replay exists once the robot has finished");
-    res.set_content(viewer::plan_html(session.problem(), {session.result_json(), "", "session"}), "text/html; charset=utf-8");
+    const fs::path page = dir / "plan.html";
+    const std::lock_guard lock(shown);  // the page is written before the state says finished
+    if (!Json::parse(state)["finished"].get<bool>() || !fs::exists(page)) {
+      return error(res, 404, "the replay exists once the robot has finished");
+    }
+    res.set_content(io::detail::read_text_file(page, "replay page"), "text/html; charset=utf-8");
   });
   server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr e) {
     try {
@@ -184,21 +218,19 @@ int serve(const GuideArgs& args, const Problem& problem) {
   // The address line is what scripts (and the browser tests) wait for.
   std::cout << "guide: serving " << problem.name << " on http://" << args.host << ":" << port << "/ (Ctrl-C to stop); "
             << "the session is saved in " << dir.string() << std::endl;
-  {
-    const StopOnSignal stop(server);
-    server.listen_after_bind();
-  }
-  const std::lock_guard lock(mutex);
+  server.listen_after_bind();
+
+  const std::lock_guard lock(planning);
   save(session, dir);
-  const Json state = Json::parse(session.state_json());
+  const Json final_state = Json::parse(session.state_json());
   if (!quiet) {
     int ok = 0;
-    for (const Json& in : state["inputs"]) ok += in["satisfied"].get<bool>() ? 1 : 0;
-    std::cout << "guide: stopped; " << ok << " successful and " << state["inputs"].size() - ok << " failed inputs; "
-              << (state["solved"].get<bool>() ? "the target was reached" : "the target was not reached") << "; saved in "
-              << dir.string() << std::endl;
+    for (const Json& in : final_state["inputs"]) ok += in["satisfied"].get<bool>() ? 1 : 0;
+    std::cout << "guide: stopped; " << ok << " successful and " << final_state["inputs"].size() - ok << " failed inputs; "
+              << (final_state["solved"].get<bool>() ? "the target was reached" : "the target was not reached")
+              << "; saved in " << dir.string() << std::endl;
   }
-  return state["solved"].get<bool>() ? run::ExitCode::solved : run::ExitCode::no_plan;
+  return final_state["solved"].get<bool>() ? run::ExitCode::solved : run::ExitCode::no_plan;
 }
 
 }  // namespace

@@ -54,6 +54,11 @@ const char* shape_name(const Shape& shape) {
   }
 }
 
+double yaw_of(const Eigen::Isometry3d& pose) {
+  const Eigen::Vector3d x = pose.rotation().col(0);
+  return std::atan2(x.y(), x.x());
+}
+
 std::vector<double> pose_values(const Eigen::Isometry3d& pose) {
   const Eigen::Quaterniond q(pose.linear());
   const Eigen::Vector3d t = pose.translation();

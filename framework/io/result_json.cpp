@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cluttertamp/version.hpp"
+#include "io/text_file.hpp"
 
 namespace cluttertamp::io {
 
@@ -92,16 +93,6 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
   return out.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
-namespace {
-void write_text(const std::filesystem::path& file, const std::string& text, const char* what) {
-  std::error_code ec;
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
-  std::ofstream out(file);
-  out << text;
-  out.close();
-  if (!out) throw InputError({file.string(), 0, 0}, std::string("cannot write the ") + what + " (is the output directory writable?)");
-}
-}  // namespace
 
 std::string drawings_to_json(const Result& result) {
   Json drawings = Json::array();
@@ -117,11 +108,7 @@ std::string drawings_to_json(const Result& result) {
 
 void write_result_json(const std::filesystem::path& file, const Problem& problem, const Result& result,
                        const RunInfo& run) {
-  write_text(file, result_to_json(problem, result, run), "result file");
-  const std::filesystem::path drawings = file.parent_path() / "drawings.json";
-  std::error_code ec;
-  if (!result.drawings.empty()) write_text(drawings, drawings_to_json(result), "drawings file");
-  else std::filesystem::remove(drawings, ec);
+  detail::write_text_file(file, result_to_json(problem, result, run), "result file");
 }
 
 }  // namespace cluttertamp::io

@@ -584,8 +584,7 @@ WorldState world_state_of(const WorldState& before, const PushState& state) {
   WorldState after = before;
   for (std::size_t i = 0; i < after.world_T_objects.size() && i < state.objects.size(); ++i) {
     Eigen::Isometry3d& pose = after.world_T_objects[i];
-    const Eigen::Vector3d x = pose.rotation().col(0);
-    const double turn = state.objects[i].pose.z() - std::atan2(x.y(), x.x());
+    const double turn = state.objects[i].pose.z() - yaw_of(pose);
     pose.linear() = Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix() * pose.linear();
     pose.translation().head<2>() = state.objects[i].pose.head<2>();
   }

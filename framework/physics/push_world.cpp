@@ -50,11 +50,6 @@ double yaw_of(const btTransform& t) {
   return std::atan2(double(x.y()), double(x.x()));
 }
 
-double yaw_of(const Eigen::Isometry3d& pose) {
-  const Eigen::Vector3d x = pose.rotation().col(0);
-  return std::atan2(x.y(), x.x());
-}
-
 double bottom_of(const Shape& shape, const Eigen::Isometry3d& pose) { return world_bounds(shape, pose).min().z(); }
 
 }  // namespace
@@ -216,7 +211,7 @@ PushState PushWorld::state_of(const WorldState& initial, const Eigen::Vector3d& 
   s.gripper = gripper;
   for (const Eigen::Isometry3d& pose : initial.world_T_objects) {
     PlanarBody b;
-    b.pose = {pose.translation().x(), pose.translation().y(), yaw_of(pose)};
+    b.pose = {pose.translation().x(), pose.translation().y(), cluttertamp::yaw_of(pose)};
     s.objects.push_back(b);
   }
   return s;

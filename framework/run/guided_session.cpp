@@ -10,6 +10,7 @@
 #include "cluttertamp/physics/push_planning.hpp"
 #include "cluttertamp/plugin/push_sampler.hpp"
 #include "cluttertamp/run/runner.hpp"
+#include "io/shape_json.hpp"
 
 namespace cluttertamp::run {
 
@@ -25,12 +26,6 @@ std::string fixed3(double v) {
   out.precision(3);
   out << v;
   return out.str();
-}
-
-Json shape_json(const Shape& shape) {
-  if (const auto* b = std::get_if<Box>(&shape)) return {{"box", {b->size.x(), b->size.y(), b->size.z()}}};
-  if (const auto* c = std::get_if<Cylinder>(&shape)) return {{"cylinder", {c->radius, c->height}}};
-  return {{"sphere", std::get<Sphere>(shape).radius}};
 }
 
 Json box_json(const Eigen::AlignedBox2d& b) { return {b.min().x(), b.min().y(), b.max().x(), b.max().y()}; }
@@ -60,6 +55,7 @@ struct GuidedSession::Impl {
   physics::Guidance guidance;  // the satisfied guides
   double planning = 0.0;       // s, every input's and the reach's
   bool finished = false;
+  Clock::time_point finished_at;
 
   double time_left() const { return std::max(0.0, problem.time_limit - planning); }
 
@@ -70,7 +66,9 @@ struct GuidedSession::Impl {
   io::RunInfo info() const {
     io::RunInfo run{"operator (GRTC-HITL) + " + search.planner, problem.time_limit, problem.seed,
                     finished ? (result.solved ? ExitCode::solved : ExitCode::no_plan) : ExitCode::no_plan, record};
-    run.human_guidance->interaction_time = std::max(0.0, seconds_since(started) - planning);
+    // The operator's time ends when the robot takes over.
+    const double wall = std::chrono::duration<double>((finished ? finished_at : Clock::now()) - started).count();
+    run.human_guidance->interaction_time = std::max(0.0, wall - planning);
     return run;
   }
 };
@@ -165,6 +163,7 @@ GuidedSession::Outcome GuidedSession::finish() {
   const double reach_time = seconds_since(t0);
   s.planning += reach_time;
   s.finished = true;
+  s.finished_at = Clock::now();
   s.counters["propagations"] += out.propagations;
   s.result.counters = s.counters;
   s.result.counters["guides"] = s.guidance.size();
@@ -197,9 +196,8 @@ std::string GuidedSession::state_json() const {
   for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     const Eigen::Isometry3d& pose = s.state.world_T_objects[i];
-    const Eigen::Vector3d x = pose.rotation().col(0);
-    objects.push_back({{"id", o.id}, {"shape", shape_json(o.shape)},
-                       {"pose", {pose.translation().x(), pose.translation().y(), std::atan2(x.y(), x.x())}},
+    objects.push_back({{"id", o.id}, {"shape", io::detail::shape_json(o.shape)},
+                       {"pose", {pose.translation().x(), pose.translation().y(), yaw_of(pose)}},
                        {"role", i == scene.target ? "target" : o.movable ? "movable" : "fixed"}});
   }
   // Walls and boards that meet the gripper's plane, as footprints.

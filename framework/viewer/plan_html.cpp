@@ -1,6 +1,7 @@
 #include "cluttertamp/viewer/plan_html.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -10,6 +11,8 @@
 
 #include "cluttertamp/physics/push_planning.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
+#include "io/shape_json.hpp"
+#include "io/text_file.hpp"
 
 namespace cluttertamp::assets {
 extern const char* const viewer_html;  // framework/viewer/viewer.html, embedded at build time
@@ -31,11 +34,11 @@ Json pose_json(const Eigen::Isometry3d& pose) {
                       rounded(q.w())});
 }
 
-Json shape_json(const Shape& shape) {
-  if (const auto* b = std::get_if<Box>(&shape)) return {{"box", {b->size.x(), b->size.y(), b->size.z()}}};
-  if (const auto* c = std::get_if<Cylinder>(&shape)) return {{"cylinder", {c->radius, c->height}}};
-  return {{"sphere", std::get<Sphere>(shape).radius}};
-}
+using io::detail::shape_json;
+
+// Beyond these a result.json is not a plan but a way to exhaust memory.
+constexpr double kMaxFrames = 1e5;
+constexpr double kMaxPropagations = 1e5;
 
 Eigen::Isometry3d planar_pose(const Eigen::Vector3d& xy_yaw, double z) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -44,18 +47,22 @@ Eigen::Isometry3d planar_pose(const Eigen::Vector3d& xy_yaw, double z) {
   return pose;
 }
 
-std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError({file.string(), 0, 0}, "cannot read (is Debian's libjs-three installed?)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+// Code inlined into a <script> element must not close it early.
+std::string script_safe(std::string code) {
+  for (std::size_t at = code.find("</"); at != std::string::npos; at = code.find("</", at + 3)) code.replace(at, 2, "<\\/");
+  return code;
 }
 
-// Text inlined into a <script> element must not close it early.
-std::string script_safe(std::string text) {
-  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
-  return text;
+// JSON inlined into a <script> element: every '<' (only ever inside a string) escaped,
+// so no id or name can end the element or start an HTML comment in it.
+std::string json_safe(const std::string& json) {
+  std::string out;
+  out.reserve(json.size());
+  for (char c : json) {
+    if (c == '<') out += "\\u003c";
+    else out += c;
+  }
+  return out;
 }
 
 void replace_once(std::string& text, const std::string& marker, const std::string& with) {
@@ -153,7 +160,13 @@ class Replayer {
     const auto times = step.at("trajectory").at("times").get<std::vector<double>>();
     const auto positions = step.at("trajectory").at("positions").get<std::vector<std::vector<double>>>();
     if (times.empty() || times.size() != positions.size()) throw InputError({name_, 0, 0}, "a trajectory needs one position per time");
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      if (!std::isfinite(times[k]) || times[k] < 0 || (k > 0 && times[k] < times[k - 1])) {
+        throw InputError({name_, 0, 0}, "trajectory times must be finite, from 0 and never decreasing");
+      }
+    }
     const double duration = times.back();
+    if (duration / frame_step_ > kMaxFrames) throw InputError({name_, 0, 0}, "a trajectory of " + std::to_string(duration) + " s is too long to replay");
 
     // The configurations at every waypoint and every frame_step between (joint-space
     // linear): a grasp is told by what moves between two waypoints.
@@ -279,9 +292,17 @@ class Replayer {
     const auto step_values = plan_step.values.find("step");
     const double dt = step_values != plan_step.values.end() && !step_values->second.empty() ? step_values->second.front() : 0.1;
     const auto positions = step.at("trajectory").at("positions").get<std::vector<std::vector<double>>>();
-    if (positions.empty() || positions.front().size() != 3 || !(dt > 0)) {
-      throw InputError({name_, 0, 0}, "a push step needs gripper poses [x y yaw] and a positive step");
+    if (positions.empty() || positions.front().size() != 3 || !(dt >= 1e-4) || !std::isfinite(dt)) {
+      throw InputError({name_, 0, 0}, "a push step needs gripper poses [x y yaw] and a step of at least 0.1 ms");
     }
+    double propagations = 0;
+    for (const physics::PushControl& c : controls) {
+      if (!std::isfinite(c.duration) || c.duration < 0 || !c.velocity.allFinite()) {
+        throw InputError({name_, 0, 0}, "a push control needs a finite velocity and duration");
+      }
+      propagations += c.duration / dt;
+    }
+    if (propagations > kMaxPropagations) throw InputError({name_, 0, 0}, "a push of " + std::to_string(propagations) + " propagations is too long to replay");
     const physics::PushWorld world(scene_, state_);
     physics::PushPath path;
     path.step = dt;
@@ -289,8 +310,8 @@ class Replayer {
     // One propagation per frame: a control of n steps is n propagations in the planner too.
     std::vector<physics::PushControl> per_step;
     for (const physics::PushControl& c : controls) {
-      const int n = std::max(1, static_cast<int>(std::lround(c.duration / dt)));
-      for (int i = 0; i < n; ++i) per_step.push_back({c.velocity, dt});
+      const long n = std::max(1L, std::lround(c.duration / dt));
+      for (long i = 0; i < n; ++i) per_step.push_back({c.velocity, dt});
     }
     if (!physics::simulate(world, path, per_step)) {
       warnings_.push_back("step " + std::to_string(step.value("index", 0)) + ": the push left the valid states in replay after " +
@@ -349,6 +370,35 @@ Json scene_json(const Scene& scene, const std::vector<std::string>& moved) {
                          {"max", {scene.workspace.max().x(), scene.workspace.max().y(), scene.workspace.max().z()}}}}};
 }
 
+// The drawings as the page draws them, every index checked (nlohmann throws on a wrong type).
+Json checked_drawings(const Json& drawings, const std::string& name) {
+  Json out = Json::array();
+  for (const Json& d : drawings) {
+    const auto nodes = d.at("nodes").get<std::vector<std::array<double, 2>>>();
+    const auto labels = d.value("labels", std::vector<std::string>{});
+    const auto edges = d.at("edges").get<std::vector<std::array<long, 2>>>();
+    const auto path = d.value("path", std::vector<long>{});
+    const long n = static_cast<long>(nodes.size());
+    auto in_range = [n](long i) { return i >= 0 && i < n; };
+    bool ok = labels.empty() || labels.size() == nodes.size();
+    for (const auto& x : nodes) ok = ok && std::isfinite(x[0]) && std::isfinite(x[1]);
+    for (const auto& [a, b] : edges) ok = ok && in_range(a) && in_range(b);
+    for (long i : path) ok = ok && in_range(i);
+    if (!ok) throw InputError({name, 0, 0}, "drawing '" + d.value("name", "") + "' has a node index out of range, a label count that is not its node count, or a coordinate that is not finite");
+    out.push_back({{"name", d.value("name", "drawing")}, {"nodes", nodes}, {"labels", labels}, {"edges", edges}, {"path", path}});
+  }
+  return out;
+}
+
+Json checked_failures(const Json& failures) {
+  Json out = Json::array();
+  for (const Json& f : failures) {
+    out.push_back({{"stage", f.value("stage", "")}, {"reason", f.value("reason", "")},
+                   {"blocking_objects", f.value("blocking_objects", std::vector<std::string>{})}});
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string replay_json(const Problem& problem, const PlanFiles& plan, double frame_step) {
@@ -390,8 +440,8 @@ std::string replay_json(const Problem& problem, const PlanFiles& plan, double fr
              {"reason", result.value("reason", Json(nullptr))},
              {"time", result.value("time", Json::object())},
              {"moved_objects", moved},
-             {"failures", result.value("failures", Json::array())},
-             {"drawings", drawings},
+             {"failures", checked_failures(result.value("failures", Json::array()))},
+             {"drawings", checked_drawings(drawings, name)},
              {"scene", scene_json(problem.scene, moved)},
              {"robot", replayer.robot_json()},
              {"steps", steps},
@@ -418,20 +468,16 @@ std::string plan_html(const Problem& problem, const PlanFiles& plan) {
   const std::string data = replay_json(problem, plan);
   const std::filesystem::path three(CLUTTERTAMP_THREE_JS_DIR);
   std::string page = assets::viewer_html;
-  replace_once(page, "/*@THREE_JS@*/", script_safe(read_text(three / "build" / "three.min.js")));
-  replace_once(page, "/*@ORBIT_CONTROLS@*/", script_safe(read_text(three / "examples" / "js" / "controls" / "OrbitControls.js")));
-  replace_once(page, "/*@REPLAY_DATA@*/", script_safe(data));
+  const std::string what = "three.js file (is Debian's libjs-three installed?)";
+  replace_once(page, "/*@THREE_JS@*/", script_safe(io::detail::read_text_file(three / "build" / "three.min.js", what)));
+  replace_once(page, "/*@ORBIT_CONTROLS@*/",
+               script_safe(io::detail::read_text_file(three / "examples" / "js" / "controls" / "OrbitControls.js", what)));
+  replace_once(page, "/*@REPLAY_DATA@*/", json_safe(data));
   return page;
 }
 
 void write_plan_html(const std::filesystem::path& file, const Problem& problem, const PlanFiles& plan) {
-  const std::string page = plan_html(problem, plan);
-  std::error_code ec;
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
-  std::ofstream out(file, std::ios::binary);
-  out << page;
-  out.close();
-  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the page (is the directory writable?)");
+  io::detail::write_text_file(file, plan_html(problem, plan), "page");
 }
 
 }  // namespace cluttertamp::viewer

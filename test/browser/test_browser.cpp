@@ -127,6 +127,10 @@ TEST(Browser, TheGuideServerAnswersBadRequestsAndManyTabsWithoutStopping) {
     EXPECT_EQ(r->status, 400) << body;
     EXPECT_NE(r->body.find(reason), std::string::npos) << body << " -> " << r->body;
   }
+  // Another site's page may post to localhost, but not as JSON without asking first.
+  const auto plain = http.Post("/api/finish", "{}", "text/plain");
+  ASSERT_TRUE(plain);
+  EXPECT_EQ(plain->status, 415);
   const auto missing = http.Get("/no/such/page");
   ASSERT_TRUE(missing);
   EXPECT_EQ(missing->status, 404);

@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -35,9 +36,12 @@ inline int free_port() {
   sockaddr_in address{};
   address.sin_family = AF_INET;
   address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address);
   socklen_t length = sizeof address;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
+  if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
+      getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+    if (fd >= 0) close(fd);
+    throw std::runtime_error("no free port on 127.0.0.1");
+  }
   close(fd);
   return ntohs(address.sin_port);
 }
@@ -47,8 +51,11 @@ inline int free_port() {
 class Child {
  public:
   Child(const std::vector<std::string>& argv, const std::string& log) {
+    if (access(argv.at(0).c_str(), X_OK) != 0) {
+      throw std::runtime_error(argv[0] + " is not installed: run scripts/install-deps.sh --browser");
+    }
     int out[2];
-    if (pipe(out) != 0) throw std::runtime_error("pipe failed");
+    if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
@@ -62,7 +69,7 @@ class Child {
     close(out[1]);
     if (error != 0) {
       close(out[0]);
-      throw std::runtime_error("cannot start " + argv[0] + " (is it installed? scripts/install-deps.sh --browser)");
+      throw std::runtime_error("cannot start " + argv[0] + " (log " + log + "): " + std::strerror(error));
     }
     output_ = fdopen(out[0], "r");
   }
@@ -82,10 +89,11 @@ class Child {
     kill(pid_, SIGTERM);
     const auto until = std::chrono::steady_clock::now() + grace;
     int status = 0;
-    while (waitpid(pid_, &status, WNOHANG) == 0) {
+    pid_t done = 0;
+    while ((done = waitpid(pid_, &status, WNOHANG)) == 0) {
       if (std::chrono::steady_clock::now() > until) {
         kill(pid_, SIGKILL);
-        waitpid(pid_, &status, 0);
+        done = waitpid(pid_, &status, 0);
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -93,7 +101,7 @@ class Child {
     pid_ = 0;
     if (output_) std::fclose(output_);
     output_ = nullptr;
-    status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    status_ = done > 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return status_;
   }
 

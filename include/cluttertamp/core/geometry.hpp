@@ -42,6 +42,9 @@ double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, c
 /// "box", "cylinder" or "sphere".
 const char* shape_name(const Shape& shape);
 
+/// The heading of the pose's x axis in the world x-y plane (rad, from +x towards +y).
+double yaw_of(const Eigen::Isometry3d& pose);
+
 /// A pose as result.json writes it: [x y z qx qy qz qw] (metres, unit quaternion).
 std::vector<double> pose_values(const Eigen::Isometry3d& pose);
 

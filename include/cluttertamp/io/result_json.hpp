@@ -16,7 +16,6 @@ namespace cluttertamp::io {
 /// Identifies the layout of result.json; raised when a field changes meaning.
 inline constexpr const char* kResultSchema = "cluttertamp.result/1";
 
-/// Facts about a run that are not part of the planner's Result.
 /// One operator input of a guided session (GRTC-HITL, run::GuidedSession).
 struct OperatorInput {
   std::string object;
@@ -34,6 +33,7 @@ struct HumanGuidance {
   double interaction_time = 0.0;
 };
 
+/// Facts about a run that are not part of the planner's Result.
 struct RunInfo {
   std::string planner;
   double time_limit = 0.0;
@@ -52,10 +52,8 @@ CLUTTERTAMP_API std::string result_to_json(const Problem& problem, const Result&
 /// times the size of the rest.
 CLUTTERTAMP_API std::string drawings_to_json(const Result& result);
 
-/// Writes result_to_json to `file`, creating its directory, and drawings_to_json to
-/// drawings.json beside it when the result has drawings (removing a stale one when it
-/// has none). Throws InputError when a file cannot be written (a bad --output is bad
-/// input).
+/// Writes result_to_json to `file`, creating its directory. Throws InputError when the
+/// file cannot be written (a bad --output is bad input).
 CLUTTERTAMP_API void write_result_json(const std::filesystem::path& file, const Problem& problem,
                                        const Result& result, const RunInfo& run);
 

@@ -14,17 +14,20 @@ namespace cluttertamp::viewer {
 /// objects' poses and the pusher's pose every `frame_step` seconds of plan time. Poses
 /// are world-frame [x y z qx qy qz qw] in metres.
 ///
-/// How objects move: a robot step grasps the step's object nearest the tool when its
-/// fingers start to close with the hand empty and lets go when they start to open (a
-/// robot without a finger joint grasps where the tool comes nearest the object and
-/// lets go where the tool is lowest); the held object keeps its pose relative to the
-/// tool. A push step is replayed through the physics (physics::replay) from the state
+/// How objects move: where a robot step moves its fingers while the arm holds still, an
+/// empty hand grasps the step's object nearest the tool (within 0.2 m of its centre, at
+/// the end of the finger motion) and a full hand lets go (at its start); fingers set
+/// while the arm moves (a transfer opening them) do neither. A robot without a finger
+/// joint grasps where the tool comes nearest the object and lets go where the tool is
+/// lowest. The held object keeps its pose relative to the tool. A push step is replayed
+/// through the physics (physics::simulate, one frame per propagation) from the state
 /// the steps before it left.
 ///
 /// `result_json`: the text of a result.json written for `problem` (io::result_to_json);
 /// `drawings_json`: the text of its drawings.json (io::drawings_to_json), or empty.
 /// `name` names the result in errors. Throws InputError naming `name` when the text is
-/// not JSON or does not fit the problem (an unknown object or joint).
+/// not JSON or does not fit the problem (an unknown object or joint, a drawing index out
+/// of range), or describes more than 10^5 frames or push propagations.
 struct PlanFiles {
   std::string result_json;
   std::string drawings_json;  ///< may be empty

@@ -1,0 +1,19 @@
+#pragma once
+// Internal: shapes and poses as the browser pages read them.
+
+#include <variant>
+
+#include <nlohmann/json.hpp>
+
+#include "cluttertamp/core/geometry.hpp"
+
+namespace cluttertamp::io::detail {
+
+/// {"box": [x y z]} | {"cylinder": [radius height]} | {"sphere": radius}, in metres.
+inline nlohmann::ordered_json shape_json(const Shape& shape) {
+  if (const auto* b = std::get_if<Box>(&shape)) return {{"box", {b->size.x(), b->size.y(), b->size.z()}}};
+  if (const auto* c = std::get_if<Cylinder>(&shape)) return {{"cylinder", {c->radius, c->height}}};
+  return {{"sphere", std::get<Sphere>(shape).radius}};
+}
+
+}  // namespace cluttertamp::io::detail
