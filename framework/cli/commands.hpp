@@ -100,6 +100,15 @@ struct GuideArgs {
 /// target, 1 when not).
 int guide(const GuideArgs& args);
 
+struct ObserveArgs {
+  std::filesystem::path file;  ///< a scene or problem file
+  std::vector<std::string> remove;
+  double min_visible_fraction = 0.3;
+  bool json = false;
+};
+/// Prints what the scene's camera sees; exit code 0.
+int observe(const ObserveArgs& args);
+
 struct SelfCollisionArgs {
   std::filesystem::path robot;  ///< robot description file
   std::size_t samples = 20000;

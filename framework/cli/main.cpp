@@ -67,6 +67,18 @@ int main(int argc, char** argv) {
   plan->add_flag("--html", plan_args.html, "Also write OUTPUT/plan.html, a page that replays the plan (see view)");
   add_verbosity(*plan, plan_args.verbosity, "Also print the plugin search (directories, plugins, failures)");
 
+  cli::ObserveArgs observe_args;
+  auto* observe = app.add_subcommand(
+      "observe", "What the scene's camera sees: each object observed or hidden, how much of it is in view and "
+                 "what hides it (ray casting; Tian et al., Section V-A)");
+  observe->add_option("file", observe_args.file, "Scene or problem file")->required()->check(CLI::ExistingFile);
+  observe->add_option("--remove", observe_args.remove, "Take these objects away first (ids, repeatable or comma-separated)")
+      ->delimiter(',');
+  observe->add_option("--min-visible", observe_args.min_visible_fraction,
+                      "Observed when at least this fraction of the surface facing the camera is in view")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  observe->add_flag("--json", observe_args.json, "Print JSON: [{object, observed, visible_fraction, occluders}]");
+
   cli::ViewArgs view_args;
   auto* view = app.add_subcommand(
       "view", "Write one self-contained HTML page replaying a result.json in 3-D (opens from disk, no server, no network)");
@@ -292,6 +304,7 @@ int main(int argc, char** argv) {
     if (*generate) return cli::generate(generate_args);
     if (*guide) return cli::guide(guide_args);
     if (*view) return cli::view(view_args);
+    if (*observe) return cli::observe(observe_args);
     if (*validate_plan) return cli::validate_plan(validate_plan_args);
     if (*self) return cli::self_collisions(self_args);
   } catch (const cluttertamp::InputError& e) {
