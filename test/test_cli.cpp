@@ -12,6 +12,7 @@
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/perception/visibility.hpp"
 #include "cluttertamp/physics/push_planning.hpp"
 #include "test_support.hpp"
 
@@ -558,6 +559,45 @@ TEST_F(Cli, ABadGuidanceFileIsBadInputWithItsLine) {
 }
 
 // `guide` writes the automatic guidance, which load_guidance reads back.
+// Algorithm 4 end to end: the bundled 12-object occlusion shelf is solved, and every
+// object the plan moves had been seen (or found) by the time it was moved.
+TEST_F(Cli, TheOcclusionPlannerRetrievesAHiddenTargetMovingOnlyWhatItHadSeen) {
+  const fs::path problem_file = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/occlusion/occ12.yaml";
+  const CliRun r = run("plan " + problem_file.string() + " -o " + (dir_ / "occ").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto result = nlohmann::json::parse(test::read_text(dir_ / "occ/result.json"));
+  const std::vector<std::string> moved = result["moved_objects"];
+  ASSERT_FALSE(moved.empty());
+  EXPECT_EQ(moved.back(), "target");
+  EXPECT_EQ(result["counters"]["observed_initially"], 3);
+  EXPECT_GT(result["counters"]["revealed"].get<int>(), 0);
+  const Problem problem = io::load_problem(problem_file);
+  perception::ObservedWorld world(problem.scene, WorldState::initial(problem.scene));
+  EXPECT_FALSE(world.known(problem.scene.target));  // hidden at the start
+  const bool touched = result["counters"].value("found_by_touch", 0) > 0;
+  for (const std::string& id : moved) {
+    const ObjectIndex o = *problem.scene.find_object(id);
+    if (!touched) EXPECT_TRUE(world.known(o)) << id << " moved before it was seen";
+    world.remove(o);
+  }
+}
+
+TEST_F(Cli, ObserveSaysWhatTheCameraSeesAndWhatARemovalReveals) {
+  const fs::path scene = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/occlusion/occ12-scene.yaml";
+  const CliRun before = run("observe " + scene.string() + " --json");
+  ASSERT_EQ(before.exit_code, 0) << before.output;
+  int observed = 0;
+  for (const auto& v : nlohmann::json::parse(before.output)) observed += v["observed"].get<bool>() ? 1 : 0;
+  EXPECT_EQ(observed, 3);  // the front row
+  const CliRun after = run("observe " + scene.string() + " --remove o1");
+  ASSERT_EQ(after.exit_code, 0) << after.output;
+  EXPECT_NE(after.output.find("o2          observed"), std::string::npos) << after.output;
+  EXPECT_EQ(run("observe " + scene.string() + " --remove nothing").exit_code, 2);
+  const CliRun blind = run("observe " + (fs::path(CLUTTERTAMP_TEST_DATA) / "scenes/good.yaml").string());
+  EXPECT_EQ(blind.exit_code, 2) << blind.output;
+  EXPECT_NE(blind.output.find("no camera"), std::string::npos) << blind.output;
+}
+
 TEST_F(Cli, GuideWritesTheAutomaticGuidance) {
   const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10/p06.yaml";
   const CliRun r = run("guide " + source.string() + " --auto --output " + (dir_ / "g.yaml").string());

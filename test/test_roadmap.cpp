@@ -81,5 +81,37 @@ TEST_F(RoadmapTest, AnEndCloserToAWallThanTheFootprintStillConnects) {
   EXPECT_GT(boost::out_degree(1, roadmap.graph()), 0u);
 }
 
+
+// Algorithm 4's incremental update: objects the world did not hold when the roadmap
+// grew are revealed; every node's Col is then what it would be from scratch, every
+// edge still follows the edge rule, and the nodes and the other edges stay.
+TEST_F(RoadmapTest, RevealingObjectsUpdatesTheRoadmapAsIfBuiltWithThem) {
+  make(0);  // builds the world
+  const ObjectIndex hidden[] = {1, 2};
+  for (ObjectIndex o : hidden) world_->remove_object(o);
+  Roadmap roadmap = make(5);
+  roadmap.expand(1, RoadmapOptions{});
+  const std::size_t nodes = roadmap.size();
+  const std::size_t edges = boost::num_edges(roadmap.graph());
+  for (ObjectIndex o : hidden) world_->restore_object(o);
+  EXPECT_GT(roadmap.reveal(hidden), 0u);
+  const RoadmapGraph& g = roadmap.graph();
+  EXPECT_EQ(roadmap.size(), nodes);
+  EXPECT_LE(boost::num_edges(g), edges);  // an edge sweeping past a revealed object between two free ends goes
+  EXPECT_GT(boost::num_edges(g), edges / 2);
+  for (std::size_t v = 0; v < boost::num_vertices(g); ++v) EXPECT_EQ(g[v].col, roadmap.col(g[v].x)) << "node " << v;
+  for (auto [e, end] = boost::edges(g); e != end; ++e) {
+    const RoadmapNode& a = g[boost::source(*e, g)];
+    const RoadmapNode& b = g[boost::target(*e, g)];
+    EXPECT_EQ(roadmap.edge_col(a.x, b.x).size(), unite(a.col, b.col).size());
+  }
+
+  // A new goal: node 1 moves there, knows its objects and joins its neighbours.
+  roadmap.move_goal({1.0, 0.15}, RoadmapOptions{});
+  EXPECT_TRUE(g[1].x.isApprox(Eigen::Vector2d(1.0, 0.15)));
+  EXPECT_EQ(g[1].col, roadmap.col(g[1].x));
+  EXPECT_GT(boost::degree(1, g), 0u);
+}
+
 }  // namespace
 }  // namespace cluttertamp::retrieval

@@ -76,6 +76,7 @@ struct GenerateArgs {
   double check_time = 300;        ///< seconds for the exhaustive check of one scene
   double width = 0, depth = 0;    ///< cabinet interior, m; 0: from the object count
   int max_attempts = 100;
+  bool occlusion = false;  ///< an occlusion shelf (columns of 4 hidden behind a front row)
   Verbosity verbosity = Verbosity::normal;
 };
 /// Exit code 0 when a scene was written, 1 when no attempt needed a removal.
@@ -155,6 +156,9 @@ struct CompareArgs {
 int compare(const CompareArgs& args);
 
 int bench_collision(const BenchArgs& args);
+/// The occlusion planner on generated occlusion shelves (Table II of Tian et al.);
+/// exit code 0 when success >= 95 % and the median time <= 1 s for every size, else 1.
+int bench_occlusion(const BenchArgs& args);
 /// Pushing physics speed (times real time) on a generated shelf; exit code 0 when the
 /// 10-object goal (>= 20) is met or another size was asked for, 1 otherwise.
 int bench_physics(const BenchArgs& args);

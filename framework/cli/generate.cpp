@@ -91,7 +91,7 @@ std::optional<std::string> min_removals_differ(const Scene& scene, const Generat
 int generate(const GenerateArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
   const plugin::Registry registry(plugin::Registry::default_search_paths());
-  const bool check = args.require_removal || args.min_removals > 0;
+  const bool check = (args.require_removal && !args.occlusion) || args.min_removals > 0;
   const plugin::Samplers samplers = check ? shipped_samplers(registry) : plugin::Samplers{};
   scenes::ShelfSpec spec;
   spec.objects = args.objects;
@@ -101,7 +101,14 @@ int generate(const GenerateArgs& args) {
     const std::uint64_t seed = args.seed + static_cast<std::uint64_t>(attempt);
     Scene scene;
     try {
-      scene = scenes::generate_shelf_scene(spec, seed);
+      if (args.occlusion) {
+        if (args.objects % 4 != 0) throw std::runtime_error("an occlusion shelf holds columns of 4: a multiple of 4 objects");
+        scenes::OcclusionSpec occlusion;
+        occlusion.columns = args.objects / 4;
+        scene = scenes::generate_occlusion_scene(occlusion, seed);
+      } else {
+        scene = scenes::generate_shelf_scene(spec, seed);
+      }
     } catch (const std::runtime_error& e) {
       std::cerr << "generate: --objects " << args.objects << ": " << e.what() << "\n";
       return run::ExitCode::bad_input;
@@ -111,7 +118,7 @@ int generate(const GenerateArgs& args) {
     io::write_scene(written, scene);
     scene = io::load_scene(written);
     fs::remove(written);
-    if (args.require_removal && target_comes_out_directly(scene, robot, samplers, seed)) {
+    if (!args.occlusion && args.require_removal && target_comes_out_directly(scene, robot, samplers, seed)) {
       if (args.verbosity == Verbosity::verbose) std::cerr << "seed " << seed << ": the target comes out directly; next\n";
       continue;
     }
@@ -137,7 +144,7 @@ int generate(const GenerateArgs& args) {
           << "scene: " << fs::relative(fs::absolute(args.output), dir).string() << "\n"
           << "robot: {description: " << fs::relative(fs::absolute(args.robot), dir).string() << "}\n"
           << "task: {retrieve: target}\n"
-          << "planner: {plugin: retrieval_graph, time_limit: 60, seed: 0}\n"
+          << "planner: {plugin: " << (args.occlusion ? "occlusion" : "retrieval_graph") << ", time_limit: 60, seed: 0}\n"
           << "plugins: {grasp_sampler: grasp_side, motion_sampler: motion_ompl, placement_sampler: placement_region}\n";
       if (!out) throw InputError({args.problem.string(), 0, 0}, "cannot write the problem file");
       if (args.verbosity != Verbosity::quiet) std::cout << "wrote " << args.problem.string() << "\n";

@@ -148,6 +148,9 @@ int main(int argc, char** argv) {
   generate->add_option("--problem", generate_args.problem, "Also write a problem file for the scene here");
   generate_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
   generate->add_option("--robot", generate_args.robot, "Robot description")->capture_default_str()->check(CLI::ExistingFile);
+  generate->add_flag("--occlusion", generate_args.occlusion,
+                     "An occlusion shelf (Tian et al., Fig. 7): --objects / 4 columns of 4 cylinders, each hidden from the "
+                     "camera by the one in front, the target at the back of one; its problem uses the occlusion planner");
   generate->add_flag("!--any", generate_args.require_removal,
                      "Keep the first scene even if the target comes out without removing anything");
   generate->add_option("--attempts", generate_args.max_attempts, "Scenes tried (seeds seed, seed+1, ...)")
@@ -195,10 +198,11 @@ int main(int argc, char** argv) {
       "Measure speed: 'collision' times FK, IK, collision and sweep queries; 'pddl' times searches on PDDL instances; "
       "'samplers' times grasp, motion and pick-and-place queries; 'retrieval' runs the retrieval planners on shelves "
       "(Tables I, V and VI of Tian et al.); 'physics' times the pushing physics against real time; 'push' runs RRT, "
-      "KPIECE and guided reaching through clutter on the bundled shelves (Fig. 6 of Papallas & Dogar)");
+      "KPIECE and guided reaching through clutter on the bundled shelves (Fig. 6 of Papallas & Dogar); 'occlusion' runs the "
+      "occlusion planner on generated occlusion shelves (Table II of Tian et al.)");
   bench->add_option("what", bench_args.what, "What to measure")
       ->required()
-      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval", "physics", "push"}));
+      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval", "physics", "push", "occlusion"}));
   bench->add_option("--seed", bench_args.seed, "Seed of the generated scene and samples")->capture_default_str();
   bench->add_option("--samples", bench_args.samples, "collision: queries per measurement; samplers: 1000 per generated scene")->capture_default_str()->check(CLI::Range(500, 10000000));
   auto* objects_option = bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf (physics: default 10)")->capture_default_str()->check(CLI::Range(1, 60));
@@ -213,12 +217,14 @@ int main(int argc, char** argv) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(CLI::IsMember(cluttertamp::search::search_names()));
   bench->add_option("--time-limit", bench_args.time_limit, "pddl: seconds per search; retrieval, push: per run")->capture_default_str()->check(CLI::PositiveNumber);
-  bench->add_option("--runs", bench_args.runs, "pddl, retrieval, push: runs per instance (seeds seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 100));
-  bench->add_option("--scenes", bench_args.instances, "retrieval: generated scenes per object count (tables I and V)")
+  bench->add_option("--runs", bench_args.runs, "pddl, retrieval, push, occlusion: runs per instance (seeds seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 100));
+  auto* scenes_option = bench->add_option("--scenes", bench_args.instances,
+                                          "retrieval: generated scenes per object count (tables I and V); occlusion: per "
+                                          "size (default 20)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
-  bench->add_option("--sizes", bench_args.sizes, "retrieval: object counts (default 12 16 20)")->check(CLI::Range(1, 100));
-  bench->add_option("--csv", bench_args.csv, "retrieval, push: also write every run as CSV");
+  bench->add_option("--sizes", bench_args.sizes, "retrieval, occlusion: object counts (default 12 16 20)")->check(CLI::Range(1, 100));
+  bench->add_option("--csv", bench_args.csv, "retrieval, push, occlusion: also write every run as CSV");
   bench->add_option("--svg", bench_args.svg, "push: also plot success rates and mean times (SVG)");
   bench_args.push_scenes = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10";
   bench->add_option("--push-scenes", bench_args.push_scenes,
@@ -294,6 +300,10 @@ int main(int argc, char** argv) {
       if (bench_args.what == "samplers") return cli::bench_samplers(bench_args);
       if (bench_args.what == "retrieval") return cli::bench_retrieval(bench_args);
       if (bench_args.what == "push") return cli::bench_push(bench_args);
+      if (bench_args.what == "occlusion") {
+        if (!scenes_option->count()) bench_args.instances = 20;  // the paper's 20 instances per size
+        return cli::bench_occlusion(bench_args);
+      }
       if (bench_args.what == "physics") {
         if (!objects_option->count()) bench_args.objects = 10;  // the speed goal is for 10
         return cli::bench_physics(bench_args);

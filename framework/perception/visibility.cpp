@@ -201,6 +201,29 @@ std::vector<ObjectIndex> ObservedWorld::remove(ObjectIndex object) {
   return look();
 }
 
+std::vector<ObjectIndex> ObservedWorld::update(const WorldState& after) {
+  for (std::size_t i = 0; i < known_.size(); ++i) {
+    if (!known_[i]) continue;
+    truth_.world_T_objects[i] = after.world_T_objects.at(i);
+    truth_.removed[i] = after.removed.at(i);
+  }
+  truth_.held = after.held;
+  truth_.robot_configuration = after.robot_configuration;
+  return look();
+}
+
+std::vector<ObjectIndex> ObservedWorld::touch(const std::vector<ObjectIndex>& objects) {
+  std::vector<ObjectIndex> found;
+  for (ObjectIndex o : objects) {
+    if (!known_.at(o) && !truth_.removed.at(o)) {
+      known_[o] = true;
+      found.push_back(o);
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
 WorldState ObservedWorld::belief() const {
   WorldState belief = truth_;
   for (std::size_t i = 0; i < known_.size(); ++i) belief.removed[i] = belief.removed[i] || !known_[i];

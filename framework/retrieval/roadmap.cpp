@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <map>
+
+#include "cluttertamp/core/geometry.hpp"
 #include <random>
 
 #include <boost/geometry.hpp>
@@ -19,6 +21,17 @@ using Entry = std::pair<Point, std::size_t>;
 struct Roadmap::Index {
   bgi::rtree<Entry, bgi::quadratic<16>> tree;
 };
+
+void RoadmapOptions::read(const Parameters& p) {
+  samples = static_cast<int>(p.get_int("T", samples));
+  raise_every = static_cast<int>(p.get_int("T_raise", raise_every));
+  step = p.get_double("delta", step);
+  neighbours = static_cast<int>(p.get_int("k", neighbours));
+  p.require(samples >= 10, "T", "must be at least 10");
+  p.require(raise_every >= 1 && raise_every <= samples, "T_raise", "must be 1 to T");
+  p.require(step > 0 && step < 1, "delta", "must be in (0, 1) m");
+  p.require(neighbours >= 1 && neighbours <= 100, "k", "must be 1 to 100");
+}
 
 Roadmap::Roadmap(const collision::CollisionWorld& world, const collision::Footprint& footprint,
                  const Eigen::AlignedBox2d& area, const Eigen::Vector2d& x_s, const Eigen::Vector2d& x_g,
@@ -112,18 +125,68 @@ void Roadmap::expand(int limit, const RoadmapOptions& o) {
     }
   }
   // x_s and x_g join the roadmap like any sample: connect them to their neighbours.
-  for (std::size_t end : {std::size_t{0}, std::size_t{1}}) {
-    std::vector<Entry> around;
-    const Eigen::Vector2d x = graph_[end].x;
-    index_->tree.query(bgi::nearest(Point(x.x(), x.y()), static_cast<unsigned>(o.neighbours + 1)), std::back_inserter(around));
-    for (const Entry& e : around) {
-      const std::size_t other = e.second;
-      if (other == end || (graph_[other].x - x).norm() >= o.step || boost::edge(end, other, graph_).second) continue;
-      if (!leaves_hitting_fixed(end, graph_[other].x) && edge_col(x, graph_[other].x).size() == unite(graph_[end].col, graph_[other].col).size()) {
-        boost::add_edge(end, other, graph_);
-      }
+  connect(0, o);
+  connect(1, o);
+}
+
+void Roadmap::connect(std::size_t end, const RoadmapOptions& o) {
+  std::vector<Entry> around;
+  const Eigen::Vector2d x = graph_[end].x;
+  index_->tree.query(bgi::nearest(Point(x.x(), x.y()), static_cast<unsigned>(o.neighbours + 1)), std::back_inserter(around));
+  for (const Entry& e : around) {
+    const std::size_t other = e.second;
+    if (other == end || (graph_[other].x - x).norm() >= o.step || boost::edge(end, other, graph_).second) continue;
+    if (!leaves_hitting_fixed(end, graph_[other].x) && edge_col(x, graph_[other].x).size() == unite(graph_[end].col, graph_[other].col).size()) {
+      boost::add_edge(end, other, graph_);
     }
   }
+}
+
+std::size_t Roadmap::reveal(std::span<const ObjectIndex> objects) {
+  if (objects.empty()) return 0;
+  // A node's footprint or an edge's sweep can meet an object only this near its centre.
+  double reach = 0.0;
+  for (ObjectIndex o : objects) {
+    reach = std::max(reach, footprint_radius(world_.scene().objects.at(o).shape, world_.object_pose(o)));
+  }
+  reach += footprint_.radius + 1e-6;
+  auto near = [&](const Eigen::Vector2d& x) {
+    return std::any_of(objects.begin(), objects.end(), [&](ObjectIndex o) {
+      return (world_.object_pose(o).translation().head<2>() - x).norm() <= reach;
+    });
+  };
+  auto near_segment = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return std::any_of(objects.begin(), objects.end(), [&](ObjectIndex o) {
+      return distance_to_segment(world_.object_pose(o).translation().head<2>(), a, b) <= reach;
+    });
+  };
+  std::size_t changed = 0;
+  for (std::size_t v = 0; v < boost::num_vertices(graph_); ++v) {
+    if (!near(graph_[v].x)) continue;
+    ObjectSet c = col(graph_[v].x);
+    if (c != graph_[v].col) ++changed;
+    graph_[v].col = std::move(c);
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> broken;
+  for (auto [e, end] = boost::edges(graph_); e != end; ++e) {
+    const std::size_t a = boost::source(*e, graph_), b = boost::target(*e, graph_);
+    if (near_segment(graph_[a].x, graph_[b].x) &&
+        edge_col(graph_[a].x, graph_[b].x).size() != unite(graph_[a].col, graph_[b].col).size()) {
+      broken.emplace_back(a, b);
+    }
+  }
+  for (const auto& [a, b] : broken) boost::remove_edge(a, b, graph_);
+  return changed;
+}
+
+void Roadmap::move_goal(const Eigen::Vector2d& x_g, const RoadmapOptions& options) {
+  const Eigen::Vector2d old = graph_[1].x;
+  index_->tree.remove(Entry{Point(old.x(), old.y()), 1});
+  boost::clear_vertex(1, graph_);
+  graph_[1].x = x_g;
+  graph_[1].col = col(x_g);
+  index_->tree.insert({Point(x_g.x(), x_g.y()), 1});
+  connect(1, options);
 }
 
 RetrievalGraph Roadmap::cluster(const std::vector<bool>& removed, std::function<Eigen::Vector2d(ObjectIndex)> position,

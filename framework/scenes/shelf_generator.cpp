@@ -1,9 +1,12 @@
 #include "cluttertamp/scenes/shelf_generator.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <stdexcept>
+
+#include "cluttertamp/perception/visibility.hpp"
 
 namespace cluttertamp::scenes {
 
@@ -37,14 +40,15 @@ Eigen::Vector3d cabinet_size(const ShelfSpec& spec) {
   return {depth, width, spec.height};
 }
 
-Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
-  const Eigen::Vector3d size = cabinet_size(spec);
-  const double depth = size.x(), width = size.y(), height = size.z();
-  const double x0 = spec.front, x1 = spec.front + depth, z0 = spec.floor_height;
-  constexpr double wall = 0.02;
+namespace {
 
+// The cabinet (interior depth x width x height, open side at x0, floor top at z0), a
+// buffer table with its region, the robot base, the exit x_s, a camera above the robot
+// and the workspace; no objects.
+Scene cabinet(double x0, double depth, double width, double height, double z0, double object_height) {
+  const double x1 = x0 + depth;
+  constexpr double wall = 0.02;
   Scene scene;
-  scene.name = "shelf" + std::to_string(spec.objects) + "-seed" + std::to_string(seed);
   const double cx = (x0 + x1) / 2;
   scene.fixed.push_back(board("cabinet_floor", {depth, width + 2 * wall, wall}, {cx, 0, z0 - wall / 2}));
   scene.fixed.push_back(board("cabinet_top", {depth, width + 2 * wall, wall}, {cx, 0, z0 + height + wall / 2}));
@@ -60,6 +64,36 @@ Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
   buffer.size = {table.x() - 0.04, table.y() - 0.04, 0.32};
   buffer.world_T_region = at(table_xy.x(), table_xy.y(), z0 + 0.16);
   scene.regions.push_back(buffer);
+  scene.world_T_exit = at(x0 - 0.2, 0.0, z0 + object_height / 2);
+  scene.world_T_robot_base = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d camera = at(0.1, 0.0, z0 + height + 0.2);
+  camera.linear() = (Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(-2.0 * M_PI / 3, Eigen::Vector3d::UnitX()))
+                        .toRotationMatrix();
+  scene.world_T_camera = camera;
+  scene.workspace = Eigen::AlignedBox3d(Eigen::Vector3d(-0.5, -width / 2 - 0.6, 0.0),
+                                        Eigen::Vector3d(x1 + 0.2, width / 2 + 0.6, z0 + height + 0.5));
+  return scene;
+}
+
+SceneObject standing_cylinder(const std::string& id, const Eigen::Vector2d& xy, double radius, double height, double z0) {
+  SceneObject o;
+  o.id = id;
+  o.shape = Cylinder{radius, height};
+  o.world_T_object = at(xy.x(), xy.y(), z0 + height / 2);
+  o.mass = 0.3;
+  o.friction = 0.5;
+  return o;
+}
+
+}  // namespace
+
+Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
+  const Eigen::Vector3d size = cabinet_size(spec);
+  const double depth = size.x(), width = size.y(), height = size.z();
+  const double x0 = spec.front, x1 = spec.front + depth, z0 = spec.floor_height;
+  Scene scene = cabinet(x0, depth, width, height, z0, (spec.height_min + spec.height_max) / 2);
+  scene.name = "shelf" + std::to_string(spec.objects) + "-seed" + std::to_string(seed);
 
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> radius(spec.radius_min, spec.radius_max);
@@ -94,24 +128,55 @@ Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
   });
   int next = 1;
   for (auto it = discs.begin(); it != discs.end(); ++it) {
-    SceneObject o;
-    o.id = it == target ? "target" : "o" + std::to_string(next++);
-    o.shape = Cylinder{it->radius, it->height};
-    o.world_T_object = at(it->centre.x(), it->centre.y(), z0 + it->height / 2);
-    o.mass = 0.3;
-    o.friction = 0.5;
     if (it == target) scene.target = static_cast<ObjectIndex>(scene.objects.size());
-    scene.objects.push_back(o);
+    scene.objects.push_back(standing_cylinder(it == target ? "target" : "o" + std::to_string(next++), it->centre, it->radius,
+                                              it->height, z0));
   }
-  scene.world_T_exit = at(spec.front - 0.2, 0.0, z0 + (spec.height_min + spec.height_max) / 4);
-  scene.world_T_robot_base = Eigen::Isometry3d::Identity();
-  Eigen::Isometry3d camera = at(0.1, 0.0, z0 + height + 0.2);
-  camera.linear() = (Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()) *
-                     Eigen::AngleAxisd(-2.0 * M_PI / 3, Eigen::Vector3d::UnitX()))
-                        .toRotationMatrix();
+  return scene;
+}
+
+Scene generate_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed) {
+  if (spec.columns < 1 || spec.rows < 2) throw std::runtime_error("an occlusion shelf needs at least 1 column and 2 rows");
+  const double z0 = spec.floor_height;
+  const double front_radius = 0.045, front_height = 0.33, eye_height = 0.15;
+  const Eigen::Vector2d eye(-0.5, 0.0);
+  const double x_front = spec.front + 0.02 + front_radius;
+  // Each column lies on a ray from the camera, so that its objects line up behind one another.
+  const double x_back = x_front + (spec.rows - 1) * spec.row_spacing;
+  const double spread = (x_back - eye.x()) / (x_front - eye.x());
+  const double half = (spec.columns - 1) / 2.0 * spec.column_spacing * spread + front_radius + 0.03;
+  const double depth = x_back + 0.04 + 0.02 - spec.front;
+  Scene scene = cabinet(spec.front, depth, 2 * half, 0.5, z0, 0.27);
+  scene.name = "occlusion" + std::to_string(spec.columns * spec.rows) + "-seed" + std::to_string(seed);
+  Eigen::Isometry3d camera = at(eye.x(), eye.y(), z0 + eye_height);
+  camera.linear() << 0, 0, 1,  // optical z looks along +x, x to the right (-y), y down (-z)
+      -1, 0, 0,                //
+      0, -1, 0;
   scene.world_T_camera = camera;
-  scene.workspace = Eigen::AlignedBox3d(Eigen::Vector3d(-0.5, -width / 2 - 0.6, 0.0),
-                                        Eigen::Vector3d(x1 + 0.2, width / 2 + 0.6, z0 + height + 0.5));
+
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> radius(0.033, 0.037), tall(0.24, 0.29), jitter(-0.01, 0.01);
+  const int target_column = std::uniform_int_distribution<int>(0, spec.columns - 1)(rng);
+  int next = 1;
+  for (int c = 0; c < spec.columns; ++c) {
+    const double y_front = (c - (spec.columns - 1) / 2.0) * spec.column_spacing;
+    for (int r = 0; r < spec.rows; ++r) {
+      const double x = x_front + r * spec.row_spacing + (r > 0 ? jitter(rng) : 0.0);
+      const Eigen::Vector2d xy(x, y_front * (x - eye.x()) / (x_front - eye.x()));
+      const bool is_target = c == target_column && r == spec.rows - 1;
+      if (is_target) scene.target = static_cast<ObjectIndex>(scene.objects.size());
+      scene.objects.push_back(standing_cylinder(is_target ? "target" : "o" + std::to_string(next++), xy,
+                                                r == 0 ? front_radius : radius(rng), r == 0 ? front_height : tall(rng), z0));
+    }
+  }
+  // The layout's promise: the camera sees the front row and nothing else.
+  const std::vector<ObjectIndex> seen = perception::VisibilityModel(scene).observed(WorldState::initial(scene));
+  std::vector<ObjectIndex> front_row;
+  for (int c = 0; c < spec.columns; ++c) front_row.push_back(static_cast<ObjectIndex>(c * spec.rows));
+  if (seen != front_row) {
+    throw std::runtime_error("occlusion shelf: the camera sees " + std::to_string(seen.size()) + " objects, not just the " +
+                             std::to_string(spec.columns) + " in front (spacing too wide for the view?)");
+  }
   return scene;
 }
 

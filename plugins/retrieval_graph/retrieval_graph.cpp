@@ -40,20 +40,13 @@ struct Settings {
   bool push = false;    // Section VI-G: push instead of pick-and-place where a push works
 
   void read(const Parameters& p) {
-    roadmap.samples = static_cast<int>(p.get_int("T", roadmap.samples));
-    roadmap.raise_every = static_cast<int>(p.get_int("T_raise", roadmap.raise_every));
-    roadmap.step = p.get_double("delta", roadmap.step);
-    roadmap.neighbours = static_cast<int>(p.get_int("k", roadmap.neighbours));
+    roadmap.read(p);
     initial_limit = p.get_string("initial_L", initial_limit);
     region = p.get_string("region", region);
     shorten = p.get_bool("shorten", shorten);
     shorten_time = p.get_double("shorten_time", shorten_time);
     restart = p.get_bool("restart", restart);
     p.require(shorten_time > 0, "shorten_time", "must be positive (seconds)");
-    p.require(roadmap.samples >= 10, "T", "must be at least 10");
-    p.require(roadmap.raise_every >= 1 && roadmap.raise_every <= roadmap.samples, "T_raise", "must be 1 to T");
-    p.require(roadmap.step > 0 && roadmap.step < 1, "delta", "must be in (0, 1) m");
-    p.require(roadmap.neighbours >= 1 && roadmap.neighbours <= 100, "k", "must be 1 to 100");
     p.require(initial_limit == "one" || initial_limit == "nodecol" || initial_limit == "objects", "initial_L",
               "must be one, nodecol or objects");
   }

@@ -69,6 +69,15 @@ class CLUTTERTAMP_API ObservedWorld {
   /// first time (sorted).
   std::vector<ObjectIndex> remove(ObjectIndex object);
 
+  /// The robot acted: the known objects are where `after` has them (a state planned on
+  /// belief(), in which unknown objects do not count), what the hand holds and the
+  /// robot's joints too; then looks again. Returns the objects seen for the first time.
+  std::vector<ObjectIndex> update(const WorldState& after);
+
+  /// Objects the robot found by touching them (a motion planned without them met them):
+  /// known from now on. Returns those not known before.
+  std::vector<ObjectIndex> touch(const std::vector<ObjectIndex>& objects);
+
   bool known(ObjectIndex object) const { return known_.at(object); }
   const std::vector<bool>& known_objects() const { return known_; }
   /// The truth: every object, removed ones marked.

@@ -2,12 +2,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <Eigen/Geometry>
 #include <boost/graph/adjacency_list.hpp>
 
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/core/parameters.hpp"
 #include "cluttertamp/export.hpp"
 #include "cluttertamp/retrieval/retrieval_graph.hpp"
 
@@ -28,6 +30,10 @@ struct RoadmapOptions {
   int raise_every = 100;   ///< T_raise
   double step = 0.05;      ///< delta: longest edge, m
   int neighbours = 10;     ///< k of NEAR
+
+  /// Reads the planner parameters `T`, `T_raise`, `delta` and `k`; throws InputError
+  /// naming a bad one.
+  void read(const Parameters& parameters);
 };
 
 /// The roadmap of the target's positions (x, y) with the footprint of the target plus
@@ -45,6 +51,17 @@ class CLUTTERTAMP_API Roadmap {
   /// One call of EXPANDROADMAP with exploration limit L (samples colliding with at most L objects).
   void expand(int exploration_limit, const RoadmapOptions& options);
 
+  /// Objects that became known (now present in the world, e.g. newly observed behind
+  /// others; Tian et al., Algorithm 4): Col is recomputed for the nodes near them and
+  /// the edges that now meet more than their two ends' objects are dropped. Every other
+  /// node and edge stays: the roadmap is updated, not rebuilt. Returns the number of
+  /// nodes whose Col changed.
+  std::size_t reveal(std::span<const ObjectIndex> objects);
+
+  /// Moves x_g (node 1) to `x_g` (a new goal, e.g. a temporary one): its Col is
+  /// recomputed, its edges dropped and it joins its neighbours as expand() joins the ends.
+  void move_goal(const Eigen::Vector2d& x_g, const RoadmapOptions& options);
+
   ObjectSet col(const Eigen::Vector2d& x) const;
   ObjectSet edge_col(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
   bool hits_fixed(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
@@ -60,6 +77,8 @@ class CLUTTERTAMP_API Roadmap {
 
  private:
   std::size_t add_node(const Eigen::Vector2d& x, ObjectSet col);
+  // Joins node `end` to its neighbours closer than delta by edges that follow the edge rule.
+  void connect(std::size_t end, const RoadmapOptions& options);
   // The fixed-geometry test of an edge from roadmap node `node` to `to`.
   bool leaves_hitting_fixed(std::size_t node, const Eigen::Vector2d& to) const;
 

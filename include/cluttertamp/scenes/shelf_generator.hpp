@@ -35,4 +35,24 @@ CLUTTERTAMP_API Eigen::Vector3d cabinet_size(const ShelfSpec& spec);
 /// the objects do not fit after many attempts.
 CLUTTERTAMP_API Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed);
 
+/// A shelf where objects hide one another from the camera (Tian et al., Section V-A,
+/// Fig. 7 and Table II): `columns` rows of `rows` standing cylinders, each column on a
+/// line from the camera, so that each object is hidden by the one in front of it; the
+/// front row is larger (radius 4.5 cm, 33 cm tall) and is all the camera sees at first.
+/// The target is at the back of a column drawn by the seed. The camera stands 0.5 m
+/// behind the robot at the height of the objects, looking into the cabinet.
+struct OcclusionSpec {
+  int columns = 3;
+  int rows = 4;
+  double column_spacing = 0.14;  ///< m between the front objects
+  double row_spacing = 0.16;     ///< m along x
+  double front = 0.6;            ///< x of the cabinet's open side
+  double floor_height = 0.4;     ///< z of the cabinet floor's top
+};
+
+/// The occlusion shelf of `spec` (same seed, same scene): objects "o1".. and "target".
+/// Throws std::runtime_error for fewer than 1 column or 2 rows, or when the camera
+/// would see more than the front row (a check of the layout).
+CLUTTERTAMP_API Scene generate_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed);
+
 }  // namespace cluttertamp::scenes

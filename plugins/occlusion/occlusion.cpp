@@ -1,0 +1,345 @@
+// occlusion: retrieval when objects, even the target, are hidden behind others (Tian et
+// al., Section V-A, Algorithm 4). The planner knows only what the scene's camera has
+// observed (perception::ObservedWorld holds the truth). While the target is unseen it
+// plans, on the roadmap and retrieval graph of the known objects, to a temporary goal
+// x_temp behind the farthest known object, and removes the first object on the way;
+// whatever that reveals is added to the roadmap (updated, not rebuilt) and it plans
+// again. Once the target is seen, the goal becomes the target and the objects on the
+// way are removed until it can be retrieved. Each removal is planned by the robot's
+// samplers on the known world and checked against the truth: a motion that meets an
+// unseen object finds it (it becomes known) and is planned again.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/perception/visibility.hpp"
+#include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/task_planner.hpp"
+#include "cluttertamp/retrieval/removal_checker.hpp"
+#include "cluttertamp/retrieval/roadmap.hpp"
+
+namespace {
+
+using namespace cluttertamp;
+using retrieval::ObjectSet;
+using Clock = std::chrono::steady_clock;
+
+struct Settings {
+  retrieval::RoadmapOptions roadmap;
+  std::string region = "buffer";
+  perception::VisibilitySettings visibility;
+  int max_attempts = 3;  // removals of one object tried before it counts as blocked
+
+  void read(const Parameters& p) {
+    roadmap.read(p);
+    region = p.get_string("region", region);
+    visibility.min_visible_fraction = p.get_double("min_visible", visibility.min_visible_fraction);
+    visibility.horizontal_fov = p.get_double("horizontal_fov", visibility.horizontal_fov);
+    visibility.vertical_fov = p.get_double("vertical_fov", visibility.vertical_fov);
+    max_attempts = static_cast<int>(p.get_int("max_attempts", max_attempts));
+    p.require(visibility.min_visible_fraction > 0 && visibility.min_visible_fraction <= 1, "min_visible", "must be in (0, 1]");
+    p.require(visibility.horizontal_fov > 0 && visibility.horizontal_fov < M_PI, "horizontal_fov", "must be in (0, pi) rad");
+    p.require(visibility.vertical_fov > 0 && visibility.vertical_fov < M_PI, "vertical_fov", "must be in (0, pi) rad");
+    p.require(max_attempts >= 1, "max_attempts", "must be at least 1");
+  }
+};
+
+class Run {
+ public:
+  Run(plugin::PlanningContext& context, const Settings& settings, const WorldState& initial)
+      : context_(context), settings_(settings), scene_(context.scene()), world_(scene_, initial, settings.visibility),
+        footprint_(retrieval::held_footprint(context, initial, scene_.target)) {}
+
+  Result run() {
+    const auto start = Clock::now();
+    Result result;
+    count_known(result, "observed_initially");
+    sync();
+    const Eigen::Vector2d x_s = scene_.world_T_exit.translation().head<2>();
+    roadmap_ = std::make_unique<retrieval::Roadmap>(*context_.world, footprint_, area(), x_s, x_s, scene_.target, context_.seed);
+    int limit = 1;
+    roadmap_->expand(limit, settings_.roadmap);
+    while (!context_.deadline.expired()) {
+      sync();
+      const std::optional<Goal> goal = next_goal();
+      if (!goal) {
+        result.reason = "the target was never seen, and there is no place behind an observed object left to look";
+        break;
+      }
+      // An iteration of Algorithm 4: planning towards a new goal.
+      if ((goal->x - roadmap_->graph()[1].x).norm() > 1e-9 || result.counters["iterations"] == 0) {
+        roadmap_->move_goal(goal->x, settings_.roadmap);
+        ++result.counters["iterations"];
+      }
+      std::optional<ObjectSet> order = way(limit);
+      if (!order) {
+        if (limit >= known_movable()) {
+          result.reason = "no way to the " + std::string(world_.known(scene_.target) ? "target" : "temporary goal") +
+                          " within the exploration limit";
+          break;
+        }
+        roadmap_->expand(++limit, settings_.roadmap);
+        result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
+        continue;
+      }
+      if (order->empty() && world_.known(scene_.target)) {
+        if (retrieve(result)) {
+          result.solved = true;
+          break;
+        }
+        continue;
+      }
+      // Unseen target and a free way to x_temp: take away what x_temp looks behind.
+      const ObjectIndex next = order->empty() ? goal->behind : first_free(order->front());
+      remove(next, result);
+    }
+    if (!result.solved && result.reason.empty()) result.reason = "time limit reached before the target was retrieved";
+    result.time.total = std::chrono::duration<double>(Clock::now() - start).count();
+    result.time.motion_planning = motion_seconds_;
+    result.time.task_planning = std::max(0.0, result.time.total - motion_seconds_);
+    result.counters["roadmap_nodes"] = roadmap_->size();
+    count_known(result, "observed");
+    return result;
+  }
+
+ private:
+  struct Goal {
+    Eigen::Vector2d x;
+    ObjectIndex behind = 0;  // the object a temporary goal lies behind
+  };
+
+  void sync() { context_.world->sync(world_.belief()); }
+
+  void count_known(Result& result, const std::string& key) const {
+    result.counters[key] = static_cast<std::uint64_t>(std::count(world_.known_objects().begin(), world_.known_objects().end(), true));
+  }
+
+  int known_movable() const {
+    int n = 0;
+    for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) n += world_.known(o) && scene_.objects[o].movable ? 1 : 0;
+    return n;
+  }
+
+  Eigen::Vector2d position(ObjectIndex o) const { return world_.truth().world_T_objects[o].translation().head<2>(); }
+
+  // Where the roadmap samples: the board the target stands on (the shelf; its pose is
+  // not known, its support is) and x_s, grown by the footprint.
+  Eigen::AlignedBox2d area() const {
+    Eigen::AlignedBox2d box(scene_.world_T_exit.translation().head<2>());
+    const double bottom = world_bounds(scene_.objects[scene_.target].shape, scene_.objects[scene_.target].world_T_object).min().z();
+    for (const FixedBody& f : scene_.fixed) {
+      const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
+      if (std::abs(b.max().z() - bottom) < 0.01) box.extend(Eigen::AlignedBox2d(b.min().head<2>(), b.max().head<2>()));
+    }
+    box.min().array() -= footprint_.radius;
+    box.max().array() += footprint_.radius;
+    return box;
+  }
+
+  // Line 3-7 of Algorithm 4: the target's position once seen, else x_temp just behind
+  // the farthest known object (seen from x_s) that leaves room there.
+  std::optional<Goal> next_goal() const {
+    if (world_.known(scene_.target)) return Goal{position(scene_.target), scene_.target};
+    const Eigen::Vector2d x_s = scene_.world_T_exit.translation().head<2>();
+    std::vector<ObjectIndex> candidates;
+    const WorldState belief = world_.belief();
+    for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) {
+      if (!belief.removed[o] && scene_.objects[o].movable && !blocked_.count(o)) candidates.push_back(o);
+    }
+    std::sort(candidates.begin(), candidates.end(),
+              [&](ObjectIndex a, ObjectIndex b) { return (position(a) - x_s).norm() > (position(b) - x_s).norm(); });
+    const Eigen::AlignedBox2d shelf = area();
+    for (ObjectIndex o : candidates) {
+      const Eigen::Vector2d away = (position(o) - x_s).normalized();
+      const double r = footprint_radius(scene_.objects[o].shape, world_.truth().world_T_objects[o]);
+      const Eigen::Vector2d x = position(o) + (r + footprint_.radius + 0.01) * away;
+      if (shelf.contains(x) && context_.world->fixed_clearance(x, footprint_) >= footprint_.radius) return Goal{x, o};
+    }
+    return std::nullopt;
+  }
+
+  // The objects on the best way to x_g within the exploration limit, in the order met.
+  std::optional<ObjectSet> way(int limit) {
+    auto where = [this](ObjectIndex o) { return position(o); };
+    std::vector<int> node_of;
+    WorldState belief = world_.belief();
+    for (ObjectIndex o : blocked_) belief.removed[o] = false;
+    retrieval::RetrievalGraph g = roadmap_->cluster(belief.removed, where, node_of);
+    for (ObjectIndex o : blocked_) g.block_object(o);
+    g.update();
+    const auto removal = g.removal_sequence();
+    if (!removal || static_cast<int>(removal->objects_in_order.size()) > limit) return std::nullopt;
+    return removal->objects_in_order;
+  }
+
+  // `object`, or the first known object the robot found in its way when removing it.
+  ObjectIndex first_free(ObjectIndex object) const {
+    std::set<ObjectIndex> seen;
+    while (seen.insert(object).second) {
+      const auto it = blockers_.find(object);
+      if (it == blockers_.end()) return object;
+      const WorldState belief = world_.belief();
+      const auto next = std::find_if(it->second.begin(), it->second.end(),
+                                     [&](ObjectIndex b) { return !belief.removed[b] && !blocked_.count(b); });
+      if (next == it->second.end()) return object;
+      object = *next;
+    }
+    return object;
+  }
+
+  // The objects of `step` the robot's links meet in the truth but not in the belief:
+  // unseen ones a motion planned without them would hit.
+  std::vector<ObjectIndex> hidden_in_the_way(const PlanStep& step) {
+    std::vector<ObjectIndex> hit;
+    if (!step.trajectory) return hit;
+    collision::CollisionWorld& world = *context_.world;
+    world.sync(world_.truth());
+    if (world.held()) world.detach(world.object_pose(*world.held()));  // the hand's own load is not in the way
+    auto checker = world.make_context();
+    std::set<ObjectIndex> found;
+    for (const Eigen::VectorXd& q : step.trajectory->positions) {
+      Eigen::VectorXd full = world_.truth().robot_configuration;
+      if (full.size() == q.size()) full = q;
+      for (ObjectIndex o : world.check(full, *checker).objects) {
+        if (!world_.known(o)) found.insert(o);
+      }
+    }
+    sync();
+    return {found.begin(), found.end()};
+  }
+
+  // The known movable objects a failed removal of `object` names as in the way, but
+  // neither the target nor one given up on.
+  std::vector<ObjectIndex> blockers_of(const retrieval::RemovalCheck& check, ObjectIndex object) const {
+    std::vector<ObjectIndex> out;
+    if (!check.failure) return out;
+    for (ObjectIndex b : check.failure->blocking_objects) {
+      if (b != object && b != scene_.target && world_.known(b) && scene_.objects[b].movable && !blocked_.count(b)) out.push_back(b);
+    }
+    return out;
+  }
+
+  // Picks `object` and places it in the region (or carries it out), planned on what is
+  // known and checked against the truth; then looks again.
+  void remove(ObjectIndex object, Result& result) {
+    const auto t0 = Clock::now();
+    const WorldState belief = world_.belief();  // the checker keeps a reference
+    retrieval::RemovalChecker checker(context_, belief, settings_.region);
+    const ObjectIndex order[] = {object};
+    const std::uint64_t salt = static_cast<std::uint64_t>(attempts_[object]);
+    const retrieval::RemovalCheck check = checker.remove(order, salt);
+    motion_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
+    ++result.counters["removal_attempts"];
+    if (!check.ok) {
+      if (check.failure) retrieval::record_failure_once(result, *check.failure);
+      const std::vector<ObjectIndex> known_blockers = blockers_of(check, object);
+      // The blockers go first next time; an object that keeps failing is given up on.
+      if (!known_blockers.empty()) blockers_[object] = known_blockers;
+      if (++attempts_[object] >= settings_.max_attempts) blocked_.insert(object);
+      return;
+    }
+    Result steps;
+    checker.write_steps(order, salt, steps);
+    for (const PlanStep& step : steps.plan) {
+      const std::vector<ObjectIndex> hidden = hidden_in_the_way(step);
+      if (!hidden.empty()) {
+        found_by_touch(hidden, result);
+        return;
+      }
+    }
+    result.plan.insert(result.plan.end(), steps.plan.begin(), steps.plan.end());
+    result.moved_objects.insert(result.moved_objects.end(), steps.moved_objects.begin(), steps.moved_objects.end());
+    result.failures.insert(result.failures.end(), steps.failures.begin(), steps.failures.end());
+    const std::vector<ObjectIndex> revealed = world_.update(check.state);
+    result.counters["revealed"] += revealed.size();
+    // The world changed: what could not be removed before may come out now.
+    blockers_.clear();
+    blocked_.clear();
+    attempts_.clear();
+    if (!revealed.empty()) {
+      sync();
+      roadmap_->reveal(revealed);
+    }
+  }
+
+  void found_by_touch(const std::vector<ObjectIndex>& hidden, Result& result) {
+    const std::vector<ObjectIndex> found = world_.touch(hidden);
+    result.counters["found_by_touch"] += found.size();
+    sync();
+    roadmap_->reveal(found);
+  }
+
+  // Algorithm 4's last round: the way is clear, the target is taken to x_s.
+  bool retrieve(Result& result) {
+    const auto t0 = Clock::now();
+    const WorldState belief = world_.belief();  // the checker keeps a reference
+    retrieval::RemovalChecker checker(context_, belief, settings_.region);
+    const std::uint64_t salt = static_cast<std::uint64_t>(attempts_[scene_.target]);
+    const retrieval::RemovalCheck check = checker.retrieve({}, salt);
+    motion_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
+    ++result.counters["removal_attempts"];
+    if (!check.ok) {
+      if (check.failure) retrieval::record_failure_once(result, *check.failure);
+      const std::vector<ObjectIndex> known_blockers = blockers_of(check, scene_.target);
+      if (!known_blockers.empty()) remove(known_blockers.front(), result);
+      if (++attempts_[scene_.target] >= settings_.max_attempts) blocked_.insert(scene_.target);
+      return false;
+    }
+    Result steps;
+    checker.write_plan({}, salt, steps);
+    for (const PlanStep& step : steps.plan) {
+      const std::vector<ObjectIndex> hidden = hidden_in_the_way(step);
+      if (!hidden.empty()) {
+        found_by_touch(hidden, result);
+        return false;
+      }
+    }
+    result.plan.insert(result.plan.end(), steps.plan.begin(), steps.plan.end());
+    result.moved_objects.insert(result.moved_objects.end(), steps.moved_objects.begin(), steps.moved_objects.end());
+    result.failures.insert(result.failures.end(), steps.failures.begin(), steps.failures.end());
+    return true;
+  }
+
+  plugin::PlanningContext& context_;
+  const Settings& settings_;
+  const Scene& scene_;
+  perception::ObservedWorld world_;
+  collision::Footprint footprint_;
+  std::unique_ptr<retrieval::Roadmap> roadmap_;
+  std::set<ObjectIndex> blocked_;                           // could not be removed
+  std::map<ObjectIndex, std::vector<ObjectIndex>> blockers_;  // known objects in the way of removing one
+  std::map<ObjectIndex, int> attempts_;
+  double motion_seconds_ = 0.0;
+};
+
+class OcclusionPlanner final : public plugin::TaskPlanner {
+ public:
+  void configure(const Parameters& p) override { settings_.read(p); }
+
+  Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
+    if (const auto missing = retrieval::retrieval_inputs_missing(context, "occlusion")) {
+      Result r;
+      r.reason = *missing;
+      return r;
+    }
+    if (!context.scene().world_T_camera) {
+      Result r;
+      r.reason = "occlusion needs the scene's camera (camera: in the scene file) to know what is seen";
+      return r;
+    }
+    return Run(context, settings_, initial).run();
+  }
+
+ private:
+  Settings settings_;
+};
+
+}  // namespace
+
+CLUTTERTAMP_EXPORT_TASK_PLANNER(OcclusionPlanner, occlusion,
+                                "Retrieval when objects, even the target, are hidden: plans to x_temp behind the "
+                                "farthest observed object until the target is seen (Tian et al. 2023, Algorithm 4)",
+                                "0.1.0")
