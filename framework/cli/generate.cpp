@@ -97,6 +97,9 @@ int generate(const GenerateArgs& args) {
   spec.objects = args.objects;
   spec.width = args.width;
   spec.depth = args.depth;
+  if (args.occlusion && (args.width > 0 || args.depth > 0 || args.min_removals > 0)) {
+    throw InputError({"--occlusion", 0, 0}, "an occlusion shelf is sized by its columns: --width, --depth and --min-removals do not apply");
+  }
   for (int attempt = 0; attempt < args.max_attempts; ++attempt) {
     const std::uint64_t seed = args.seed + static_cast<std::uint64_t>(attempt);
     Scene scene;

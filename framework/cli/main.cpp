@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   observe->add_option("--min-visible", observe_args.min_visible_fraction,
                       "Observed when at least this fraction of the surface facing the camera is in view")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+      ->capture_default_str()->check(CLI::Range(0.001, 1.0));
   observe->add_flag("--json", observe_args.json, "Print JSON: [{object, observed, visible_fraction, occluders}]");
 
   cli::ViewArgs view_args;

@@ -180,7 +180,15 @@ std::size_t Roadmap::reveal(std::span<const ObjectIndex> objects) {
 }
 
 void Roadmap::move_goal(const Eigen::Vector2d& x_g, const RoadmapOptions& options) {
+  // The old goal stays as an ordinary node with its edges: parts of the roadmap may
+  // have grown from it.
   const Eigen::Vector2d old = graph_[1].x;
+  if (boost::degree(1, graph_) > 0) {
+    const std::size_t kept = add_node(old, graph_[1].col);
+    std::vector<std::size_t> neighbours;
+    for (auto [v, end] = boost::adjacent_vertices(1, graph_); v != end; ++v) neighbours.push_back(*v);
+    for (std::size_t v : neighbours) boost::add_edge(kept, v, graph_);
+  }
   index_->tree.remove(Entry{Point(old.x(), old.y()), 1});
   boost::clear_vertex(1, graph_);
   graph_[1].x = x_g;

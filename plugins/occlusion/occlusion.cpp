@@ -50,20 +50,40 @@ struct Settings {
 class Run {
  public:
   Run(plugin::PlanningContext& context, const Settings& settings, const WorldState& initial)
-      : context_(context), settings_(settings), scene_(context.scene()), world_(scene_, initial, settings.visibility),
-        footprint_(retrieval::held_footprint(context, initial, scene_.target)) {}
+      : context_(context), settings_(settings), scene_(context.scene()), initial_(initial),
+        world_(scene_, initial, settings.visibility) {
+    // What is known of the shelf comes from the objects seen at first: the board they
+    // stand on bounds the search, and the target (whose model, not pose, is known)
+    // would stand on it too.
+    for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) {
+      if (world_.known(o) && !initial.removed[o]) seen_at_first_.push_back(o);
+    }
+    footprint_ = retrieval::held_footprint(context, initial, scene_.target);
+    if (!seen_at_first_.empty()) {
+      const ObjectIndex o = seen_at_first_.front();
+      const double bottom = world_bounds(scene_.objects[o].shape, initial.world_T_objects[o]).min().z();
+      const Eigen::AlignedBox3d target = world_bounds(scene_.objects[scene_.target].shape, Eigen::Isometry3d::Identity());
+      footprint_.z_min = bottom;
+      footprint_.z_max = bottom + target.sizes().z();
+    }
+  }
 
   Result run() {
     const auto start = Clock::now();
     Result result;
     count_known(result, "observed_initially");
-    sync();
+    if (seen_at_first_.empty()) {
+      result.reason = "the camera sees no object at the start: nothing to plan from";
+      return result;
+    }
     const Eigen::Vector2d x_s = scene_.world_T_exit.translation().head<2>();
-    roadmap_ = std::make_unique<retrieval::Roadmap>(*context_.world, footprint_, area(), x_s, x_s, scene_.target, context_.seed);
+    area_ = area();
+    sync_roadmap();
+    roadmap_ = std::make_unique<retrieval::Roadmap>(*context_.world, footprint_, area_, x_s, x_s, scene_.target, context_.seed);
     int limit = 1;
     roadmap_->expand(limit, settings_.roadmap);
-    while (!context_.deadline.expired()) {
-      sync();
+    while (!context_.deadline.expired() && result.reason.empty()) {
+      sync_roadmap();
       const std::optional<Goal> goal = next_goal();
       if (!goal) {
         result.reason = "the target was never seen, and there is no place behind an observed object left to look";
@@ -92,6 +112,10 @@ class Run {
         }
         continue;
       }
+      if (order->empty() && moved_.count(goal->behind)) {
+        result.reason = "nothing left to take away in front of the temporary goal";
+        break;
+      }
       // Unseen target and a free way to x_temp: take away what x_temp looks behind.
       const ObjectIndex next = order->empty() ? goal->behind : first_free(order->front());
       remove(next, result);
@@ -111,28 +135,54 @@ class Run {
     ObjectIndex behind = 0;  // the object a temporary goal lies behind
   };
 
+  // The world the actions are planned in: the known objects where they are now.
   void sync() { context_.world->sync(world_.belief()); }
+
+  // The world the roadmap is queried in (it reads it live): every known object where it
+  // stood at the start, moved ones too, as retrieval_graph keeps its initial world;
+  // the retrieval graph discounts the moved ones (discounted()). Nodes and edges then
+  // keep their collision sets consistent however many objects are taken away.
+  void sync_roadmap() {
+    WorldState state = initial_;
+    for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) state.removed[o] = initial_.removed[o] || !world_.known(o);
+    state.held.reset();
+    context_.world->sync(state);
+  }
+
+  // Objects the retrieval graph does not count: unseen, or already taken away.
+  std::vector<bool> discounted() const {
+    std::vector<bool> out(scene_.objects.size());
+    for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) out[o] = !world_.known(o) || moved_.count(o) || initial_.removed[o];
+    return out;
+  }
 
   void count_known(Result& result, const std::string& key) const {
     result.counters[key] = static_cast<std::uint64_t>(std::count(world_.known_objects().begin(), world_.known_objects().end(), true));
   }
 
-  int known_movable() const {
+  int known_movable() const {  // known, movable and still in the shelf
+    const std::vector<bool> gone = discounted();
     int n = 0;
-    for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) n += world_.known(o) && scene_.objects[o].movable ? 1 : 0;
+    for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) n += !gone[o] && scene_.objects[o].movable ? 1 : 0;
     return n;
   }
 
   Eigen::Vector2d position(ObjectIndex o) const { return world_.truth().world_T_objects[o].translation().head<2>(); }
 
-  // Where the roadmap samples: the board the target stands on (the shelf; its pose is
-  // not known, its support is) and x_s, grown by the footprint.
+  // Where the roadmap samples: x_s and the boards the objects seen at first stand on
+  // (the shelf; not the buffer table beside it), grown by the footprint.
   Eigen::AlignedBox2d area() const {
     Eigen::AlignedBox2d box(scene_.world_T_exit.translation().head<2>());
-    const double bottom = world_bounds(scene_.objects[scene_.target].shape, scene_.objects[scene_.target].world_T_object).min().z();
     for (const FixedBody& f : scene_.fixed) {
       const Eigen::AlignedBox3d b = world_bounds(f.shape, f.world_T_body);
-      if (std::abs(b.max().z() - bottom) < 0.01) box.extend(Eigen::AlignedBox2d(b.min().head<2>(), b.max().head<2>()));
+      const Eigen::AlignedBox2d top(b.min().head<2>(), b.max().head<2>());
+      for (ObjectIndex o : seen_at_first_) {
+        const Eigen::AlignedBox3d ob = world_bounds(scene_.objects[o].shape, initial_.world_T_objects[o]);
+        if (std::abs(b.max().z() - ob.min().z()) < 0.01 && top.contains(initial_.world_T_objects[o].translation().head<2>())) {
+          box.extend(top);
+          break;
+        }
+      }
     }
     box.min().array() -= footprint_.radius;
     box.max().array() += footprint_.radius;
@@ -145,13 +195,13 @@ class Run {
     if (world_.known(scene_.target)) return Goal{position(scene_.target), scene_.target};
     const Eigen::Vector2d x_s = scene_.world_T_exit.translation().head<2>();
     std::vector<ObjectIndex> candidates;
-    const WorldState belief = world_.belief();
+    const std::vector<bool> gone = discounted();
     for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) {
-      if (!belief.removed[o] && scene_.objects[o].movable && !blocked_.count(o)) candidates.push_back(o);
+      if (!gone[o] && scene_.objects[o].movable && !blocked_.count(o)) candidates.push_back(o);
     }
     std::sort(candidates.begin(), candidates.end(),
               [&](ObjectIndex a, ObjectIndex b) { return (position(a) - x_s).norm() > (position(b) - x_s).norm(); });
-    const Eigen::AlignedBox2d shelf = area();
+    const Eigen::AlignedBox2d& shelf = area_;
     for (ObjectIndex o : candidates) {
       const Eigen::Vector2d away = (position(o) - x_s).normalized();
       const double r = footprint_radius(scene_.objects[o].shape, world_.truth().world_T_objects[o]);
@@ -165,9 +215,7 @@ class Run {
   std::optional<ObjectSet> way(int limit) {
     auto where = [this](ObjectIndex o) { return position(o); };
     std::vector<int> node_of;
-    WorldState belief = world_.belief();
-    for (ObjectIndex o : blocked_) belief.removed[o] = false;
-    retrieval::RetrievalGraph g = roadmap_->cluster(belief.removed, where, node_of);
+    retrieval::RetrievalGraph g = roadmap_->cluster(discounted(), where, node_of);
     for (ObjectIndex o : blocked_) g.block_object(o);
     g.update();
     const auto removal = g.removal_sequence();
@@ -181,9 +229,9 @@ class Run {
     while (seen.insert(object).second) {
       const auto it = blockers_.find(object);
       if (it == blockers_.end()) return object;
-      const WorldState belief = world_.belief();
+      const std::vector<bool> gone = discounted();
       const auto next = std::find_if(it->second.begin(), it->second.end(),
-                                     [&](ObjectIndex b) { return !belief.removed[b] && !blocked_.count(b); });
+                                     [&](ObjectIndex b) { return !gone[b] && !blocked_.count(b); });
       if (next == it->second.end()) return object;
       object = *next;
     }
@@ -201,13 +249,13 @@ class Run {
     auto checker = world.make_context();
     std::set<ObjectIndex> found;
     for (const Eigen::VectorXd& q : step.trajectory->positions) {
-      Eigen::VectorXd full = world_.truth().robot_configuration;
-      if (full.size() == q.size()) full = q;
-      for (ObjectIndex o : world.check(full, *checker).objects) {
+      if (q.size() != world_.truth().robot_configuration.size()) {
+        throw std::logic_error("occlusion: a removal's trajectory does not hold every joint of the robot");
+      }
+      for (ObjectIndex o : world.check(q, *checker).objects) {
         if (!world_.known(o)) found.insert(o);
       }
     }
-    sync();
     return {found.begin(), found.end()};
   }
 
@@ -226,7 +274,8 @@ class Run {
   // known and checked against the truth; then looks again.
   void remove(ObjectIndex object, Result& result) {
     const auto t0 = Clock::now();
-    const WorldState belief = world_.belief();  // the checker keeps a reference
+    sync();
+    const WorldState belief = world_.belief();
     retrieval::RemovalChecker checker(context_, belief, settings_.region);
     const ObjectIndex order[] = {object};
     const std::uint64_t salt = static_cast<std::uint64_t>(attempts_[object]);
@@ -253,6 +302,7 @@ class Run {
     result.plan.insert(result.plan.end(), steps.plan.begin(), steps.plan.end());
     result.moved_objects.insert(result.moved_objects.end(), steps.moved_objects.begin(), steps.moved_objects.end());
     result.failures.insert(result.failures.end(), steps.failures.begin(), steps.failures.end());
+    moved_.insert(object);
     const std::vector<ObjectIndex> revealed = world_.update(check.state);
     result.counters["revealed"] += revealed.size();
     // The world changed: what could not be removed before may come out now.
@@ -260,7 +310,7 @@ class Run {
     blocked_.clear();
     attempts_.clear();
     if (!revealed.empty()) {
-      sync();
+      sync_roadmap();
       roadmap_->reveal(revealed);
     }
   }
@@ -268,14 +318,15 @@ class Run {
   void found_by_touch(const std::vector<ObjectIndex>& hidden, Result& result) {
     const std::vector<ObjectIndex> found = world_.touch(hidden);
     result.counters["found_by_touch"] += found.size();
-    sync();
+    sync_roadmap();
     roadmap_->reveal(found);
   }
 
   // Algorithm 4's last round: the way is clear, the target is taken to x_s.
   bool retrieve(Result& result) {
     const auto t0 = Clock::now();
-    const WorldState belief = world_.belief();  // the checker keeps a reference
+    sync();
+    const WorldState belief = world_.belief();
     retrieval::RemovalChecker checker(context_, belief, settings_.region);
     const std::uint64_t salt = static_cast<std::uint64_t>(attempts_[scene_.target]);
     const retrieval::RemovalCheck check = checker.retrieve({}, salt);
@@ -284,8 +335,12 @@ class Run {
     if (!check.ok) {
       if (check.failure) retrieval::record_failure_once(result, *check.failure);
       const std::vector<ObjectIndex> known_blockers = blockers_of(check, scene_.target);
-      if (!known_blockers.empty()) remove(known_blockers.front(), result);
-      if (++attempts_[scene_.target] >= settings_.max_attempts) blocked_.insert(scene_.target);
+      if (!known_blockers.empty()) {
+        remove(known_blockers.front(), result);
+      } else if (++attempts_[scene_.target] >= settings_.max_attempts) {
+        result.reason = "the target is seen and nothing known is in its way, but the robot could not retrieve it: " +
+                        (check.failure ? check.failure->reason : std::string("no reason given"));
+      }
       return false;
     }
     Result steps;
@@ -306,8 +361,12 @@ class Run {
   plugin::PlanningContext& context_;
   const Settings& settings_;
   const Scene& scene_;
+  WorldState initial_;
   perception::ObservedWorld world_;
+  std::vector<ObjectIndex> seen_at_first_;
   collision::Footprint footprint_;
+  Eigen::AlignedBox2d area_;
+  std::set<ObjectIndex> moved_;  // taken away by the plan
   std::unique_ptr<retrieval::Roadmap> roadmap_;
   std::set<ObjectIndex> blocked_;                           // could not be removed
   std::map<ObjectIndex, std::vector<ObjectIndex>> blockers_;  // known objects in the way of removing one

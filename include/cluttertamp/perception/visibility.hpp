@@ -21,8 +21,8 @@ struct VisibilitySettings {
   double horizontal_fov = 1.5;  ///< rad, full angle about the optical axis (+z)
   double vertical_fov = 1.2;    ///< rad
   double max_range = 5.0;       ///< m
-  int samples_around = 24;      ///< surface samples around a cylinder or sphere, per box face row
-  int samples_up = 8;           ///< rows of samples up a cylinder or box face
+  int samples_around = 24;      ///< surface samples around a cylinder (and on each cap ring); a sphere has around x up
+  int samples_up = 8;           ///< rows of samples up a cylinder; a box face has up x up
 };
 
 /// What the camera sees of one object.
@@ -36,6 +36,7 @@ struct ObjectView {
 /// Ray casting from `world_T_camera` (optical frame: +z looks, +x right, +y down)
 /// against the scene's fixed bodies and the objects present in a world state. Exact
 /// for boxes, cylinders and spheres. Deterministic; const members are thread-safe.
+/// Keeps a reference to the scene, which must outlive it.
 class CLUTTERTAMP_API VisibilityModel {
  public:
   /// Throws std::invalid_argument when the scene has no camera (`camera:` in its file).
@@ -82,7 +83,8 @@ class CLUTTERTAMP_API ObservedWorld {
   const std::vector<bool>& known_objects() const { return known_; }
   /// The truth: every object, removed ones marked.
   const WorldState& truth() const { return truth_; }
-  /// The truth as the planner may know it: objects not yet seen are marked removed.
+  /// The truth as the planner may know it: objects not yet seen are marked removed
+  /// (their poses are the truth's and must not be read).
   WorldState belief() const;
 
  private:

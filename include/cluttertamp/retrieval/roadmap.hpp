@@ -58,8 +58,9 @@ class CLUTTERTAMP_API Roadmap {
   /// nodes whose Col changed.
   std::size_t reveal(std::span<const ObjectIndex> objects);
 
-  /// Moves x_g (node 1) to `x_g` (a new goal, e.g. a temporary one): its Col is
-  /// recomputed, its edges dropped and it joins its neighbours as expand() joins the ends.
+  /// Moves x_g (node 1) to `x_g` (a new goal, e.g. a temporary one): a node with its
+  /// edges stays where it was (the roadmap may have grown from it), node 1's Col is
+  /// recomputed there and it joins its neighbours as expand() joins the ends.
   void move_goal(const Eigen::Vector2d& x_g, const RoadmapOptions& options);
 
   ObjectSet col(const Eigen::Vector2d& x) const;
