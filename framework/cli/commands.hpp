@@ -77,6 +77,7 @@ struct GenerateArgs {
   double width = 0, depth = 0;    ///< cabinet interior, m; 0: from the object count
   int max_attempts = 100;
   bool occlusion = false;  ///< an occlusion shelf (columns of 4 hidden behind a front row)
+  bool table = false;      ///< a table for a mobile manipulator, reachable from every side
   Verbosity verbosity = Verbosity::normal;
 };
 /// Exit code 0 when a scene was written, 1 when no attempt needed a removal.

@@ -91,7 +91,7 @@ std::optional<std::string> min_removals_differ(const Scene& scene, const Generat
 int generate(const GenerateArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
   const plugin::Registry registry(plugin::Registry::default_search_paths());
-  const bool check = (args.require_removal && !args.occlusion) || args.min_removals > 0;
+  const bool check = (args.require_removal && !args.occlusion && !args.table) || args.min_removals > 0;
   const plugin::Samplers samplers = check ? shipped_samplers(registry) : plugin::Samplers{};
   scenes::ShelfSpec spec;
   spec.objects = args.objects;
@@ -100,11 +100,19 @@ int generate(const GenerateArgs& args) {
   if (args.occlusion && (args.width > 0 || args.depth > 0 || args.min_removals > 0)) {
     throw InputError({"--occlusion", 0, 0}, "an occlusion shelf is sized by its columns: --width, --depth and --min-removals do not apply");
   }
+  if (args.table && (args.occlusion || args.depth > 0 || args.min_removals > 0)) {
+    throw InputError({"--table", 0, 0}, "a table scene takes --objects and --width (the table's side) only");
+  }
   for (int attempt = 0; attempt < args.max_attempts; ++attempt) {
     const std::uint64_t seed = args.seed + static_cast<std::uint64_t>(attempt);
     Scene scene;
     try {
-      if (args.occlusion) {
+      if (args.table) {
+        scenes::TableSpec table;
+        table.objects = args.objects;
+        if (args.width > 0) table.size = args.width;
+        scene = scenes::generate_table_scene(table, seed);
+      } else if (args.occlusion) {
         if (args.objects % 4 != 0) throw std::runtime_error("an occlusion shelf holds columns of 4: a multiple of 4 objects");
         scenes::OcclusionSpec occlusion;
         occlusion.columns = args.objects / 4;
@@ -121,7 +129,7 @@ int generate(const GenerateArgs& args) {
     io::write_scene(written, scene);
     scene = io::load_scene(written);
     fs::remove(written);
-    if (!args.occlusion && args.require_removal && target_comes_out_directly(scene, robot, samplers, seed)) {
+    if (!args.occlusion && !args.table && args.require_removal && target_comes_out_directly(scene, robot, samplers, seed)) {
       if (args.verbosity == Verbosity::verbose) std::cerr << "seed " << seed << ": the target comes out directly; next\n";
       continue;
     }
@@ -147,8 +155,12 @@ int generate(const GenerateArgs& args) {
           << "scene: " << fs::relative(fs::absolute(args.output), dir).string() << "\n"
           << "robot: {description: " << fs::relative(fs::absolute(args.robot), dir).string() << "}\n"
           << "task: {retrieve: target}\n"
-          << "planner: {plugin: " << (args.occlusion ? "occlusion" : "retrieval_graph") << ", time_limit: 60, seed: 0}\n"
-          << "plugins: {grasp_sampler: grasp_side, motion_sampler: motion_ompl, placement_sampler: placement_region}\n";
+          << (args.table ? "planner: {plugin: retrieval_graph, time_limit: 120, seed: 0, parameters: {area_margin: 0.3}}\n"
+                         : std::string("planner: {plugin: ") + (args.occlusion ? "occlusion" : "retrieval_graph") +
+                               ", time_limit: 60, seed: 0}\n")
+          << (args.table ? "plugins: {grasp_sampler: {plugin: grasp_side, parameters: {spread: 180}}, motion_sampler: motion_ompl, "
+                           "placement_sampler: placement_region}\n"
+                         : "plugins: {grasp_sampler: grasp_side, motion_sampler: motion_ompl, placement_sampler: placement_region}\n");
       if (!out) throw InputError({args.problem.string(), 0, 0}, "cannot write the problem file");
       if (args.verbosity != Verbosity::quiet) std::cout << "wrote " << args.problem.string() << "\n";
     }

@@ -42,6 +42,18 @@ Eigen::Vector3d cabinet_size(const ShelfSpec& spec) {
 
 namespace {
 
+// A 0.5 x 0.4 m table centred at `xy`, its top at `top`, with the placement region
+// "buffer" over it (2 cm in from its edges, 32 cm high).
+void add_buffer_table(Scene& scene, const Eigen::Vector2d& xy, double top) {
+  const Eigen::Vector3d table(0.5, 0.4, top);
+  scene.fixed.push_back(board("buffer_table", table, {xy.x(), xy.y(), top / 2}));
+  Region buffer;
+  buffer.id = "buffer";
+  buffer.size = {table.x() - 0.04, table.y() - 0.04, 0.32};
+  buffer.world_T_region = at(xy.x(), xy.y(), top + 0.16);
+  scene.regions.push_back(buffer);
+}
+
 // The cabinet (interior depth x width x height, open side at x0, floor top at z0), a
 // buffer table with its region, the robot base, the exit x_s, a camera above the robot
 // and the workspace; no objects.
@@ -56,14 +68,7 @@ Scene cabinet(double x0, double depth, double width, double height, double z0, d
   scene.fixed.push_back(board("cabinet_left", {depth, wall, height}, {cx, width / 2 + wall / 2, z0 + height / 2}));
   scene.fixed.push_back(board("cabinet_right", {depth, wall, height}, {cx, -width / 2 - wall / 2, z0 + height / 2}));
   // A buffer table to the robot's right, its top level with the cabinet floor.
-  const Eigen::Vector3d table(0.5, 0.4, z0);
-  const Eigen::Vector2d table_xy(0.2, -width / 2 - 0.25);
-  scene.fixed.push_back(board("buffer_table", table, {table_xy.x(), table_xy.y(), z0 / 2}));
-  Region buffer;
-  buffer.id = "buffer";
-  buffer.size = {table.x() - 0.04, table.y() - 0.04, 0.32};
-  buffer.world_T_region = at(table_xy.x(), table_xy.y(), z0 + 0.16);
-  scene.regions.push_back(buffer);
+  add_buffer_table(scene, {0.2, -width / 2 - 0.25}, z0);
   scene.world_T_exit = at(x0 - 0.2, 0.0, z0 + object_height / 2);
   scene.world_T_robot_base = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d camera = at(0.1, 0.0, z0 + height + 0.2);
@@ -132,6 +137,49 @@ Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
     scene.objects.push_back(standing_cylinder(it == target ? "target" : "o" + std::to_string(next++), it->centre, it->radius,
                                               it->height, z0));
   }
+  return scene;
+}
+
+Scene generate_table_scene(const TableSpec& spec, std::uint64_t seed) {
+  const double z0 = spec.top_height, half = spec.size / 2;
+  const Eigen::Vector2d centre(spec.distance + half, 0.0);
+  Scene scene;
+  scene.name = "table" + std::to_string(spec.objects) + "-seed" + std::to_string(seed);
+  scene.fixed.push_back(board("table", {spec.size, spec.size, z0}, {centre.x(), 0.0, z0 / 2}));
+  add_buffer_table(scene, {0.1, -0.75}, z0);
+  scene.world_T_exit = at(spec.distance - 0.2, 0.0, z0 + 0.135);
+  scene.world_T_robot_base = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d camera = at(-0.3, 0.0, z0 + 0.9);
+  camera.linear() = (Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(-2.0 * M_PI / 3, Eigen::Vector3d::UnitX()))
+                        .toRotationMatrix();
+  scene.world_T_camera = camera;
+  scene.workspace = Eigen::AlignedBox3d(Eigen::Vector3d(-1.0, -1.5, 0.0), Eigen::Vector3d(centre.x() + half + 1.0, 1.5, 2.0));
+
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> radius(0.035, 0.040), tall(0.24, 0.29);
+  struct Disc {
+    Eigen::Vector2d centre;
+    double radius, height;
+  };
+  std::vector<Disc> discs{{centre, radius(rng), tall(rng)}};  // the target, in the middle
+  for (int attempt = 0; static_cast<int>(discs.size()) < spec.objects; ++attempt) {
+    if (attempt > 100000) throw std::runtime_error("cannot place " + std::to_string(spec.objects) + " cylinders on the table");
+    const double r = radius(rng);
+    const double margin = r + spec.min_gap;
+    if (half < margin) throw std::runtime_error("the table is too small for one object");
+    const Eigen::Vector2d c(std::uniform_real_distribution<double>(centre.x() - half + margin, centre.x() + half - margin)(rng),
+                            std::uniform_real_distribution<double>(-half + margin, half - margin)(rng));
+    const bool free = std::all_of(discs.begin(), discs.end(), [&](const Disc& d) {
+      return (d.centre - c).norm() >= d.radius + r + spec.min_gap;
+    });
+    if (free) discs.push_back({c, r, tall(rng)});
+  }
+  for (std::size_t i = 0; i < discs.size(); ++i) {
+    scene.objects.push_back(standing_cylinder(i == 0 ? "target" : "o" + std::to_string(i), discs[i].centre, discs[i].radius,
+                                              discs[i].height, z0));
+  }
+  scene.target = 0;
   return scene;
 }
 

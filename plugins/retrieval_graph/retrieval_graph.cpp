@@ -38,6 +38,7 @@ struct Settings {
   double shorten_time = 0.5;  // s per object tried
   bool restart = true;  // after every limit failed: forget the feedback, draw afresh
   bool push = false;    // Section VI-G: push instead of pick-and-place where a push works
+  double area_margin = 0.0;  // m beyond the objects and x_s where the roadmap samples (Section V-B: all around)
 
   void read(const Parameters& p) {
     roadmap.read(p);
@@ -46,6 +47,8 @@ struct Settings {
     shorten = p.get_bool("shorten", shorten);
     shorten_time = p.get_double("shorten_time", shorten_time);
     restart = p.get_bool("restart", restart);
+    area_margin = p.get_double("area_margin", area_margin);
+    p.require(area_margin >= 0 && area_margin <= 5, "area_margin", "must be 0 to 5 m");
     p.require(shorten_time > 0, "shorten_time", "must be positive (seconds)");
     p.require(initial_limit == "one" || initial_limit == "nodecol" || initial_limit == "objects", "initial_L",
               "must be one, nodecol or objects");
@@ -78,8 +81,8 @@ class Search {
     footprint_ = retrieval::held_footprint(context, initial, target_);
     Eigen::AlignedBox2d area(scene.world_T_exit.translation().head<2>());
     for (const SceneObject& o : scene.objects) area.extend(o.world_T_object.translation().head<2>());
-    area.min().array() -= footprint_.radius;
-    area.max().array() += footprint_.radius;
+    area.min().array() -= footprint_.radius + settings.area_margin;
+    area.max().array() += footprint_.radius + settings.area_margin;
     world_ = context.world;
     world_->sync(initial_);
     roadmap_ = std::make_unique<retrieval::Roadmap>(*world_, footprint_, area, scene.world_T_exit.translation().head<2>(),

@@ -50,6 +50,23 @@ struct OcclusionSpec {
   double floor_height = 0.4;     ///< z of the cabinet floor's top
 };
 
+/// A table reachable from every side for a mobile manipulator (Tian et al., Section
+/// V-B, Fig. 9): `objects` standing cylinders (radius 3.5-4 cm, 24-29 cm tall, at
+/// least `min_gap` apart) on a square table top, the target at its centre; the robot
+/// base starts at the origin facing +x, the table's near edge `distance` ahead; the
+/// exit x_s between them; a buffer table to the robot's right.
+struct TableSpec {
+  int objects = 20;
+  double size = 0.7;         ///< m, the table top's side
+  double distance = 0.6;     ///< m from the robot base to the table's near edge
+  double top_height = 0.4;   ///< z of the table top
+  double min_gap = 0.01;
+};
+
+/// The table scene of `spec` (same seed, same scene). Throws std::runtime_error when
+/// the objects do not fit.
+CLUTTERTAMP_API Scene generate_table_scene(const TableSpec& spec, std::uint64_t seed);
+
 /// The occlusion shelf of `spec` (same seed, same scene): objects "o1".. and "target".
 /// Throws std::runtime_error for fewer than 1 column or 2 rows, or when the camera
 /// would see more than the front row (a check of the layout).
