@@ -29,6 +29,7 @@ Eigen::Vector3d last_position(const Json& replay, const std::string& id) {
   for (const Json& f : replay["frames"]) {
     if (f.contains("objects") && f["objects"].contains(id)) {
       const Json& p = f["objects"][id];
+      if (p.is_null()) return Eigen::Vector3d::Constant(INFINITY);  // carried out of the workspace
       at = {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()};
     }
   }
@@ -65,6 +66,34 @@ TEST_F(ViewerTest, ReplayMovesPushedAndHeldObjectsToWhereThePlanLeavesThem) {
   EXPECT_NEAR(t, replay["duration"].get<double>(), 1e-6);
   EXPECT_EQ(replay["drawings"].size(), run.result.drawings.size());
   EXPECT_FALSE(replay["robot"].is_null());  // the retrieval moves the arm
+}
+
+// Objects that do not fit the buffer are carried out of the workspace (a pick with no
+// place after it): the replay takes them out of the picture; placed ones stay on it.
+TEST_F(ViewerTest, ObjectsCarriedOutOfTheWorkspaceLeaveThePicture) {
+  const Problem problem = io::load_problem(kProblems / "occlusion/occ12.yaml");
+  const run::RunOutcome run = run::plan(problem, registry_, {});
+  ASSERT_TRUE(run.result.solved) << run.result.reason;
+  const Json replay = Json::parse(viewer::replay_json(problem, {io::result_to_json(problem, run.result, run.info), "", "memory"}));
+  int carried_out = 0, placed = 0;
+  for (std::size_t k = 0; k + 1 < run.result.plan.size(); ++k) {
+    const PlanStep& step = run.result.plan[k];
+    if (step.action != "pick") continue;
+    const std::string& id = problem.scene.objects[step.objects.front()].id;
+    const bool is_placed = run.result.plan[k + 1].action == "place";
+    const Eigen::Vector3d at = last_position(replay, id);
+    if (is_placed) {
+      ++placed;
+      const Region& buffer = *problem.scene.find_region("buffer");
+      const Eigen::Vector3d local = buffer.world_T_region.inverse() * at;  // placed objects stand in the buffer
+      EXPECT_TRUE((local.array().abs() <= buffer.size.array() / 2 + 1e-3).all()) << id << " at " << at.transpose();
+    } else {
+      ++carried_out;
+      EXPECT_FALSE(at.allFinite()) << id << " was carried out but is still drawn";
+    }
+  }
+  EXPECT_GT(carried_out, 0);  // the large front objects do not fit the buffer
+  EXPECT_GT(placed, 0);
 }
 
 TEST_F(ViewerTest, AResultThatIsNotJsonOrNamesAnUnknownObjectIsBadInputNamingIt) {

@@ -118,6 +118,19 @@ class Replayer {
     frames_.push_back({{"t", 0.0}, {"links", links_json(links)}});
   }
 
+  // An object still in the hand when the next step is not its place was carried out of
+  // the workspace (Tian et al.'s assumption 4): it leaves the picture at `t`.
+  void carry_out_unless_placed(const Json& next, double t) {
+    if (!state_.held) return;
+    const std::string id = scene_.objects[*state_.held].id;
+    const bool placed = next.at("action").get<std::string>() == "place" && !next.at("objects").empty() &&
+                        next.at("objects").front().get<std::string>() == id;
+    if (placed) return;
+    state_.removed[*state_.held] = true;
+    state_.held.reset();
+    frames_.push_back({{"t", rounded(t)}, {"objects", {{id, nullptr}}}});
+  }
+
   Json take_frames() { return std::move(frames_); }
   bool pushed() const { return pushed_; }
   bool robot_moved() const { return robot_moved_; }
@@ -421,8 +434,11 @@ std::string replay_json(const Problem& problem, const PlanFiles& plan, double fr
     replayer.initial_frame();
     Json steps = Json::array();
     double clock = 0.0;
-    for (const Json& s : result.at("plan")) {
+    const Json& plan_steps = result.at("plan");
+    for (std::size_t k = 0; k < plan_steps.size(); ++k) {
+      const Json& s = plan_steps[k];
       const double duration = replayer.step(s, clock);
+      if (k + 1 < plan_steps.size()) replayer.carry_out_unless_placed(plan_steps[k + 1], clock + duration);
       Json step{{"index", s.value("index", steps.size())}, {"action", s.at("action")}, {"objects", s.at("objects")},
                 {"start", rounded(clock)}, {"duration", rounded(duration)}};
       const Json& values = s.at("values");
