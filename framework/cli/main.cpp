@@ -147,11 +147,13 @@ int main(int argc, char** argv) {
   generate->add_option("--output", generate_args.output, "Scene file to write")->required();
   generate->add_option("--problem", generate_args.problem, "Also write a problem file for the scene here");
   generate_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
-  generate->add_option("--robot", generate_args.robot, "Robot description")->capture_default_str()->check(CLI::ExistingFile);
+  auto* generate_robot = generate->add_option("--robot", generate_args.robot, "Robot description (with --table: pr2_mobile)")
+                             ->capture_default_str()
+                             ->check(CLI::ExistingFile);
   generate->add_flag("--table", generate_args.table,
                      "A table reachable from every side (Tian et al., Fig. 9): --objects cylinders, the target in the middle, "
-                     "--width the table's side (default 0.7 m); its problem uses pr2_mobile (pass --robot) and "
-                     "retrieval_graph with area_margin 0.3");
+                     "--width the table's side (default 0.7 m); its problem uses pr2_mobile (unless --robot names another) "
+                     "and retrieval_graph with area_margin 0.3");
   generate->add_flag("--occlusion", generate_args.occlusion,
                      "An occlusion shelf (Tian et al., Fig. 7): --objects / 4 columns of 4 cylinders, each hidden from the "
                      "camera by the one in front, the target at the back of one; its problem uses the occlusion planner");
@@ -315,7 +317,12 @@ int main(int argc, char** argv) {
       return cli::bench_collision(bench_args);
     }
     if (*pddl) return cli::pddl(pddl_args);
-    if (*generate) return cli::generate(generate_args);
+    if (*generate) {
+      if (generate_args.table && !generate_robot->count()) {
+        generate_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/pr2_mobile.yaml";
+      }
+      return cli::generate(generate_args);
+    }
     if (*guide) return cli::guide(guide_args);
     if (*view) return cli::view(view_args);
     if (*observe) return cli::observe(observe_args);

@@ -154,7 +154,8 @@ Scene generate_table_scene(const TableSpec& spec, std::uint64_t seed) {
                      Eigen::AngleAxisd(-2.0 * M_PI / 3, Eigen::Vector3d::UnitX()))
                         .toRotationMatrix();
   scene.world_T_camera = camera;
-  scene.workspace = Eigen::AlignedBox3d(Eigen::Vector3d(-1.0, -1.5, 0.0), Eigen::Vector3d(centre.x() + half + 1.0, 1.5, 2.0));
+  const double side = std::max(1.5, half + 1.0);
+  scene.workspace = Eigen::AlignedBox3d(Eigen::Vector3d(-1.0, -side, 0.0), Eigen::Vector3d(centre.x() + half + 1.0, side, 2.0));
 
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> radius(0.035, 0.040), tall(0.24, 0.29);
@@ -163,6 +164,7 @@ Scene generate_table_scene(const TableSpec& spec, std::uint64_t seed) {
     double radius, height;
   };
   std::vector<Disc> discs{{centre, radius(rng), tall(rng)}};  // the target, in the middle
+  if (half < discs.front().radius + spec.min_gap) throw std::runtime_error("the table is too small for the target");
   for (int attempt = 0; static_cast<int>(discs.size()) < spec.objects; ++attempt) {
     if (attempt > 100000) throw std::runtime_error("cannot place " + std::to_string(spec.objects) + " cylinders on the table");
     const double r = radius(rng);

@@ -118,17 +118,24 @@ class Replayer {
     frames_.push_back({{"t", 0.0}, {"links", links_json(links)}});
   }
 
-  // An object still in the hand when the next step is not its place was carried out of
-  // the workspace (Tian et al.'s assumption 4): it leaves the picture at `t`.
-  void carry_out_unless_placed(const Json& next, double t) {
+  // An object still in the hand when a later step moves the robot for other objects
+  // before any step names it again was carried out of the workspace (Tian et al.'s
+  // assumption 4): it leaves the picture at `t`. Steps naming it, or nothing, keep it
+  // in the hand (a PDDL domain may move between pick and place).
+  void carry_out_unless_placed(const Json& steps, std::size_t from, double t) {
     if (!state_.held) return;
     const std::string id = scene_.objects[*state_.held].id;
-    const bool placed = next.at("action").get<std::string>() == "place" && !next.at("objects").empty() &&
-                        next.at("objects").front().get<std::string>() == id;
-    if (placed) return;
-    state_.removed[*state_.held] = true;
-    state_.held.reset();
-    frames_.push_back({{"t", rounded(t)}, {"objects", {{id, nullptr}}}});
+    for (std::size_t k = from; k < steps.size(); ++k) {
+      const Json& step = steps[k];
+      const Json& objects = step.at("objects");
+      if (std::any_of(objects.begin(), objects.end(), [&](const Json& o) { return o == id; })) return;
+      if (!objects.empty() && !step.at("trajectory").is_null()) {
+        state_.removed[*state_.held] = true;
+        state_.held.reset();
+        frames_.push_back({{"t", rounded(t)}, {"objects", {{id, nullptr}}}});
+        return;
+      }
+    }
   }
 
   Json take_frames() { return std::move(frames_); }
@@ -282,6 +289,7 @@ class Replayer {
     std::optional<ObjectIndex> nearest;
     double distance = 0.2;  // m: farther than this, the fingers close on nothing drawn
     for (ObjectIndex o : candidates) {
+      if (state_.removed[o]) continue;  // carried out of the workspace
       const double d = (state_.world_T_objects[o].translation() - tool).norm();
       if (d < distance) distance = d, nearest = o;
     }
@@ -438,7 +446,7 @@ std::string replay_json(const Problem& problem, const PlanFiles& plan, double fr
     for (std::size_t k = 0; k < plan_steps.size(); ++k) {
       const Json& s = plan_steps[k];
       const double duration = replayer.step(s, clock);
-      if (k + 1 < plan_steps.size()) replayer.carry_out_unless_placed(plan_steps[k + 1], clock + duration);
+      replayer.carry_out_unless_placed(plan_steps, k + 1, clock + duration);
       Json step{{"index", s.value("index", steps.size())}, {"action", s.at("action")}, {"objects", s.at("objects")},
                 {"start", rounded(clock)}, {"duration", rounded(duration)}};
       const Json& values = s.at("values");

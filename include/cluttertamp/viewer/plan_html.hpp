@@ -19,9 +19,9 @@ namespace cluttertamp::viewer {
 /// the end of the finger motion) and a full hand lets go (at its start); fingers set
 /// while the arm moves (a transfer opening them) do neither. A robot without a finger
 /// joint grasps where the tool comes nearest the object and lets go where the tool is
-/// lowest. The held object keeps its pose relative to the tool; one still held when the
-/// next step is not its place was carried out of the workspace, and a frame gives it
-/// the pose null from the end of the step. A push step is replayed
+/// lowest. The held object keeps its pose relative to the tool; one still held when a
+/// later step moves the robot for other objects before any step names it again was
+/// carried out of the workspace, and a frame gives it the pose null from there. A push step is replayed
 /// through the physics (physics::simulate, one frame per propagation) from the state
 /// the steps before it left.
 ///
