@@ -582,6 +582,25 @@ TEST_F(Cli, TheOcclusionPlannerRetrievesAHiddenTargetMovingOnlyWhatItHadSeen) {
   }
 }
 
+// Section V-B: a mobile manipulator that plans from every side of a table takes the
+// target out by the side that needs fewest removals: one, where planning from the
+// robot's side needs more.
+TEST_F(Cli, AMobileManipulatorTakesTheTargetOutWhereFewestObjectsBlock) {
+  const fs::path dir = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/mobile";
+  auto moved = [&](const std::string& problem) {
+    const CliRun r = run("plan " + (dir / problem).string() + " -o " + (dir_ / problem).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    const auto result = nlohmann::json::parse(test::read_text(dir_ / problem / "result.json"));
+    return result["moved_objects"].get<std::vector<std::string>>();
+  };
+  const std::vector<std::string> all_sides = moved("ring-all-sides.yaml");
+  const std::vector<std::string> one_side = moved("ring-one-side.yaml");
+  ASSERT_EQ(all_sides.size(), 2u) << "one removal, then the target";
+  EXPECT_EQ(all_sides.back(), "target");
+  EXPECT_EQ(all_sides.front().rfind("inner", 0), 0u) << all_sides.front();  // through the inner ring only
+  EXPECT_GE(one_side.size(), 3u);
+}
+
 TEST_F(Cli, ObserveSaysWhatTheCameraSeesAndWhatARemovalReveals) {
   const fs::path scene = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/occlusion/occ12-scene.yaml";
   const CliRun before = run("observe " + scene.string() + " --json");

@@ -10,7 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
-#include "cli/statistics.hpp"
+#include "cli/measures.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/run/runner.hpp"
@@ -31,10 +31,7 @@ struct Row {
 };
 
 // Table II of the paper: |O_r|, time (s), iterations, success (%), by object count.
-struct PaperColumn {
-  double removed, seconds, iterations, success;
-};
-const std::map<int, PaperColumn> kTableII{{12, {2.84, 18.85, 3.14, 95}}, {16, {4.02, 27.45, 5.2, 90}}, {20, {4.86, 36.01, 6.56, 90}}};
+const std::map<int, PaperMeasures> kTableII{{12, {2.84, 18.85, 3.14, 95}}, {16, {4.02, 27.45, 5.2, 90}}, {20, {4.86, 36.01, 6.56, 90}}};
 
 std::uint64_t counter(const Result& r, const char* key) { return r.counters.count(key) ? r.counters.at(key) : 0; }
 
@@ -74,56 +71,25 @@ int bench_occlusion(const BenchArgs& args) {
 
   std::cout << "Occlusion (Tian et al., Table II): " << args.instances << " generated shelves per size, " << args.runs
             << " run(s) each, " << args.time_limit << " s per run\n\n";
-  std::cout << std::left << std::setw(26) << "measure";
-  for (int n : sizes) std::cout << std::setw(24) << ("|O| = " + std::to_string(n) + " (paper)");
-  std::cout << "\n" << std::fixed;
   bool goals_met = true;
   nlohmann::ordered_json summary = nlohmann::ordered_json::array();
-  std::map<int, std::vector<std::string>> cells;
+  std::vector<std::string> headers;
+  std::vector<std::vector<std::string>> columns;
   for (int n : sizes) {
-    std::vector<double> removed, times, iterations, all_times;
-    int solved = 0, total = 0;
+    Measures m;
     for (const Row& r : rows) {
-      if (r.objects != n) continue;
-      ++total;
-      all_times.push_back(r.seconds);
-      if (!r.solved) continue;
-      ++solved;
-      removed.push_back(double(r.removed));
-      times.push_back(r.seconds);
-      iterations.push_back(double(r.iterations));
+      if (r.objects == n) m.add(r.solved, double(r.removed), r.seconds, double(r.iterations));
     }
-    const double success = total ? 100.0 * solved / total : 0.0;
-    const double median_time = times.empty() ? 0.0 : median(times);
-    goals_met = goals_met && success >= 95.0 && !times.empty() && median_time <= 1.0;
-    const auto paper = kTableII.find(n);
-    auto cell = [&](double ours, double theirs, int digits) {
-      std::ostringstream out;
-      out << std::fixed << std::setprecision(digits) << ours;
-      if (paper != kTableII.end()) out << " (" << std::setprecision(digits) << theirs << ")";
-      return out.str();
-    };
-    const PaperColumn p = paper != kTableII.end() ? paper->second : PaperColumn{0, 0, 0, 0};
-    std::ostringstream median_cell;
-    median_cell << std::fixed << std::setprecision(2) << median_time;
-    cells[n] = {cell(removed.empty() ? 0.0 : mean(removed), p.removed, 2), cell(times.empty() ? 0.0 : mean(times), p.seconds, 2),
-                median_cell.str(), cell(iterations.empty() ? 0.0 : mean(iterations), p.iterations, 2),
-                cell(success, p.success, 0)};
-    summary.push_back({{"objects", n}, {"runs", total}, {"solved", solved}, {"success_rate", success / 100},
-                       {"removed_mean", removed.empty() ? 0.0 : mean(removed)}, {"time_mean_s", times.empty() ? 0.0 : mean(times)},
-                       {"time_median_s", median_time}, {"iterations_mean", iterations.empty() ? 0.0 : mean(iterations)},
-                       {"paper", paper != kTableII.end() ? nlohmann::ordered_json{{"removed", p.removed}, {"time_s", p.seconds},
-                                                                                  {"iterations", p.iterations}, {"success_rate", p.success / 100}}
-                                                         : nlohmann::ordered_json(nullptr)}});
+    goals_met = goals_met && m.success() >= 95.0 && m.solved > 0 && m.time_median() <= 1.0;
+    const auto paper = kTableII.count(n) ? std::optional<PaperMeasures>(kTableII.at(n)) : std::nullopt;
+    headers.push_back("|O| = " + std::to_string(n) + " (paper)");
+    columns.push_back(m.cells(paper));
+    nlohmann::ordered_json j{{"objects", n}};
+    j.update(m.json(paper));
+    summary.push_back(j);
   }
-  const char* labels[] = {"|O_r| (target included)", "time, mean (s)", "time, median (s)", "# iteration", "success rate (%)"};
-  for (int k = 0; k < 5; ++k) {
-    std::cout << std::setw(26) << labels[k];
-    for (int n : sizes) std::cout << std::setw(24) << cells[n][static_cast<std::size_t>(k)];
-    std::cout << "\n";
-  }
-  std::cout << "\nMeasures other than the success rate are over solved runs; the paper gives means only.\n"
-            << "The paper's times are for its implementation and machine; its |O_r| for its scenes (ours hide every "
+  print_measures(std::cout, headers, columns, 24);
+  std::cout << "The paper's times are for its implementation and machine; its |O_r| for its scenes (ours hide every "
                "object behind the one in front, in columns of 4: the target needs at least 3 removals).\n"
             << "goal: success >= 95 % and median <= 1 s for every size: " << (goals_met ? "met" : "NOT met") << "\n";
   if (!args.csv.empty()) {

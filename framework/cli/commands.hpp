@@ -160,6 +160,10 @@ int bench_collision(const BenchArgs& args);
 /// The occlusion planner on generated occlusion shelves (Table II of Tian et al.);
 /// exit code 0 when success >= 95 % and the median time <= 1 s for every size, else 1.
 int bench_occlusion(const BenchArgs& args);
+/// retrieval_graph with a mobile manipulator on generated tables, initial L = 1,
+/// |n_g.NodeCol| and |O| (Table III of Tian et al.); exit code 0 when L = 1 moves at
+/// most 2.2 objects on average with a median <= 1 s, else 1.
+int bench_mobile(const BenchArgs& args);
 /// Pushing physics speed (times real time) on a generated shelf; exit code 0 when the
 /// 10-object goal (>= 20) is met or another size was asked for, 1 otherwise.
 int bench_physics(const BenchArgs& args);

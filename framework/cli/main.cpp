@@ -205,10 +205,11 @@ int main(int argc, char** argv) {
       "'samplers' times grasp, motion and pick-and-place queries; 'retrieval' runs the retrieval planners on shelves "
       "(Tables I, V and VI of Tian et al.); 'physics' times the pushing physics against real time; 'push' runs RRT, "
       "KPIECE and guided reaching through clutter on the bundled shelves (Fig. 6 of Papallas & Dogar); 'occlusion' runs the "
-      "occlusion planner on generated occlusion shelves (Table II of Tian et al.)");
+      "occlusion planner on generated occlusion shelves (Table II of Tian et al.); 'mobile' runs retrieval_graph with "
+      "pr2_mobile on generated tables for three initial exploration limits (Table III)");
   bench->add_option("what", bench_args.what, "What to measure")
       ->required()
-      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval", "physics", "push", "occlusion"}));
+      ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval", "physics", "push", "occlusion", "mobile"}));
   bench->add_option("--seed", bench_args.seed, "Seed of the generated scene and samples")->capture_default_str();
   bench->add_option("--samples", bench_args.samples, "collision: queries per measurement; samplers: 1000 per generated scene")->capture_default_str()->check(CLI::Range(500, 10000000));
   auto* objects_option = bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf (physics: default 10)")->capture_default_str()->check(CLI::Range(1, 60));
@@ -260,7 +261,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 10.0));
   add_verbosity(*bench, bench_args.verbosity, "Same output as the default");
   bench_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
-  bench->add_option("--robot", bench_args.robot, "Robot description (a UR arm: the bench times analytic IK)")
+  auto* bench_robot = bench->add_option("--robot", bench_args.robot,
+                                        "Robot description (collision: a UR arm, the bench times analytic IK; mobile: "
+                                        "default pr2_mobile)")
       ->capture_default_str()
       ->check(CLI::ExistingFile);
 
@@ -306,6 +309,11 @@ int main(int argc, char** argv) {
       if (bench_args.what == "samplers") return cli::bench_samplers(bench_args);
       if (bench_args.what == "retrieval") return cli::bench_retrieval(bench_args);
       if (bench_args.what == "push") return cli::bench_push(bench_args);
+      if (bench_args.what == "mobile") {
+        if (!scenes_option->count()) bench_args.instances = 20;
+        if (!bench_robot->count()) bench_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/pr2_mobile.yaml";
+        return cli::bench_mobile(bench_args);
+      }
       if (bench_args.what == "occlusion") {
         if (!scenes_option->count()) bench_args.instances = 20;  // the paper's 20 instances per size
         return cli::bench_occlusion(bench_args);

@@ -4,7 +4,9 @@
 // approach (pre-grasp to grasp, fingers open), the grasp and the lift (object held)
 // are collision-free; otherwise the answer names the movable objects in the way.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <span>
 
@@ -22,6 +24,22 @@ using plugin::GraspMotion;
 
 constexpr double kPi = M_PI;
 
+// The configuration variables of a mobile base at the root: prismatic along x,
+// prismatic along y, then a turn about z (pr2_mobile's base_x, base_y, base_yaw).
+std::optional<std::array<int, 3>> planar_base(const robot::RobotModel& model) {
+  const auto& variables = model.variables();
+  if (variables.size() < 4) return std::nullopt;
+  auto is = [&](std::size_t v, robot::JointType type, const Eigen::Vector3d& axis) {
+    const robot::Joint& j = model.joints()[static_cast<std::size_t>(variables[v])];
+    return j.type == type && j.axis.isApprox(axis) && j.parent_T_joint.linear().isIdentity(1e-9);
+  };
+  if (!is(0, robot::JointType::prismatic, Eigen::Vector3d::UnitX()) || !is(1, robot::JointType::prismatic, Eigen::Vector3d::UnitY()) ||
+      !is(2, robot::JointType::revolute, Eigen::Vector3d::UnitZ())) {
+    return std::nullopt;
+  }
+  return std::array<int, 3>{0, 1, 2};
+}
+
 class SideGrasps final : public plugin::GraspSampler {
  public:
   void configure(const Parameters& p) override {
@@ -35,6 +53,8 @@ class SideGrasps final : public plugin::GraspSampler {
     steps_ = p.get_int("approach_steps", steps_);
     resolution_ = p.get_double("resolution", resolution_);
     max_usable_ = p.get_int("max_usable", max_usable_);
+    base_distance_ = p.get_double("base_distance", base_distance_);
+    p.require(base_distance_ >= 0 && base_distance_ < 3, "base_distance", "must be 0 (off) to 3 m");
     p.require(directions_ >= 1 && directions_ <= 64, "directions", "must be 1 to 64");
     p.require(spread_ >= 0 && spread_ <= 180, "spread", "must be 0 to 180 (degrees either side)");
     p.require(!heights_.empty() && std::all_of(heights_.begin(), heights_.end(), [](double h) { return h > 0 && h < 1; }),
@@ -192,6 +212,23 @@ class SideGrasps final : public plugin::GraspSampler {
     Eigen::VectorXd open_seed = seed;
     if (finger) open_seed[*finger] = grasp.finger_open;
     grasp.ik_solutions = robot.ik().solve(base_T_world * grasp.world_T_gripper, open_seed);
+    if (base_distance_ > 0) {
+      if (const auto base = planar_base(*robot.model())) {
+        // A mobile base first stands behind the grasp, facing along its approach (Tian
+        // et al., Section V-B: base placements around the clutter): IK from where the
+        // robot is rarely finds the far side of a table.
+        const Eigen::Vector3d approach = grasp.world_T_gripper.rotation().col(2);
+        const Eigen::Vector2d a = approach.head<2>().normalized();
+        Eigen::VectorXd placed = open_seed;
+        const Eigen::Vector3d at = (base_T_world * grasp.world_T_gripper).translation();
+        placed[(*base)[0]] = at.x() - base_distance_ * a.x();
+        placed[(*base)[1]] = at.y() - base_distance_ * a.y();
+        placed[(*base)[2]] = std::atan2(a.y(), a.x());
+        auto behind = robot.ik().solve(base_T_world * grasp.world_T_gripper, placed);
+        behind.insert(behind.end(), grasp.ik_solutions.begin(), grasp.ik_solutions.end());
+        grasp.ik_solutions = std::move(behind);
+      }
+    }
     if (grasp.ik_solutions.empty()) {
       answer.blocked.push_back({grasp, {}, "unreachable: no IK solution", false});
       return;
@@ -271,7 +308,9 @@ class SideGrasps final : public plugin::GraspSampler {
   std::int64_t steps_ = 5;
   double resolution_ = 0.02;  // rad between checks along straight segments
   std::int64_t max_usable_ = 3;
+  double base_distance_ = 0.0;  // m behind each grasp a mobile base is first placed; 0: off
 };
+
 
 }  // namespace
 

@@ -1,0 +1,133 @@
+// `cluttertamp bench mobile`: retrieval_graph with a mobile manipulator on generated
+// tables reachable from every side, for the three initial exploration limits, beside
+// Tian et al.'s Table III.
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/shelf_support.hpp"
+#include "cli/measures.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/placement_sampler.hpp"
+#include "cluttertamp/plugin/registry.hpp"
+#include "cluttertamp/plugin/task_planner.hpp"
+#include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/scenes/shelf_generator.hpp"
+
+namespace cluttertamp::cli {
+
+namespace {
+
+struct Strategy {
+  const char* parameter;  // retrieval_graph's initial_L
+  const char* label;
+  PaperMeasures paper;    // Table III
+};
+const Strategy kStrategies[] = {{"one", "L = 1", {2.22, 44.23, 1.12, 90}},
+                                {"nodecol", "L = |n_g.NodeCol|", {2.33, 42.57, 1.22, 90}},
+                                {"objects", "L = |O|", {3.45, 49.25, 1.0, 95}}};
+
+struct Row {
+  std::string strategy;
+  std::uint64_t scene_seed = 0;
+  int run = 0;
+  bool solved = false;
+  double seconds = 0.0;
+  std::size_t removed = 0;
+  std::uint64_t iterations = 0;
+  std::string reason;
+};
+
+}  // namespace
+
+int bench_mobile(const BenchArgs& args) {
+  const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
+  const plugin::Registry registry(plugin::Registry::default_search_paths());
+  // Grasps from every side, the base first placed behind each (Section V-B).
+  plugin::Samplers samplers = shipped_samplers(registry);
+  Parameters grasp;
+  grasp.set("spread", 180.0);
+  grasp.set("base_distance", 0.6);
+  samplers.grasp = registry.create<plugin::GraspSampler>("grasp_side", grasp, {"bench mobile", 0, 0});
+  const int objects = args.sizes.empty() ? 20 : args.sizes.front();
+  std::vector<Row> rows;
+  for (const Strategy& s : kStrategies) {
+    Parameters p;
+    p.set("initial_L", std::string(s.parameter));
+    p.set("area_margin", 0.3);
+    const auto planner = registry.create<plugin::TaskPlanner>("retrieval_graph", p, {"bench mobile", 0, 0});
+    for (int i = 0; i < args.instances; ++i) {
+      const std::uint64_t scene_seed = args.seed + static_cast<std::uint64_t>(i);
+      scenes::TableSpec spec;
+      spec.objects = objects;
+      Scene scene;
+      try {
+        scene = scenes::generate_table_scene(spec, scene_seed);
+      } catch (const std::runtime_error& e) {
+        throw InputError({"--sizes", 0, 0}, std::to_string(objects) + " objects: " + e.what());
+      }
+      for (int r = 0; r < args.runs; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Result result = plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const std::uint64_t iterations = result.counters.count("iterations") ? result.counters.at("iterations") : 0;
+        rows.push_back({s.parameter, scene_seed, r, result.solved, seconds, result.moved_objects.size(), iterations,
+                        result.reason});
+      }
+      if (args.verbosity != Verbosity::quiet) std::cerr << "\r  " << s.label << ": table " << i + 1 << " of " << args.instances << std::flush;
+    }
+    if (args.verbosity != Verbosity::quiet) std::cerr << "\n";
+  }
+
+  std::cout << "Mobile manipulation (Tian et al., Table III): " << robot->name() << ", " << args.instances << " generated tables of "
+            << objects << " objects, " << args.runs << " run(s) each, " << args.time_limit << " s per run\n\n";
+  bool goals_met = true;
+  nlohmann::ordered_json summary = nlohmann::ordered_json::array();
+  std::vector<std::string> headers;
+  std::vector<std::vector<std::string>> columns;
+  for (const Strategy& s : kStrategies) {
+    Measures m;
+    for (const Row& r : rows) {
+      if (r.strategy == s.parameter) m.add(r.solved, double(r.removed), r.seconds, double(r.iterations));
+    }
+    if (std::string(s.parameter) == "one") goals_met = m.solved > 0 && Measures::mean_of(m.removed) <= 2.2 && m.time_median() <= 1.0;
+    headers.push_back(std::string(s.label) + " (paper)");
+    columns.push_back(m.cells(s.paper));
+    nlohmann::ordered_json j{{"initial_L", s.parameter}};
+    j.update(m.json(s.paper));
+    summary.push_back(j);
+  }
+  print_measures(std::cout, headers, columns);
+  std::cout << "The paper's figures are for a PR2 on its own tables and machine.\n"
+            << "goal (L = 1): |O_r| <= 2.2 and median <= 1 s: " << (goals_met ? "met" : "NOT met") << "\n";
+  if (!args.csv.empty()) {
+    std::ofstream csv(args.csv);
+    csv << "initial_L,scene_seed,run,solved,time_s,removed,iterations,reason\n";
+    for (const Row& r : rows) {
+      std::string reason = r.reason;
+      for (char& c : reason) c = c == ',' || c == '\n' ? ';' : c;
+      csv << r.strategy << "," << r.scene_seed << "," << r.run << "," << (r.solved ? 1 : 0) << "," << r.seconds << "," << r.removed
+          << "," << r.iterations << "," << reason << "\n";
+    }
+    if (!csv) throw InputError({args.csv.string(), 0, 0}, "cannot write the CSV file");
+  }
+  if (!args.json.empty()) {
+    std::ofstream json(args.json);
+    json << nlohmann::ordered_json{{"bench", "mobile"}, {"robot", robot->name()}, {"objects", objects},
+                                   {"tables", args.instances}, {"runs", args.runs}, {"time_limit_s", args.time_limit},
+                                   {"strategies", summary}}
+                .dump(2)
+         << "\n";
+    if (!json) throw InputError({args.json.string(), 0, 0}, "cannot write the JSON file");
+  }
+  return goals_met ? run::ExitCode::solved : run::ExitCode::no_plan;
+}
+
+}  // namespace cluttertamp::cli
