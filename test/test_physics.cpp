@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "cluttertamp/physics/push_world.hpp"
+#include "test_fixtures.hpp"
 
 namespace cluttertamp {
 namespace {
@@ -20,15 +21,9 @@ constexpr double kBoardTop = 0.40;  // m
 Scene board_scene(double x, double y, bool wall = false) {
   Scene s;
   s.name = "board";
-  s.fixed.push_back({"board", Box{{0.5, 1.0, 0.02}}, Eigen::Isometry3d(Eigen::Translation3d(0.85, 0, kBoardTop - 0.01)), {}});
-  if (wall) s.fixed.push_back({"wall", Box{{0.02, 1.0, 0.5}}, Eigen::Isometry3d(Eigen::Translation3d(1.06, 0, kBoardTop + 0.25)), {}});
-  SceneObject c;
-  c.id = "can";
-  c.shape = Cylinder{0.035, 0.25};
-  c.world_T_object = Eigen::Translation3d(x, y, kBoardTop + 0.125);
-  c.mass = 0.3;
-  c.friction = 0.5;
-  s.objects.push_back(c);
+  test::add_box(s, "board", {0.5, 1.0, 0.02}, {0.85, 0, kBoardTop - 0.01});
+  if (wall) test::add_box(s, "wall", {0.02, 1.0, 0.5}, {1.06, 0, kBoardTop + 0.25});
+  s.objects[test::add_cylinder(s, "can", x, y, 0.035)].friction = 0.5;
   s.target = 0;
   return s;
 }

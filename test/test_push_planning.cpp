@@ -12,6 +12,7 @@
 #include "cluttertamp/physics/push_planning.hpp"
 #include "cluttertamp/plugin/push_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
+#include "test_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace cluttertamp {
@@ -28,16 +29,11 @@ Scene board_scene(const std::vector<Eigen::Vector2d>& at) {
   s.name = "board";
   s.workspace = Eigen::AlignedBox3d(Eigen::Vector3d(-0.5, -1, 0), Eigen::Vector3d(1.5, 1, 1.5));
   s.world_T_exit = Eigen::Translation3d(0.45, 0, 0.53);
-  s.fixed.push_back({"board", Box{{0.5, 1.0, 0.02}}, Eigen::Isometry3d(Eigen::Translation3d(0.85, 0, kBoardTop - 0.01)), {}});
-  s.fixed.push_back({"back", Box{{0.02, 1.0, 0.5}}, Eigen::Isometry3d(Eigen::Translation3d(1.09, 0, kBoardTop + 0.25)), {}});
+  test::add_box(s, "board", {0.5, 1.0, 0.02}, {0.85, 0, kBoardTop - 0.01});
+  test::add_box(s, "back", {0.02, 1.0, 0.5}, {1.09, 0, kBoardTop + 0.25});
   for (std::size_t i = 0; i < at.size(); ++i) {
-    SceneObject c;
-    c.id = i == 0 ? "target" : "o" + std::to_string(i);
-    c.shape = Cylinder{0.035, 0.25};
-    c.world_T_object = Eigen::Translation3d(at[i].x(), at[i].y(), kBoardTop + 0.125);
-    c.mass = 0.3;
-    c.friction = 0.5;
-    s.objects.push_back(c);
+    const ObjectIndex o = test::add_cylinder(s, i == 0 ? "target" : "o" + std::to_string(i), at[i].x(), at[i].y(), 0.035);
+    s.objects[o].friction = 0.5;
   }
   s.target = 0;
   return s;
@@ -132,7 +128,8 @@ TEST_F(PushSamplerTest, ASinglePushMovesAnIsolatedCylinderIntoItsGoalRegion) {
     ASSERT_TRUE(answer.step) << answer.failure->reason;
     ASSERT_TRUE(answer.resulting_state);
     EXPECT_LE((answer.resulting_state->world_T_objects[1].translation().head<2>() - centre).norm(), 0.04);
-    EXPECT_NEAR(answer.resulting_state->world_T_objects[1].translation().z(), kBoardTop + 0.125, 1e-9) << "upright";
+    EXPECT_NEAR(answer.resulting_state->world_T_objects[1].translation().z(), initial.world_T_objects[1].translation().z(), 1e-9)
+        << "upright, at its height";
     EXPECT_EQ(answer.step->action, "push");
     ASSERT_TRUE(answer.step->trajectory);
     EXPECT_EQ(answer.step->trajectory->joint_names, (std::vector<std::string>{"gripper_x", "gripper_y", "gripper_yaw"}));

@@ -111,10 +111,8 @@ int bench_mobile(const BenchArgs& args) {
     std::ofstream csv(args.csv);
     csv << "initial_L,scene_seed,run,solved,time_s,removed,iterations,reason\n";
     for (const Row& r : rows) {
-      std::string reason = r.reason;
-      for (char& c : reason) c = c == ',' || c == '\n' ? ';' : c;
       csv << r.strategy << "," << r.scene_seed << "," << r.run << "," << (r.solved ? 1 : 0) << "," << r.seconds << "," << r.removed
-          << "," << r.iterations << "," << reason << "\n";
+          << "," << r.iterations << "," << csv_field(r.reason) << "\n";
     }
     if (!csv) throw InputError({args.csv.string(), 0, 0}, "cannot write the CSV file");
   }

@@ -96,10 +96,8 @@ int bench_occlusion(const BenchArgs& args) {
     std::ofstream csv(args.csv);
     csv << "objects,scene_seed,run,solved,time_s,removed,iterations,observed_initially,found_by_touch,reason\n";
     for (const Row& r : rows) {
-      std::string reason = r.reason;
-      for (char& c : reason) c = c == ',' || c == '\n' ? ';' : c;
       csv << r.objects << "," << r.scene_seed << "," << r.run << "," << (r.solved ? 1 : 0) << "," << r.seconds << "," << r.removed
-          << "," << r.iterations << "," << r.observed_initially << "," << r.found_by_touch << "," << reason << "\n";
+          << "," << r.iterations << "," << r.observed_initially << "," << r.found_by_touch << "," << csv_field(r.reason) << "\n";
     }
     if (!csv) throw InputError({args.csv.string(), 0, 0}, "cannot write the CSV file");
   }

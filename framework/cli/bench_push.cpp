@@ -199,11 +199,9 @@ int bench_push(const BenchArgs& args) {
                 setting.name == "guided" ? r.time.task_planning : 0.0, counter(r, "propagations"),
                 counter(r, "guides"), counter(r, "guides_satisfied"), r.reason};
         if (csv) {
-          std::string reason = run.reason;
-          std::replace(reason.begin(), reason.end(), '"', '\'');
           csv << run.scene << ',' << run.setting << ',' << run.seed << ',' << run.solved << ',' << run.seconds << ','
               << run.guidance_seconds << ',' << run.propagations << ',' << run.guides << ',' << run.guides_satisfied
-              << ",\"" << reason << "\"\n";
+              << ',' << csv_field(run.reason) << "\n";
         }
         runs.push_back(std::move(run));
       }

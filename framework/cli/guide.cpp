@@ -157,9 +157,12 @@ int serve(const GuideArgs& args, const Problem& problem) {
   // (planning holds `planning`, never `shown`), or are told the session is busy.
   std::mutex planning, shown;
   std::string state = session.state_json();
+  // Publishes the session's state to readers; returns it for the reply.
   auto show = [&] {
+    std::string text = session.state_json();
     const std::lock_guard lock(shown);
-    state = session.state_json();
+    state = text;
+    return Json::parse(text);
   };
   const bool quiet = args.verbosity == Verbosity::quiet;
 
@@ -180,9 +183,9 @@ int serve(const GuideArgs& args, const Problem& problem) {
     const run::GuidedSession::Outcome out = session.guide(object, centre, diameter);
     if (!out.planned) return error(res, session.finished() ? 409 : 400, out.message);
     save(session, dir);
-    show();
+    const Json now = show();
     if (!quiet) std::cout << (out.ok ? "  ok     " : "  failed ") << out.message << std::endl;
-    reply(res, 200, {{"ok", out.ok}, {"message", out.message}, {"state", Json::parse(session.state_json())}});
+    reply(res, 200, {{"ok", out.ok}, {"message", out.message}, {"state", now}});
   });
   server.Post("/api/finish", [&](const httplib::Request& req, httplib::Response& res) {
     if (!json_request(req, res)) return;
@@ -191,9 +194,9 @@ int serve(const GuideArgs& args, const Problem& problem) {
     const run::GuidedSession::Outcome out = session.finish();
     if (!out.planned) return error(res, 409, out.message);
     save(session, dir);
-    show();
+    const Json now = show();
     if (!quiet) std::cout << (out.ok ? "  SOLVED " : "  NOT SOLVED ") << out.message << "\n  saved " << dir.string() << std::endl;
-    reply(res, 200, {{"ok", out.ok}, {"message", out.message}, {"state", Json::parse(session.state_json())}});
+    reply(res, 200, {{"ok", out.ok}, {"message", out.message}, {"state", now}});
   });
   server.Get("/replay", [&](const httplib::Request&, httplib::Response& res) {
     const fs::path page = dir / "plan.html";

@@ -3,9 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string>
 #include <vector>
 
 namespace cluttertamp::cli {
+
+/// `text` as one CSV field (RFC 4180): quoted, inner quotes doubled.
+inline std::string csv_field(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
 
 /// The middle value (the mean of the two middle values for an even count); 0 when empty.
 inline double median(std::vector<double> v) {

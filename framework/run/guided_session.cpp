@@ -50,6 +50,7 @@ struct GuidedSession::Impl {
   WorldState state;
   Eigen::Vector3d gripper;
   Eigen::AlignedBox2d shelf;  // where guide regions must lie: the support
+  Eigen::AlignedBox2d view;   // what the page shows: the gripper's region
   Result result;
   io::HumanGuidance record;
   physics::Guidance guidance;  // the satisfied guides
@@ -89,6 +90,7 @@ GuidedSession::GuidedSession(Problem problem, const plugin::Registry& registry, 
   s.state.robot_configuration = s.problem.robot.initial_configuration();
   s.gripper = physics::gripper_at_exit(s.problem.scene);
   s.shelf = physics::support_region(s.problem.scene, s.state, physics::PushSettings{});
+  s.view = physics::PushWorld(s.problem.scene, s.state).gripper_region();
   s.result.reason = "the operator has not let the robot finish";
 }
 
@@ -217,7 +219,7 @@ std::string GuidedSession::state_json() const {
   const io::RunInfo info = s.info();
   Json out{{"problem", s.problem.name},
            {"shelf", box_json(s.shelf)},
-           {"view", box_json(physics::PushWorld(scene, s.state).gripper_region())},
+           {"view", box_json(s.view)},
            {"walls", walls},
            {"objects", objects},
            {"gripper", {{"pose", {s.gripper.x(), s.gripper.y(), s.gripper.z()}},

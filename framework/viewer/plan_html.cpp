@@ -74,7 +74,7 @@ void replace_once(std::string& text, const std::string& marker, const std::strin
 class Replayer {
  public:
   Replayer(const Problem& problem, std::string name, double frame_step)
-      : problem_(problem), scene_(problem.scene), name_(std::move(name)), frame_step_(frame_step),
+      : scene_(problem.scene), name_(std::move(name)), frame_step_(frame_step),
         state_(WorldState::initial(problem.scene)) {
     if (problem.robot.loaded) {
       robot_ = problem.robot.loaded.get();
@@ -356,7 +356,6 @@ class Replayer {
     return (path.states.size() - 1) * dt;
   }
 
-  const Problem& problem_;
   const Scene& scene_;
   std::string name_;
   double frame_step_;
