@@ -416,9 +416,12 @@ TEST_F(Cli, BenchRetrievalWritesTableCsvAndJson) {
   std::string line;
   int rows = 0, solved = 0;
   std::getline(in, line);
-  EXPECT_EQ(line, "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations,table,planner,scenes,sequences");
+  EXPECT_EQ(line,
+            "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations,table,planner,scenes,sequences,"
+            "seed,scene");
   while (std::getline(in, line)) {
     ++rows;
+    EXPECT_NE(line.find(",1,\"shelf12-seed"), std::string::npos) << line;  // run seed 1, the scene's name
     if (line.rfind("12,", 0) == 0 && line.find(",0,0,1,") != std::string::npos) ++solved;
   }
   EXPECT_EQ(rows, 4);  // three initial limits and the traversability graph

@@ -114,5 +114,38 @@ TEST(RetrievalGraph, UnreachableGoalsAndBlockedObjects) {
   EXPECT_FALSE(g.node(goal).path_col.has_value());
 }
 
+// Two grasps of the target blocked by two objects each, fed back as branches from the
+// goal to a new goal: the entry cost ranks them where |PathCol| ties, and once O2
+// turns out to need O4 first (a guard), the other branch costs less and wins.
+TEST(RetrievalGraph, GoalBranchesRankByEntryCostUntilFeedbackPricesThem) {
+  RetrievalGraph g(position);
+  const int s = g.add_node({}, {0.4, 0.0});
+  const int goal = g.add_node({}, {1.0, 0.0});
+  g.add_edge(s, goal);
+  const int joined = g.add_node({}, {1.0, 0.0});
+  const int first = g.add_node({1, 2}, {0.65, 0.3});
+  const int second = g.add_node({5, 8}, {0.75, -0.05});
+  for (int branch : {first, second}) {
+    g.add_edge(goal, branch);
+    g.add_edge(branch, joined);
+  }
+  g.set_start(s);
+  g.set_goal(joined);
+  g.update();
+  ASSERT_TRUE(g.removal_sequence().has_value());
+  // By distance alone the nearer pair wins: O8 and O5.
+  EXPECT_EQ(g.removal_sequence()->nodes, (std::vector<int>{s, goal, second, joined}));
+  g.set_entry_cost(second, 100.0);
+  g.update();
+  EXPECT_EQ(g.removal_sequence()->nodes, (std::vector<int>{s, goal, first, joined}));
+  EXPECT_EQ(g.node(joined).path_col->size(), 2u);
+  g.guard_object(2, {4}, position(4));
+  g.update();
+  const auto r = g.removal_sequence();
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->objects_in_order, (ObjectSet{8, 5}));
+  EXPECT_EQ(g.node(joined).path_col->size(), 2u);
+}
+
 }  // namespace
 }  // namespace cluttertamp::retrieval

@@ -135,7 +135,7 @@ class Bench {
     if (!args.csv.empty()) {
       csv_.open(args.csv);
       csv_ << "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations,table,planner,scenes,"
-              "sequences\n";
+              "sequences,seed,scene\n";
     }
   }
 
@@ -189,7 +189,7 @@ class Bench {
       csv_ << row.objects << "," << row.initial_limit << "," << instance << "," << run << "," << r.solved << ","
            << r.moved_objects.size() << "," << seconds << "," << r.time.task_planning << "," << r.time.motion_planning
            << "," << counter(r, "iterations") << "," << row.table << "," << row.planner << "," << row.scenes << ","
-           << counter(r, "planning_sequences") << "\n";
+           << counter(r, "planning_sequences") << "," << seed << "," << csv_field(scene.name) << "\n";
     }
     ++done_;
     if (args_.verbosity != Verbosity::quiet) {

@@ -107,7 +107,7 @@ void RetrievalGraph::update() {
       std::set_difference(next.node_col.begin(), next.node_col.end(), graph_[u].path_col->begin(), graph_[u].path_col->end(),
                           std::back_inserter(fresh));
       Eigen::Vector2d from = last[u];
-      double d = graph_[u].path_distance;
+      double d = graph_[u].path_distance + next.entry_cost;
       while (!fresh.empty()) {
         auto nearest = std::min_element(fresh.begin(), fresh.end(), [&](ObjectIndex a, ObjectIndex b) {
           return (position_(a) - from).norm() < (position_(b) - from).norm();

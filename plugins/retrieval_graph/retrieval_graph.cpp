@@ -39,6 +39,7 @@ struct Settings {
   bool restart = true;  // after every limit failed: forget the feedback, draw afresh
   bool push = false;    // Section VI-G: push instead of pick-and-place where a push works
   double area_margin = 0.0;  // m beyond the objects and x_s where the roadmap samples (Section V-B: all around)
+  int goal_branches = 6;     // target grasps fed back side by side; 1: the paper's one node
 
   void read(const Parameters& p) {
     roadmap.read(p);
@@ -48,6 +49,8 @@ struct Settings {
     shorten_time = p.get_double("shorten_time", shorten_time);
     restart = p.get_bool("restart", restart);
     area_margin = p.get_double("area_margin", area_margin);
+    goal_branches = static_cast<int>(p.get_int("goal_branches", goal_branches));
+    p.require(goal_branches >= 1 && goal_branches <= 100, "goal_branches", "must be 1 to 100");
     p.require(area_margin >= 0 && area_margin <= 5, "area_margin", "must be 0 to 5 m");
     p.require(shorten_time > 0, "shorten_time", "must be positive (seconds)");
     p.require(initial_limit == "one" || initial_limit == "nodecol" || initial_limit == "objects", "initial_L",
@@ -64,12 +67,17 @@ using Endpoint = std::variant<std::size_t, int>;
 // it: whichever way a path comes, the blockers go first); or before the start node (an
 // object every path meets first is blocked); or after the goal node, the target's
 // position (the target itself cannot be reached): on every path.
+// A target grasp failure may also name other grasps' blockers (`alternatives`): each
+// becomes a branch from the goal, so the search takes whichever way costs least once
+// later feedback prices them (on Table VI's min4 shelf two grasps tie at two blockers,
+// and one of them needs a third object moved first).
 struct Feedback {
   enum class Where { edge, object, before_start, after_goal };
   Endpoint before, after;
   ObjectSet objects;
   Where where = Where::edge;
   ObjectIndex object = 0;  ///< Where::object: the object the blockers must precede
+  std::vector<ObjectSet> alternatives = {};  ///< Where::after_goal: other grasps' blockers
 };
 
 class Search {
@@ -108,17 +116,19 @@ class Search {
     for (const Feedback& f : feedback_) {
       using Where = Feedback::Where;
       const ObjectSet live = with_blockers(removable(f.objects), f.where == Where::object ? f.object : target_);
-      Eigen::Vector2d where = Eigen::Vector2d::Zero();
-      for (ObjectIndex o : live) where += position(o) / double(live.size());
       if (f.where == Where::object) {
-        const auto guards = g.guard_object(f.object, live, live.empty() ? position(f.object) : where);
+        const auto guards = g.guard_object(f.object, live, centre(live, position(f.object)));
         for (int guard : guards) guard_of_[guard] = static_cast<int>(feedback_node.size());
         feedback_node.push_back(guards.empty() ? g.goal() : guards.front());
         continue;
       }
+      if (f.where == Where::after_goal && !f.alternatives.empty()) {
+        add_goal_branches(g, f, feedback_node);
+        continue;
+      }
       const int a = f.where == Where::edge ? resolve(f.before) : f.where == Where::before_start ? g.start() : g.goal();
       const int b = f.where == Where::edge ? resolve(f.after) : a;
-      const int n = g.add_node(live, live.empty() ? g.node(b).position : where);
+      const int n = g.add_node(live, centre(live, g.node(b).position));
       if (f.where != Where::edge) {
         g.add_edge(n, a);
         f.where == Where::before_start ? g.set_start(n) : g.set_goal(n);
@@ -133,6 +143,42 @@ class Search {
     for (ObjectIndex o : blocked_) g.block_object(o);
     g.update();
     return g;
+  }
+
+  // Every grasp's blockers of `f` on a branch from the goal to a new goal. Adds the
+  // same number of feedback nodes (branches, then the new goal) whatever the graph.
+  // A branch that failed twice with nothing to blame keeps its node but loses its edges.
+  // Branches rank by kBranchRank metres each: more than any tie-break distance in a shelf.
+  static constexpr double kBranchRank = 100.0;
+  void add_goal_branches(retrieval::RetrievalGraph& g, const Feedback& f, std::vector<int>& feedback_node) {
+    const int goal = g.goal();
+    const int joined = g.add_node({}, g.node(goal).position);
+    std::vector<ObjectSet> sets{f.objects};
+    sets.insert(sets.end(), f.alternatives.begin(), f.alternatives.end());
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+      const ObjectSet& set = sets[k];
+      const ObjectSet live = with_blockers(removable(set), target_);
+      const int branch = g.add_node(live, centre(live, g.node(goal).position));
+      // Among equally blocked grasps, the sampler's order (its least blocked first).
+      g.set_entry_cost(branch, kBranchRank * static_cast<double>(k));
+      const int index = static_cast<int>(feedback_node.size());
+      branches_.insert(index);
+      if (!dead_branches_.count(index)) {
+        g.add_edge(goal, branch);
+        g.add_edge(branch, joined);
+      }
+      feedback_node.push_back(branch);
+    }
+    g.set_goal(joined);
+    feedback_node.push_back(joined);
+  }
+
+  // Where a feedback node with `objects` lies in the plane: their mean initial position.
+  Eigen::Vector2d centre(const ObjectSet& objects, const Eigen::Vector2d& if_empty) const {
+    if (objects.empty()) return if_empty;
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (ObjectIndex o : objects) sum += initial_.world_T_objects[o].translation().head<2>();
+    return sum / double(objects.size());
   }
 
   Endpoint endpoint(int node) const {
@@ -388,10 +434,18 @@ class Search {
                  const Failure& failure, const WorldState& at_failure, Result& result) {
     retrieval::record_failure_once(result, failure);
     ObjectSet blocking = removable(failure.blocking_objects);
+    // The goal branch (a target grasp's blockers) the path took to the target, if any.
+    std::optional<int> branch;
+    if (object == target_ && failure.stage != "carry" && removal.nodes.size() >= 2) {
+      if (const Endpoint e = endpoint(removal.nodes[removal.nodes.size() - 2]);
+          std::holds_alternative<int>(e) && branches_.count(std::get<int>(e))) {
+        branch = std::get<int>(e);
+      }
+    }
     // A grasp the target or an avoided object blocks cannot be freed: blame another.
     if (!freeable_for(object, failure.blocking_objects)) {
       const auto other = other_grasp_blockers(object, failure, at_failure);
-      if (!other) return avoid(object);
+      if (!other) return branch ? kill_branch(*branch) : avoid(object);
       blocking = *other;
     }
     std::size_t fail = removal.nodes.size() - 1;
@@ -404,7 +458,10 @@ class Search {
     }
     // Nothing to remove would help — or the motion search ran out of time: only a second
     // such failure, after a fresh draw, keeps the graph away from the object.
-    if (blocking.empty()) return ++unexplained_[object] >= 2 && avoid(object);
+    if (blocking.empty()) {
+      if (branch) return ++unexplained_branch_[*branch] >= 2 && kill_branch(*branch);
+      return ++unexplained_[object] >= 2 && avoid(object);
+    }
     if (!seen_failures_[object].insert(blocking).second) {
       // The same object blocked by the same objects again: removing them first did not
       // help (objects blocking each other's least blocked grasps). Feed back the next
@@ -415,8 +472,10 @@ class Search {
       seen_failures_[object].insert(blocking);
     }
     // Reaching the target is needed on every path; carrying it out is this path's.
-    if (object == target_ && failure.stage != "carry") {
-      feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal});
+    if (branch) {  // this grasp's way needs more: after the branch, not on every way
+      feedback_.push_back({*branch, endpoint(removal.nodes.back()), blocking});
+    } else if (object == target_ && failure.stage != "carry") {
+      feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal, 0, other_grasps(object, blocking, at_failure)});
     } else if (fail == 0) {
       feedback_.push_back({{}, {}, blocking, Feedback::Where::before_start});
     } else if (object != target_) {
@@ -451,11 +510,16 @@ class Search {
     ++reseeds_;
     feedback_.clear();
     feedback_nodes_.clear();
+    branches_.clear();
+    dead_branches_.clear();
+    unexplained_branch_.clear();
     guard_of_.clear();
     unexplained_.clear();
     blocked_.clear();
     seen_failures_.clear();
   }
+
+  bool kill_branch(int branch) { return dead_branches_.insert(branch).second; }
 
   // Keeps the retrieval graph away from `object`; the target cannot be avoided.
   bool avoid(ObjectIndex object) {
@@ -477,6 +541,23 @@ class Search {
       if (!best || set.size() < best->size()) best = std::move(set);
     }
     return best;
+  }
+
+  // The distinct blocker sets of `object`'s freeable grasps other than `blocking` and
+  // those fed back before, fewest objects first, at most goal_branches - 1.
+  std::vector<ObjectSet> other_grasps(ObjectIndex object, const ObjectSet& blocking, const WorldState& at_failure) {
+    std::vector<ObjectSet> sets;
+    if (!context_.samplers.grasp || settings_.goal_branches < 2) return sets;
+    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &at_failure});
+    for (const plugin::BlockedGrasp& b : answer.blocked) {
+      if (!b.freeable || !freeable_for(object, b.blocking_objects)) continue;
+      ObjectSet set = removable(b.blocking_objects);
+      if (set.empty() || set == blocking || seen_failures_[object].count(set)) continue;
+      if (std::find(sets.begin(), sets.end(), set) == sets.end()) sets.push_back(std::move(set));
+    }
+    std::stable_sort(sets.begin(), sets.end(), [](const ObjectSet& a, const ObjectSet& b) { return a.size() < b.size(); });
+    if (sets.size() >= static_cast<std::size_t>(settings_.goal_branches)) sets.resize(settings_.goal_branches - 1);
+    return sets;
   }
 
   // solved: the target is out; retry: the world or the graph changed; stuck: neither.
@@ -516,6 +597,8 @@ class Search {
   std::unique_ptr<retrieval::Roadmap> roadmap_;
   std::vector<Feedback> feedback_;
   std::vector<int> feedback_nodes_;
+  std::set<int> branches_, dead_branches_;  // goal branches' feedback nodes (endpoint indices)
+  std::map<int, int> unexplained_branch_;   // failures with nothing to blame, per goal branch
   std::map<int, int> guard_of_;
   std::map<ObjectIndex, int> unexplained_;  // failures with nothing to blame, per object
   std::optional<retrieval::RetrievalGraph> clustered_;  // the roadmap's clusters, no feedback

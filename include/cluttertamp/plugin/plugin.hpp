@@ -13,7 +13,7 @@ namespace cluttertamp::plugin {
 /// value changes layout. The registry refuses plugins built against another value.
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>_<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 6
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 7
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.

@@ -26,6 +26,9 @@ struct GraphNode {
   double path_distance = 0.0;             ///< tie-break: distance between consecutive obstacles
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  ///< where the node lies in the plane
   bool blocked = false;                   ///< holds an object that cannot be removed
+  /// Metres added to the tie-break distance of a path entering the node: ranks
+  /// alternatives of equal |PathCol| that distance cannot (robot feedback nodes).
+  double entry_cost = 0.0;
 };
 
 using Graph = boost::adjacency_list<boost::setS, boost::vecS, boost::undirectedS, GraphNode>;
@@ -42,6 +45,8 @@ class CLUTTERTAMP_API RetrievalGraph {
   void add_edge(int a, int b);
   void remove_edge(int a, int b);
   bool has_edge(int a, int b) const;
+  /// See GraphNode::entry_cost; metres, >= 0.
+  void set_entry_cost(int node, double metres) { graph_[static_cast<std::size_t>(node)].entry_cost = metres; }
   void set_start(int node) { start_ = node; }
   void set_goal(int node) { goal_ = node; }
   int start() const { return start_; }
