@@ -5,6 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -403,6 +407,46 @@ TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
   EXPECT_EQ(run("bench retrieval --table VII").exit_code, 2);
   EXPECT_EQ(run("bench retrieval --table VI --table6-scenes " + (dir_ / "none").string()).exit_code, 2);
   EXPECT_EQ(run("generate --objects 12 --min-removals 1 --output x.yaml").exit_code, 2);  // 2 at least
+}
+
+// Table V compares retrieval_graph with the traversability graph run by run: the JSON's
+// `paired` figures are the means over the runs both solved, as the CSV gives them.
+TEST_F(Cli, BenchRetrievalPairsTableFiveWithItsBaseline) {
+  const fs::path csv = dir_ / "v.csv", json_file = dir_ / "v.json";
+  const CliRun r = run("bench retrieval -q --table V --table5-width 4.5 --scenes 2 --runs 1 --csv " + csv.string() +
+                       " --json " + json_file.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("paired with traversability_graph on the"), std::string::npos) << r.output;
+  std::map<std::string, std::map<std::string, int>> removed;  // planner -> scene -> |O_r| when solved
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream cols(line);
+    for (std::string cell; std::getline(cols, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 16u) << line;
+    if (cells[4] == "1") removed[cells[11]][cells[15]] = std::stoi(cells[5]);
+  }
+  int both = 0;
+  double ours = 0, theirs = 0;
+  for (const auto& [scene, n] : removed["retrieval_graph"]) {
+    if (!removed["traversability_graph"].count(scene)) continue;
+    ++both;
+    ours += n;
+    theirs += removed["traversability_graph"][scene];
+  }
+  std::ifstream jin(json_file);
+  const auto json = nlohmann::json::parse(jin);
+  ASSERT_EQ(json.size(), 2u);
+  EXPECT_TRUE(json[0]["paired"].is_null());  // the baseline's own row
+  const auto& paired = json[1]["paired"];
+  EXPECT_EQ(paired["against"], "traversability_graph");
+  EXPECT_EQ(paired["runs"], both);
+  if (both > 0) {
+    EXPECT_DOUBLE_EQ(paired["removed"].get<double>(), ours / both);
+    EXPECT_DOUBLE_EQ(paired["against_removed"].get<double>(), theirs / both);
+  }
 }
 
 // One scene, one run per L strategy: the table, CSV and JSON say the same thing.

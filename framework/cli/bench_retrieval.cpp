@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include <nlohmann/json.hpp>
@@ -52,7 +53,35 @@ struct Row {
 struct Measured {
   std::vector<double> removed, total, task, motion, iterations, sequences;
   int solved = 0, runs = 0;
+  std::map<std::pair<std::size_t, int>, double> removed_by_run;  // (instance, run) -> |O_r|, solved runs
 };
+
+// The planner each table's retrieval_graph row is compared with run by run.
+std::string baseline_of(const std::string& table) {
+  return table == "V" ? "traversability_graph" : table == "VI" ? "exhaustive" : "";
+}
+
+// |O_r| of two planners over the runs both solved (same scene, same seed).
+struct Paired {
+  int runs = 0;
+  double removed = 0.0, baseline_removed = 0.0;  // means
+};
+
+Paired paired(const Measured& m, const Measured& baseline) {
+  Paired p;
+  for (const auto& [run, removed] : m.removed_by_run) {
+    const auto other = baseline.removed_by_run.find(run);
+    if (other == baseline.removed_by_run.end()) continue;
+    ++p.runs;
+    p.removed += removed;
+    p.baseline_removed += other->second;
+  }
+  if (p.runs > 0) {
+    p.removed /= p.runs;
+    p.baseline_removed /= p.runs;
+  }
+  return p;
+}
 
 Paper table_i(Figure removed, Figure total, double iterations, double success) {
   Paper p;
@@ -160,6 +189,7 @@ class Bench {
     }
     if (args_.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(60, ' ') << "\r";
     print(row, m);
+    measured_[{row.scenes, row.planner}] = std::move(m);
   }
 
   void write_json() const {
@@ -179,6 +209,7 @@ class Bench {
     if (r.solved) {
       ++m.solved;
       m.removed.push_back(double(r.moved_objects.size()));
+      m.removed_by_run[{instance, run}] = double(r.moved_objects.size());
       m.total.push_back(seconds);
       m.task.push_back(r.time.task_planning);
       m.motion.push_back(r.time.motion_planning);
@@ -225,6 +256,23 @@ class Bench {
       return std::isnan(f.mean) ? nlohmann::ordered_json(nullptr)
                                 : nlohmann::ordered_json{{"mean", f.mean}, {"std", std::isnan(f.sd) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(f.sd)}};
     };
+    // Against the table's baseline on the runs both solved: a planner that fails the
+    // hard scenes would look better on the means alone.
+    nlohmann::ordered_json pair = nullptr;
+    const auto baseline = measured_.find({row.scenes, baseline_of(row.table)});
+    if (row.planner == "retrieval_graph" && baseline != measured_.end()) {
+      const Paired p = paired(m, baseline->second);
+      std::cout << "      paired with " << baseline_of(row.table) << " on the " << p.runs << " runs both solved: |O_r| "
+                << number(p.removed, 2) << " against " << number(p.baseline_removed, 2);
+      if (p.runs > 0) {
+        const double more = 100.0 * (p.removed / p.baseline_removed - 1.0);
+        std::cout << " (" << (more >= 0 ? "+" : "") << number(more, 1) << " %)";
+      }
+      std::cout << std::endl;
+      pair = {{"against", baseline_of(row.table)}, {"runs", p.runs},
+              {"removed", p.runs ? nlohmann::ordered_json(p.removed) : nlohmann::ordered_json(nullptr)},
+              {"against_removed", p.runs ? nlohmann::ordered_json(p.baseline_removed) : nlohmann::ordered_json(nullptr)}};
+    }
     rows_.push_back({{"table", row.table},
                      {"scenes", row.scenes},
                      {"objects", row.objects},
@@ -239,6 +287,7 @@ class Bench {
                      {"motion_time_s", figure(m.motion)},
                      {"iterations", figure(m.iterations)},
                      {"planning_sequences", figure(m.sequences)},
+                     {"paired", pair},
                      {"paper",
                       {{"removed", paper(row.paper.removed)},
                        {"time_s", paper(row.paper.total)},
@@ -255,6 +304,7 @@ class Bench {
   std::shared_ptr<const robot::RobotDescription> robot_;
   std::ofstream csv_;
   nlohmann::ordered_json rows_ = nlohmann::ordered_json::array();
+  std::map<std::pair<std::string, std::string>, Measured> measured_;  // (scenes, planner) -> its runs
   int done_ = 0, total_ = 0;
 };
 
