@@ -648,6 +648,32 @@ TEST_F(Cli, AMobileManipulatorTakesTheTargetOutWhereFewestObjectsBlock) {
   EXPECT_GE(one_side.size(), 3u);
 }
 
+// bench mobile keeps only tables like the paper's Fig. 9 unless told otherwise: on the
+// one kept, L = 1 moves at least the one object in the way and the target.
+TEST_F(Cli, BenchMobileRunsOnTablesLikeTheFigureNine) {
+  const fs::path csv = dir_ / "m.csv", json_file = dir_ / "m.json";
+  const CliRun r = run("bench mobile -q --scenes 1 --runs 1 --csv " + csv.string() + " --json " + json_file.string());
+  EXPECT_NE(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("like the paper's Fig. 9"), std::string::npos) << r.output;
+  const auto json = nlohmann::json::parse(test::read_text(json_file));
+  EXPECT_EQ(json["table_selection"], "fig9");
+  EXPECT_EQ(json["tables"], 1);
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  int rows = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream cols(line);
+    for (std::string cell; std::getline(cols, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 6u) << line;
+    ++rows;
+    if (cells[3] == "1") EXPECT_GE(std::stoi(cells[5]), 2) << line;
+  }
+  EXPECT_EQ(rows, 3);  // the three initial limits
+  EXPECT_EQ(run("bench mobile --mobile-tables some").exit_code, 2);
+}
+
 TEST_F(Cli, ObserveSaysWhatTheCameraSeesAndWhatARemovalReveals) {
   const fs::path scene = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/occlusion/occ12-scene.yaml";
   const CliRun before = run("observe " + scene.string() + " --json");

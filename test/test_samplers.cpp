@@ -1,6 +1,7 @@
 // The shipped sampler plugins on hand-built scenes: usable grasps, the exact objects
 // that block a grasp, determinism.
 #include <cmath>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -101,6 +102,28 @@ TEST_F(SamplerScene, NamesExactlyTheCylindersBlockingTheGrasp) {
   for (const plugin::BlockedGrasp& b : answer.blocked) {
     for (ObjectIndex o : b.blocking_objects) EXPECT_EQ(o, front);
   }
+}
+
+// spread 180 (a mobile robot's grasps from every side): the directions split the
+// circle evenly, and -180 and 180 degrees are one direction, tried once.
+TEST_F(SamplerScene, AllAroundGraspsSplitTheCircleEvenly) {
+  const ObjectIndex cup = add("cup", 0.85, 0.0);  // straight ahead: facing is 0
+  Parameters around;
+  around.set("spread", 180.0);
+  around.set("directions", std::int64_t{4});
+  around.set("random", std::int64_t{0});
+  around.set("max_usable", std::int64_t{100});
+  const plugin::GraspAnswer answer = grasp(cup, around);
+  std::vector<plugin::Grasp> all = answer.usable;
+  for (const plugin::BlockedGrasp& b : answer.blocked) all.push_back(b.grasp);
+  std::set<long> degrees;
+  for (const plugin::Grasp& g : all) {
+    const Eigen::Vector3d approach = g.world_T_gripper.linear().col(2);
+    long d = std::lround(std::atan2(approach.y(), approach.x()) * 180.0 / M_PI);
+    if (d == -180) d = 180;
+    degrees.insert(d);
+  }
+  EXPECT_EQ(degrees, (std::set<long>{-90, 0, 90, 180}));
 }
 
 TEST_F(SamplerScene, SameSeedSameGrasps) {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -45,6 +46,55 @@ struct Row {
   std::string reason;
 };
 
+// Why `scene` is not a table of Tian et al.'s Fig. 9, or nothing when it is: from some
+// side exactly one object is in the target's way, from the robot's side (grasp_side's
+// defaults: approaches within 60 degrees of facing the robot) at least two. The
+// exhaustive planner over every set of at most one object proves both, with seed 0.
+std::optional<std::string> unlike_figure_9(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
+                                           const plugin::Registry& registry, const plugin::Samplers& all_sides,
+                                           const plugin::Samplers& robot_side) {
+  Parameters one;
+  one.set("max_removals", std::int64_t{1});
+  const auto exhaustive = registry.create<plugin::TaskPlanner>("exhaustive", one, {"bench mobile", 0, 0});
+  const Result best = plan_scene(scene, robot, *exhaustive, all_sides, 0, 60);
+  if (!best.solved) return "no single object frees the target from any side: " + best.reason;
+  if (best.moved_objects.size() < 2) return "the target comes out directly";
+  const Result near = plan_scene(scene, robot, *exhaustive, robot_side, 0, 60);
+  if (near.solved) return "one object frees the target from the robot's side";
+  if (near.reason.find("time limit") != std::string::npos) return "the robot's side was not decided in time";
+  return std::nullopt;
+}
+
+// `count` generated tables of `objects` from `first_seed` on; with fig9, only those
+// unlike_figure_9 accepts (at most 50 seeds per table kept).
+std::vector<std::pair<std::uint64_t, Scene>> tables(const BenchArgs& args, int objects, const std::shared_ptr<const robot::RobotDescription>& robot,
+                                                    const plugin::Registry& registry, const plugin::Samplers& all_sides) {
+  const bool fig9 = args.mobile_tables == "fig9";
+  const plugin::Samplers robot_side = fig9 ? shipped_samplers(registry) : plugin::Samplers{};
+  std::vector<std::pair<std::uint64_t, Scene>> out;
+  const std::uint64_t last = args.seed + 50 * static_cast<std::uint64_t>(args.instances);
+  for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < last; ++seed) {
+    scenes::TableSpec spec;
+    spec.objects = objects;
+    Scene scene;
+    try {
+      scene = scenes::generate_table_scene(spec, seed);
+    } catch (const std::runtime_error& e) {
+      throw InputError({"--sizes", 0, 0}, std::to_string(objects) + " objects: " + e.what());
+    }
+    if (fig9) {
+      if (const auto why = unlike_figure_9(scene, robot, registry, all_sides, robot_side)) {
+        if (args.verbosity == Verbosity::verbose) std::cerr << "table seed " << seed << ": " << *why << "; next\n";
+        continue;
+      }
+    }
+    out.emplace_back(seed, std::move(scene));
+    if (args.verbosity != Verbosity::quiet) std::cerr << "\r  tables: " << out.size() << " of " << args.instances << " (seed " << seed << ")" << std::flush;
+  }
+  if (args.verbosity != Verbosity::quiet) std::cerr << "\n";
+  return out;
+}
+
 }  // namespace
 
 int bench_mobile(const BenchArgs& args) {
@@ -54,25 +104,19 @@ int bench_mobile(const BenchArgs& args) {
   plugin::Samplers samplers = shipped_samplers(registry);
   Parameters grasp;
   grasp.set("spread", 180.0);
+  grasp.set("directions", std::int64_t{18});
   grasp.set("base_distance", 0.6);
   samplers.grasp = registry.create<plugin::GraspSampler>("grasp_side", grasp, {"bench mobile", 0, 0});
   const int objects = args.sizes.empty() ? 20 : args.sizes.front();
+  const auto instances = tables(args, objects, robot, registry, samplers);
   std::vector<Row> rows;
   for (const Strategy& s : kStrategies) {
     Parameters p;
     p.set("initial_L", std::string(s.parameter));
     p.set("area_margin", 0.3);
     const auto planner = registry.create<plugin::TaskPlanner>("retrieval_graph", p, {"bench mobile", 0, 0});
-    for (int i = 0; i < args.instances; ++i) {
-      const std::uint64_t scene_seed = args.seed + static_cast<std::uint64_t>(i);
-      scenes::TableSpec spec;
-      spec.objects = objects;
-      Scene scene;
-      try {
-        scene = scenes::generate_table_scene(spec, scene_seed);
-      } catch (const std::runtime_error& e) {
-        throw InputError({"--sizes", 0, 0}, std::to_string(objects) + " objects: " + e.what());
-      }
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+      const auto& [scene_seed, scene] = instances[i];
       for (int r = 0; r < args.runs; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
         const Result result = plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
@@ -81,13 +125,21 @@ int bench_mobile(const BenchArgs& args) {
         rows.push_back({s.parameter, scene_seed, r, result.solved, seconds, result.moved_objects.size(), iterations,
                         result.reason});
       }
-      if (args.verbosity != Verbosity::quiet) std::cerr << "\r  " << s.label << ": table " << i + 1 << " of " << args.instances << std::flush;
+      if (args.verbosity != Verbosity::quiet) std::cerr << "\r  " << s.label << ": table " << i + 1 << " of " << instances.size() << std::flush;
     }
     if (args.verbosity != Verbosity::quiet) std::cerr << "\n";
   }
 
-  std::cout << "Mobile manipulation (Tian et al., Table III): " << robot->name() << ", " << args.instances << " generated tables of "
-            << objects << " objects, " << args.runs << " run(s) each, " << args.time_limit << " s per run\n\n";
+  std::cout << "Mobile manipulation (Tian et al., Table III): " << robot->name() << ", " << instances.size() << " generated tables of "
+            << objects << " objects"
+            << (args.mobile_tables == "fig9" ? " like the paper's Fig. 9 (one object in the way from some side, two or more "
+                                               "from the robot's: fewest to move 2, target included)"
+                                             : " (random)")
+            << ", " << args.runs << " run(s) each, " << args.time_limit << " s per run\n\n";
+  if (static_cast<int>(instances.size()) < args.instances) {
+    std::cout << "Only " << instances.size() << " of " << args.instances << " tables qualified within "
+              << 50 * args.instances << " seeds.\n";
+  }
   bool goals_met = true;
   nlohmann::ordered_json summary = nlohmann::ordered_json::array();
   std::vector<std::string> headers;
@@ -119,7 +171,7 @@ int bench_mobile(const BenchArgs& args) {
   if (!args.json.empty()) {
     std::ofstream json(args.json);
     json << nlohmann::ordered_json{{"bench", "mobile"}, {"robot", robot->name()}, {"objects", objects},
-                                   {"tables", args.instances}, {"runs", args.runs}, {"time_limit_s", args.time_limit},
+                                   {"tables", instances.size()}, {"table_selection", args.mobile_tables}, {"runs", args.runs}, {"time_limit_s", args.time_limit},
                                    {"strategies", summary}}
                 .dump(2)
          << "\n";

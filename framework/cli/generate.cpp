@@ -158,7 +158,7 @@ int generate(const GenerateArgs& args) {
           << (args.table ? "planner: {plugin: retrieval_graph, time_limit: 120, seed: 0, parameters: {area_margin: 0.3}}\n"
                          : std::string("planner: {plugin: ") + (args.occlusion ? "occlusion" : "retrieval_graph") +
                                ", time_limit: 60, seed: 0}\n")
-          << (args.table ? "plugins: {grasp_sampler: {plugin: grasp_side, parameters: {spread: 180, base_distance: 0.6}}, motion_sampler: motion_ompl, "
+          << (args.table ? "plugins: {grasp_sampler: {plugin: grasp_side, parameters: {spread: 180, directions: 18, base_distance: 0.6}}, motion_sampler: motion_ompl, "
                            "placement_sampler: placement_region}\n"
                          : "plugins: {grasp_sampler: grasp_side, motion_sampler: motion_ompl, placement_sampler: placement_region}\n");
       if (!out) throw InputError({args.problem.string(), 0, 0}, "cannot write the problem file");

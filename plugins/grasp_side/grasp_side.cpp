@@ -149,8 +149,16 @@ class SideGrasps final : public plugin::GraspSampler {
     const double facing = std::atan2(d.y(), d.x());
     const double spread = spread_ * kPi / 180.0;
     std::vector<double> yaws;
+    // All around (spread 180): `directions_` evenly over the circle, -180 and 180 once.
+    const bool circle = spread_ >= 180.0 - 1e-9;
     for (std::int64_t i = 0; i < directions_; ++i) {
-      yaws.push_back(directions_ == 1 ? facing : facing - spread + 2 * spread * double(i) / double(directions_ - 1));
+      if (directions_ == 1) {
+        yaws.push_back(facing);
+      } else if (circle) {
+        yaws.push_back(facing + std::remainder(2 * kPi * double(i) / double(directions_), 2 * kPi));
+      } else {
+        yaws.push_back(facing - spread + 2 * spread * double(i) / double(directions_ - 1));
+      }
     }
     // Straight-on first: it is the most likely to be free.
     std::stable_sort(yaws.begin(), yaws.end(), [&](double a, double b) { return std::abs(a - facing) < std::abs(b - facing); });
@@ -212,6 +220,8 @@ class SideGrasps final : public plugin::GraspSampler {
     Eigen::VectorXd open_seed = seed;
     if (finger) open_seed[*finger] = grasp.finger_open;
     grasp.ik_solutions = robot.ik().solve(base_T_world * grasp.world_T_gripper, open_seed);
+    // The IK branches tried: the two nearest the seed, per base placement.
+    std::vector<std::size_t> tried{0, 1};
     if (base_distance_ > 0) {
       if (const auto base = planar_base(*robot.model())) {
         // A mobile base first stands behind the grasp, facing along its approach (Tian
@@ -225,6 +235,9 @@ class SideGrasps final : public plugin::GraspSampler {
         placed[(*base)[1]] = at.y() - base_distance_ * a.y();
         placed[(*base)[2]] = std::atan2(a.y(), a.x());
         auto behind = robot.ik().solve(base_T_world * grasp.world_T_gripper, placed);
+        // Then from where the base stands: the near side is often better reached from there.
+        const std::size_t here = behind.size();
+        tried = {0, 1, here, here + 1};
         behind.insert(behind.end(), grasp.ik_solutions.begin(), grasp.ik_solutions.end());
         grasp.ik_solutions = std::move(behind);
       }
@@ -239,9 +252,10 @@ class SideGrasps final : public plugin::GraspSampler {
     std::string why = "unreachable: the approach or lift leaves the workspace";
     const ObjectIndex ignore_target[] = {object};
     const Eigen::Isometry3d world_T_object = world.object_pose(object);
-    // Try the branches nearest the current configuration first.
-    const std::size_t branches = std::min<std::size_t>(grasp.ik_solutions.size(), 2);
-    for (std::size_t b = 0; b < branches; ++b) {
+    std::sort(tried.begin(), tried.end());
+    tried.erase(std::unique(tried.begin(), tried.end()), tried.end());
+    for (std::size_t b : tried) {
+      if (b >= grasp.ik_solutions.size()) break;
       const Eigen::VectorXd& q_grasp = grasp.ik_solutions[b];
       const auto pre = robot.ik().solve(base_T_world * grasp.world_T_pregrasp, q_grasp);
       const auto lift = robot.ik().solve(base_T_world * grasp.world_T_lift, q_grasp);
