@@ -1,8 +1,14 @@
 // Creates the grasp sampler a problem file names and asks it for grasps of every
 // object: a way to try a sampler plugin, yours included.
 //
-//   ./build/bin/example_try_grasps PROBLEM.yaml [--plugin-path DIR]
+//   ./build/bin/example_try_grasps PROBLEM.yaml [--plugin-path DIR] [--all]
+//
+// --all also lists every blocked grasp: its approach direction (degrees, world frame),
+// the objects in its way and why.
+#include <cmath>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/problem_io.hpp"
@@ -12,18 +18,20 @@
 
 int main(int argc, char** argv) {
   using namespace cluttertamp;
-  if (argc != 2 && !(argc == 4 && std::string(argv[2]) == "--plugin-path")) {
-    std::cerr << "usage: " << argv[0] << " PROBLEM.yaml [--plugin-path DIR]\n";
+  std::vector<std::string> args(argv + 1, argv + argc);
+  const bool all = std::erase(args, "--all") > 0;
+  if (args.size() != 1 && !(args.size() == 3 && args[1] == "--plugin-path")) {
+    std::cerr << "usage: " << argv[0] << " PROBLEM.yaml [--plugin-path DIR] [--all]\n";
     return 2;
   }
   try {
-    const Problem problem = io::load_problem(argv[1]);
+    const Problem problem = io::load_problem(args[0]);
     run::RunOptions options;
-    if (argc == 4) options.plugin_paths.emplace_back(argv[3]);
+    if (args.size() == 3) options.plugin_paths.emplace_back(args[2]);
     const plugin::Registry registry(run::plugin_search_paths(problem, options));
     const auto choice = problem.samplers.find(SamplerRole::grasp);
     if (choice == problem.samplers.end()) {
-      std::cerr << argv[1] << ": the problem names no grasp_sampler\n";
+      std::cerr << args[0] << ": the problem names no grasp_sampler\n";
       return 2;
     }
     const auto sampler = registry.create<plugin::GraspSampler>(choice->second.name, choice->second.parameters, choice->second.where);
@@ -42,6 +50,12 @@ int main(int argc, char** argv) {
         for (ObjectIndex o : b->blocking_objects) std::cout << " " << problem.scene.objects[o].id;
       }
       std::cout << "\n";
+      for (const plugin::BlockedGrasp& b : all ? answer.blocked : std::vector<plugin::BlockedGrasp>{}) {
+        const Eigen::Vector3d approach = b.grasp.world_T_gripper.linear().col(2);
+        std::cout << "    " << std::lround(std::atan2(approach.y(), approach.x()) * 180.0 / M_PI) << " deg:";
+        for (ObjectIndex o : b.blocking_objects) std::cout << " " << problem.scene.objects[o].id;
+        std::cout << " (" << b.reason << ")\n";
+      }
     }
     return 0;
   } catch (const InputError& e) {

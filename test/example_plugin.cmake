@@ -12,9 +12,10 @@ execute_process(COMMAND "${CMAKE_COMMAND}" --build "${BINARY}" RESULT_VARIABLE b
 if(NOT build EQUAL 0)
   message(FATAL_ERROR "building the example failed:\n${out}")
 endif()
-execute_process(COMMAND "${TRY}" "${SOURCE}/examples/my_grasps/problem.yaml" --plugin-path "${BINARY}/plugins"
+execute_process(COMMAND "${TRY}" "${SOURCE}/examples/my_grasps/problem.yaml" --plugin-path "${BINARY}/plugins" --all
                 RESULT_VARIABLE run OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message("${out}${err}")
-if(NOT run EQUAL 0 OR NOT out MATCHES "grasp sampler 'my_grasps'" OR NOT out MATCHES "target: 0 usable, least blocked by")
+if(NOT run EQUAL 0 OR NOT out MATCHES "grasp sampler 'my_grasps'" OR NOT out MATCHES "target: 0 usable, least blocked by"
+   OR NOT out MATCHES "\n    -?[0-9]+ deg: [a-z]")
   message(FATAL_ERROR "the example plugin did not load or answer")
 endif()
