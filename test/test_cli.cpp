@@ -629,6 +629,20 @@ TEST_F(Cli, TheOcclusionPlannerRetrievesAHiddenTargetMovingOnlyWhatItHadSeen) {
   }
 }
 
+// Algorithm 4's x_temp lies behind the deepest observed object; among equally deep
+// ones (the front row of occ16, all four at the same depth) it looks behind the one
+// nearest the line from x_s first: a middle column, reached straightest.
+TEST_F(Cli, TheOcclusionPlannerLooksBehindTheMiddleColumnsFirst) {
+  const fs::path problem_file = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/occlusion/occ16.yaml";
+  const CliRun r = run("plan " + problem_file.string() + " -o " + (dir_ / "occ16").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto result = nlohmann::json::parse(test::read_text(dir_ / "occ16/result.json"));
+  const std::vector<std::string> moved = result["moved_objects"];
+  ASSERT_FALSE(moved.empty());
+  EXPECT_TRUE(moved.front() == "o4" || moved.front() == "o8") << moved.front();  // the middle fronts (y = -0.07, 0.07)
+  EXPECT_EQ(moved.back(), "target");
+}
+
 // Section V-B: a mobile manipulator that plans from every side of a table takes the
 // target out by the side that needs fewest removals: one, where planning from the
 // robot's side needs more.

@@ -199,8 +199,20 @@ class Run {
     for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) {
       if (!gone[o] && scene_.objects[o].movable && !blocked_.count(o)) candidates.push_back(o);
     }
-    std::sort(candidates.begin(), candidates.end(),
-              [&](ObjectIndex a, ObjectIndex b) { return (position(a) - x_s).norm() > (position(b) - x_s).norm(); });
+    // Farthest first in depth (along x_s to the middle of the shelf), in rows as deep as
+    // the footprint is wide; in a row, the one nearest the line from x_s first: the
+    // arm reaches it straightest, and a sideways one is no farther in.
+    const Eigen::Vector2d into = (area_.center() - x_s).normalized();
+    const double row = std::max(footprint_.radius, 0.01);
+    auto depth = [&](ObjectIndex o) { return std::floor((position(o) - x_s).dot(into) / row); };
+    auto aside = [&](ObjectIndex o) {
+      const Eigen::Vector2d d = position(o) - x_s;
+      return std::abs(d.x() * into.y() - d.y() * into.x());
+    };
+    std::sort(candidates.begin(), candidates.end(), [&](ObjectIndex a, ObjectIndex b) {
+      if (depth(a) != depth(b)) return depth(a) > depth(b);
+      return aside(a) < aside(b);
+    });
     const Eigen::AlignedBox2d& shelf = area_;
     for (ObjectIndex o : candidates) {
       const Eigen::Vector2d away = (position(o) - x_s).normalized();
