@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
         for (ObjectIndex o : b->blocking_objects) std::cout << " " << problem.scene.objects[o].id;
       }
       std::cout << "\n";
-      for (const plugin::BlockedGrasp& b : all ? answer.blocked : std::vector<plugin::BlockedGrasp>{}) {
+      for (std::size_t k = 0; all && k < answer.blocked.size(); ++k) {
+        const plugin::BlockedGrasp& b = answer.blocked[k];
         const Eigen::Vector3d approach = b.grasp.world_T_gripper.linear().col(2);
         std::cout << "    " << std::lround(std::atan2(approach.y(), approach.x()) * 180.0 / M_PI) << " deg:";
         for (ObjectIndex o : b.blocking_objects) std::cout << " " << problem.scene.objects[o].id;

@@ -65,8 +65,8 @@ std::optional<std::string> unlike_figure_9(const Scene& scene, const std::shared
   return std::nullopt;
 }
 
-// `count` generated tables of `objects` from `first_seed` on; with fig9, only those
-// unlike_figure_9 accepts (at most 50 seeds per table kept).
+// `args.instances` generated tables of `objects`, seeds from `args.seed` on; with fig9,
+// only those unlike_figure_9 accepts (at most 50 seeds per table wanted, in all).
 std::vector<std::pair<std::uint64_t, Scene>> tables(const BenchArgs& args, int objects, const std::shared_ptr<const robot::RobotDescription>& robot,
                                                     const plugin::Registry& registry, const plugin::Samplers& all_sides) {
   const bool fig9 = args.mobile_tables == "fig9";

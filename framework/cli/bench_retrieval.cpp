@@ -189,7 +189,7 @@ class Bench {
     }
     if (args_.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(60, ' ') << "\r";
     print(row, m);
-    measured_[{row.scenes, row.planner}] = std::move(m);
+    measured_[{row.scenes, row.planner + "/" + row.initial_limit}] = std::move(m);
   }
 
   void write_json() const {
@@ -259,7 +259,7 @@ class Bench {
     // Against the table's baseline on the runs both solved: a planner that fails the
     // hard scenes would look better on the means alone.
     nlohmann::ordered_json pair = nullptr;
-    const auto baseline = measured_.find({row.scenes, baseline_of(row.table)});
+    const auto baseline = measured_.find({row.scenes, baseline_of(row.table) + "/"});
     if (row.planner == "retrieval_graph" && baseline != measured_.end()) {
       const Paired p = paired(m, baseline->second);
       std::cout << "      paired with " << baseline_of(row.table) << " on the " << p.runs << " runs both solved: |O_r| "
@@ -304,7 +304,7 @@ class Bench {
   std::shared_ptr<const robot::RobotDescription> robot_;
   std::ofstream csv_;
   nlohmann::ordered_json rows_ = nlohmann::ordered_json::array();
-  std::map<std::pair<std::string, std::string>, Measured> measured_;  // (scenes, planner) -> its runs
+  std::map<std::pair<std::string, std::string>, Measured> measured_;  // (scenes, planner/initial_L) -> its runs
   int done_ = 0, total_ = 0;
 };
 

@@ -200,7 +200,7 @@ class Run {
       if (!gone[o] && scene_.objects[o].movable && !blocked_.count(o)) candidates.push_back(o);
     }
     // Farthest first in depth (along x_s to the middle of the shelf), in rows as deep as
-    // the footprint is wide; in a row, the one nearest the line from x_s first: the
+    // the target's footprint radius; in a row, the one nearest the line from x_s first: the
     // arm reaches it straightest, and a sideways one is no farther in.
     const Eigen::Vector2d into = (area_.center() - x_s).normalized();
     const double row = std::max(footprint_.radius, 0.01);

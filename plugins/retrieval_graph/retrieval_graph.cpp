@@ -49,8 +49,9 @@ struct Settings {
     shorten_time = p.get_double("shorten_time", shorten_time);
     restart = p.get_bool("restart", restart);
     area_margin = p.get_double("area_margin", area_margin);
-    goal_branches = static_cast<int>(p.get_int("goal_branches", goal_branches));
-    p.require(goal_branches >= 1 && goal_branches <= 100, "goal_branches", "must be 1 to 100");
+    const std::int64_t branches = p.get_int("goal_branches", goal_branches);
+    p.require(branches >= 1 && branches <= 100, "goal_branches", "must be 1 to 100");
+    goal_branches = static_cast<int>(branches);
     p.require(area_margin >= 0 && area_margin <= 5, "area_margin", "must be 0 to 5 m");
     p.require(shorten_time > 0, "shorten_time", "must be positive (seconds)");
     p.require(initial_limit == "one" || initial_limit == "nodecol" || initial_limit == "objects", "initial_L",
@@ -434,12 +435,19 @@ class Search {
                  const Failure& failure, const WorldState& at_failure, Result& result) {
     retrieval::record_failure_once(result, failure);
     ObjectSet blocking = removable(failure.blocking_objects);
-    // The goal branch (a target grasp's blockers) the path took to the target, if any.
+    // The goal branch (a target grasp's blockers) the path took to the target, if any,
+    // the last one on it, and the node after it (guards and earlier feedback on the
+    // branch can lie between it and the goal).
     std::optional<int> branch;
-    if (object == target_ && failure.stage != "carry" && removal.nodes.size() >= 2) {
-      if (const Endpoint e = endpoint(removal.nodes[removal.nodes.size() - 2]);
-          std::holds_alternative<int>(e) && branches_.count(std::get<int>(e))) {
-        branch = std::get<int>(e);
+    int after_branch = -1;
+    if (object == target_ && failure.stage != "carry") {
+      for (std::size_t i = removal.nodes.size(); i-- > 1;) {
+        const Endpoint e = endpoint(removal.nodes[i - 1]);
+        if (std::holds_alternative<int>(e) && branches_.count(std::get<int>(e))) {
+          branch = std::get<int>(e);
+          after_branch = removal.nodes[i];
+          break;
+        }
       }
     }
     // A grasp the target or an avoided object blocks cannot be freed: blame another.
@@ -473,7 +481,7 @@ class Search {
     }
     // Reaching the target is needed on every path; carrying it out is this path's.
     if (branch) {  // this grasp's way needs more: after the branch, not on every way
-      feedback_.push_back({*branch, endpoint(removal.nodes.back()), blocking});
+      feedback_.push_back({*branch, endpoint(after_branch), blocking});
     } else if (object == target_ && failure.stage != "carry") {
       feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal, 0, other_grasps(object, blocking, at_failure)});
     } else if (fail == 0) {
@@ -599,10 +607,10 @@ class Search {
   std::vector<int> feedback_nodes_;
   std::set<int> branches_, dead_branches_;  // goal branches' feedback nodes (endpoint indices)
   std::map<int, int> unexplained_branch_;   // failures with nothing to blame, per goal branch
-  std::map<int, int> guard_of_;
+  std::map<int, int> guard_of_;  // every guard node of the last graph: its feedback's index
   std::map<ObjectIndex, int> unexplained_;  // failures with nothing to blame, per object
   std::optional<retrieval::RetrievalGraph> clustered_;  // the roadmap's clusters, no feedback
-  std::size_t clustered_size_ = 0;  // every guard node of the last graph: its feedback's index
+  std::size_t clustered_size_ = 0;  // roadmap nodes when clustered_ was made
   std::vector<int> node_of_;
   std::vector<ObjectIndex> blocked_;
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;
