@@ -145,6 +145,12 @@ TEST(RetrievalGraph, GoalBranchesRankByEntryCostUntilFeedbackPricesThem) {
   ASSERT_TRUE(r.has_value());
   EXPECT_EQ(r->objects_in_order, (ObjectSet{8, 5}));
   EXPECT_EQ(g.node(joined).path_col->size(), 2u);
+  // The target's grasp that way needs O3 and O4 gone too: it now costs 4, the other 3.
+  g.add_to_node_col(second, {3, 4});
+  EXPECT_EQ(g.node(second).node_col, (ObjectSet{3, 4, 5, 8}));
+  g.update();
+  ASSERT_TRUE(g.removal_sequence().has_value());
+  EXPECT_EQ(*g.node(joined).path_col, (ObjectSet{1, 2, 4}));
 }
 
 }  // namespace

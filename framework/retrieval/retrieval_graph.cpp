@@ -45,6 +45,11 @@ void RetrievalGraph::block_object(ObjectIndex object) {
   }
 }
 
+void RetrievalGraph::add_to_node_col(int node, const ObjectSet& objects) {
+  GraphNode& n = graph_[static_cast<std::size_t>(node)];
+  n.node_col = unite(n.node_col, objects);
+}
+
 std::vector<int> RetrievalGraph::guard_object(ObjectIndex object, const ObjectSet& blockers, const Eigen::Vector2d& position) {
   auto holds = [&](std::size_t v) {
     const ObjectSet& col = graph_[v].node_col;

@@ -73,13 +73,15 @@ using Endpoint = std::variant<std::size_t, int>;
 // later feedback prices them (on Table VI's min4 shelf two grasps tie at two blockers,
 // and one of them needs a third object moved first).
 struct Feedback {
-  enum class Where { edge, object, before_start, after_goal };
+  enum class Where { edge, object, before_start, after_goal, branch };
   Endpoint before, after;
   ObjectSet objects;
   Where where = Where::edge;
   ObjectIndex object = 0;  ///< Where::object: the object the blockers must precede
   std::vector<ObjectSet> alternatives = {};  ///< Where::after_goal: other grasps' blockers
 };
+// (Where::branch: the blockers join the NodeCol of the goal branch `before`, as the
+// target's grasp that way needs them gone too.)
 
 class Search {
  public:
@@ -121,6 +123,12 @@ class Search {
         const auto guards = g.guard_object(f.object, live, centre(live, position(f.object)));
         for (int guard : guards) guard_of_[guard] = static_cast<int>(feedback_node.size());
         feedback_node.push_back(guards.empty() ? g.goal() : guards.front());
+        continue;
+      }
+      if (f.where == Where::branch) {
+        const int branch = resolve(f.before);
+        g.add_to_node_col(branch, live);
+        feedback_node.push_back(branch);  // endpoint() finds the branch's own index first
         continue;
       }
       if (f.where == Where::after_goal && !f.alternatives.empty()) {
@@ -435,17 +443,14 @@ class Search {
                  const Failure& failure, const WorldState& at_failure, Result& result) {
     retrieval::record_failure_once(result, failure);
     ObjectSet blocking = removable(failure.blocking_objects);
-    // The goal branch (a target grasp's blockers) the path took to the target, if any,
-    // the last one on it, and the node after it (guards and earlier feedback on the
-    // branch can lie between it and the goal).
+    // The goal branch (a target grasp's blockers) the path took to the target, if any:
+    // the last one on it (guards and other feedback can lie between it and the goal).
     std::optional<int> branch;
-    int after_branch = -1;
     if (object == target_ && failure.stage != "carry") {
-      for (std::size_t i = removal.nodes.size(); i-- > 1;) {
-        const Endpoint e = endpoint(removal.nodes[i - 1]);
+      for (std::size_t i = removal.nodes.size(); i-- > 0;) {
+        const Endpoint e = endpoint(removal.nodes[i]);
         if (std::holds_alternative<int>(e) && branches_.count(std::get<int>(e))) {
           branch = std::get<int>(e);
-          after_branch = removal.nodes[i];
           break;
         }
       }
@@ -480,8 +485,8 @@ class Search {
       seen_failures_[object].insert(blocking);
     }
     // Reaching the target is needed on every path; carrying it out is this path's.
-    if (branch) {  // this grasp's way needs more: after the branch, not on every way
-      feedback_.push_back({*branch, endpoint(after_branch), blocking});
+    if (branch) {  // this grasp's way needs more: on the branch, not on every way
+      feedback_.push_back({*branch, {}, blocking, Feedback::Where::branch});
     } else if (object == target_ && failure.stage != "carry") {
       feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal, 0, other_grasps(object, blocking, at_failure)});
     } else if (fail == 0) {

@@ -45,6 +45,9 @@ class CLUTTERTAMP_API RetrievalGraph {
   void add_edge(int a, int b);
   void remove_edge(int a, int b);
   bool has_edge(int a, int b) const;
+  /// Adds `objects` (sorted) to the node's NodeCol: robot feedback that a way through
+  /// the node needs them gone too.
+  void add_to_node_col(int node, const ObjectSet& objects);
   /// See GraphNode::entry_cost; metres, >= 0.
   void set_entry_cost(int node, double metres) { graph_[static_cast<std::size_t>(node)].entry_cost = metres; }
   void set_start(int node) { start_ = node; }
