@@ -405,6 +405,10 @@ TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
   EXPECT_NE(crowded.output.find("cannot place 100 cylinders"), std::string::npos) << crowded.output;
   EXPECT_EQ(run("bench retrieval --sizes 12 --time-limit -1").exit_code, 2);
   EXPECT_EQ(run("bench retrieval --table VII").exit_code, 2);
+  // An unwritable --json file is bad input that names it (every bench writes it one way).
+  const CliRun unwritable = run("bench collision --samples 500 --json " + (dir_ / "no-such-dir" / "c.json").string());
+  EXPECT_EQ(unwritable.exit_code, 2) << unwritable.output;
+  EXPECT_NE(unwritable.output.find("c.json: error: cannot write the JSON file"), std::string::npos) << unwritable.output;
   EXPECT_EQ(run("bench retrieval --table VI --table6-scenes " + (dir_ / "none").string()).exit_code, 2);
   EXPECT_EQ(run("generate --objects 12 --min-removals 1 --output x.yaml").exit_code, 2);  // 2 at least
 }

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/statistics.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
@@ -165,7 +166,7 @@ int bench_collision(const BenchArgs& args) {
   }
   if (sink == 42) std::cout << "";
   if (!args.json.empty()) {
-    std::ofstream(args.json) << json.dump(2) << "\n";
+    write_json_file(args.json, json);
     std::cout << "\nwrote " << args.json.string() << "\n";
   }
   return all_met ? run::ExitCode::solved : run::ExitCode::no_plan;

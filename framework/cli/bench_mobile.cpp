@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
 #include "cli/measures.hpp"
@@ -169,13 +170,10 @@ int bench_mobile(const BenchArgs& args) {
     if (!csv) throw InputError({args.csv.string(), 0, 0}, "cannot write the CSV file");
   }
   if (!args.json.empty()) {
-    std::ofstream json(args.json);
-    json << nlohmann::ordered_json{{"bench", "mobile"}, {"robot", robot->name()}, {"objects", objects},
-                                   {"tables", instances.size()}, {"table_selection", args.mobile_tables}, {"runs", args.runs}, {"time_limit_s", args.time_limit},
-                                   {"strategies", summary}}
-                .dump(2)
-         << "\n";
-    if (!json) throw InputError({args.json.string(), 0, 0}, "cannot write the JSON file");
+    write_json_file(args.json, nlohmann::ordered_json{{"bench", "mobile"}, {"robot", robot->name()}, {"objects", objects},
+                                                      {"tables", instances.size()}, {"table_selection", args.mobile_tables},
+                                                      {"runs", args.runs}, {"time_limit_s", args.time_limit},
+                                                      {"strategies", summary}});
   }
   return goals_met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
 #include "cli/measures.hpp"
@@ -102,12 +103,9 @@ int bench_occlusion(const BenchArgs& args) {
     if (!csv) throw InputError({args.csv.string(), 0, 0}, "cannot write the CSV file");
   }
   if (!args.json.empty()) {
-    std::ofstream json(args.json);
-    json << nlohmann::ordered_json{{"bench", "occlusion"}, {"scenes_per_size", args.instances}, {"runs", args.runs},
-                                   {"time_limit_s", args.time_limit}, {"sizes", summary}}
-                .dump(2)
-         << "\n";
-    if (!json) throw InputError({args.json.string(), 0, 0}, "cannot write the JSON file");
+    write_json_file(args.json, nlohmann::ordered_json{{"bench", "occlusion"}, {"scenes_per_size", args.instances},
+                                                      {"runs", args.runs}, {"time_limit_s", args.time_limit},
+                                                      {"sizes", summary}});
   }
   return goals_met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/statistics.hpp"
 #include "cluttertamp/pddl/parser.hpp"
@@ -107,7 +108,7 @@ int bench_pddl(const BenchArgs& args) {
     }
   }
   if (!args.json.empty()) {
-    std::ofstream(args.json) << rows.dump(2) << "\n";
+    write_json_file(args.json, rows);
     std::cout << "\nwrote " << args.json.string() << "\n";
   }
   return run::ExitCode::solved;

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/statistics.hpp"
 #include "cluttertamp/physics/push_world.hpp"
@@ -67,7 +68,7 @@ int bench_physics(const BenchArgs& args) {
                                 {"pushes", factors.size() * kBatch}, {"touching", touching},
                                 {"dropping", fallen},     {"median_real_time_factor", factor},
                                 {"goal", kGoal}};
-    std::ofstream(args.json) << json.dump(2) << "\n";
+    write_json_file(args.json, json);
   }
   return met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/statistics.hpp"
 #include "cluttertamp/io/problem_io.hpp"
@@ -258,11 +259,7 @@ int bench_push(const BenchArgs& args) {
                "guidance).\nGoal, guided beats RRT and KPIECE on success rate at equal time limits: "
             << (met ? "met" : "NOT met") << "\n";
   json["goal_met"] = met;
-  if (!args.json.empty()) {
-    std::ofstream out(args.json);
-    if (!out) throw InputError({args.json.string(), 0, 0}, "cannot write the JSON file");
-    out << json.dump(2) << "\n";
-  }
+  if (!args.json.empty()) write_json_file(args.json, json);
   if (!args.svg.empty()) write_svg(runs, scenes, args.time_limit, args.svg);
   return met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
 #include "cli/statistics.hpp"
@@ -193,7 +194,7 @@ class Bench {
   }
 
   void write_json() const {
-    if (!args_.json.empty()) std::ofstream(args_.json) << rows_.dump(2) << "\n";
+    if (!args_.json.empty()) write_json_file(args_.json, rows_);
   }
 
  private:

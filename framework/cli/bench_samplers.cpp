@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/statistics.hpp"
 #include "cli/shelf_support.hpp"
@@ -97,7 +98,7 @@ int bench_samplers(const BenchArgs& args) {
     json.push_back({{"query", r.query}, {"median_ms", r.median_ms}, {"goal_ms", r.goal_ms}, {"note", r.note}});
   }
   if (!args.json.empty()) {
-    std::ofstream(args.json) << json.dump(2) << "\n";
+    write_json_file(args.json, json);
     std::cout << "\nwrote " << args.json.string() << "\n";
   }
   return all ? run::ExitCode::solved : run::ExitCode::no_plan;

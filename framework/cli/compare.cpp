@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/statistics.hpp"
 #include "cluttertamp/io/problem_io.hpp"
@@ -198,11 +199,7 @@ int compare(const CompareArgs& args) {
                     {"paper_mean_time_s", paper_time(r.objects, r.setting.prune)}});
   }
   std::cout << "Times of solved runs; paper: Tian et al. Table IV, mean time (their 4- and 8-object scenes).\n";
-  if (args.json) {
-    std::ofstream out(*args.json);
-    if (!out) throw InputError({args.json->string(), 0, 0}, "cannot write the JSON file");
-    out << json.dump(2) << "\n";
-  }
+  if (args.json) write_json_file(*args.json, json);
   if (args.svg) write_svg(rows, *args.svg);
   bool all = true;
   for (const Row& r : rows) all = all && success(r) == 100.0;
