@@ -488,7 +488,7 @@ class Search {
     if (branch) {  // this grasp's way needs more: on the branch, not on every way
       feedback_.push_back({*branch, {}, blocking, Feedback::Where::branch});
     } else if (object == target_ && failure.stage != "carry") {
-      feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal, 0, other_grasps(object, blocking, at_failure)});
+      feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal, 0, other_grasps(object, at_failure)});
     } else if (fail == 0) {
       feedback_.push_back({{}, {}, blocking, Feedback::Where::before_start});
     } else if (object != target_) {
@@ -541,34 +541,34 @@ class Search {
     return true;
   }
 
-  // The smallest set of removable objects blocking a grasp of `object` that has not
-  // been fed back yet, or nothing. Only grasp failures have alternatives.
-  std::optional<ObjectSet> other_grasp_blockers(ObjectIndex object, const Failure& failure, const WorldState& at_failure) {
-    if (failure.stage != "grasp" || !context_.samplers.grasp) return std::nullopt;
+  // The distinct sets of removable objects blocking `object`'s freeable grasps that
+  // have not been fed back yet, fewest objects first (the sampler's order among equals).
+  std::vector<ObjectSet> unseen_grasp_blockers(ObjectIndex object, const WorldState& at_failure) {
+    std::vector<ObjectSet> sets;
+    if (!context_.samplers.grasp) return sets;
     const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &at_failure});
-    std::optional<ObjectSet> best;
     for (const plugin::BlockedGrasp& b : answer.blocked) {
       if (!b.freeable || !freeable_for(object, b.blocking_objects)) continue;
       ObjectSet set = removable(b.blocking_objects);
       if (set.empty() || seen_failures_[object].count(set)) continue;
-      if (!best || set.size() < best->size()) best = std::move(set);
-    }
-    return best;
-  }
-
-  // The distinct blocker sets of `object`'s freeable grasps other than `blocking` and
-  // those fed back before, fewest objects first, at most goal_branches - 1.
-  std::vector<ObjectSet> other_grasps(ObjectIndex object, const ObjectSet& blocking, const WorldState& at_failure) {
-    std::vector<ObjectSet> sets;
-    if (!context_.samplers.grasp || settings_.goal_branches < 2) return sets;
-    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &at_failure});
-    for (const plugin::BlockedGrasp& b : answer.blocked) {
-      if (!b.freeable || !freeable_for(object, b.blocking_objects)) continue;
-      ObjectSet set = removable(b.blocking_objects);
-      if (set.empty() || set == blocking || seen_failures_[object].count(set)) continue;
       if (std::find(sets.begin(), sets.end(), set) == sets.end()) sets.push_back(std::move(set));
     }
     std::stable_sort(sets.begin(), sets.end(), [](const ObjectSet& a, const ObjectSet& b) { return a.size() < b.size(); });
+    return sets;
+  }
+
+  // The smallest of those, or nothing. Only grasp failures have alternatives.
+  std::optional<ObjectSet> other_grasp_blockers(ObjectIndex object, const Failure& failure, const WorldState& at_failure) {
+    if (failure.stage != "grasp") return std::nullopt;
+    std::vector<ObjectSet> sets = unseen_grasp_blockers(object, at_failure);
+    return sets.empty() ? std::nullopt : std::optional<ObjectSet>(std::move(sets.front()));
+  }
+
+  // The goal branches beside a target grasp's fed-back blockers (already seen): at most
+  // goal_branches - 1 of the other grasps' sets.
+  std::vector<ObjectSet> other_grasps(ObjectIndex object, const WorldState& at_failure) {
+    if (settings_.goal_branches < 2) return {};
+    std::vector<ObjectSet> sets = unseen_grasp_blockers(object, at_failure);
     if (sets.size() >= static_cast<std::size_t>(settings_.goal_branches)) sets.resize(settings_.goal_branches - 1);
     return sets;
   }
