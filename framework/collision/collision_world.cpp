@@ -412,6 +412,35 @@ std::vector<std::pair<std::size_t, std::size_t>> CollisionWorld::self_contacts(c
   return out;
 }
 
+std::vector<FixedContact> CollisionWorld::fixed_contacts(const Eigen::VectorXd& q, Context& context) const {
+  const Impl& w = *impl_;
+  Context::State& c = *context.state_;
+  w.pose_robot(q, c);
+  std::vector<FixedContact> out;
+  auto touching = [](const Object* a, const Object* b) { return a->getAABB().overlap(b->getAABB()) && narrow_collide(a, b); };
+  for (std::size_t body = 0; body < w.fixed_objects.size(); ++body) {
+    const Object* fixed = w.fixed_objects[body].get();
+    for (std::size_t s = 0; s < c.shapes.size(); ++s) {
+      if (touching(c.shapes[s].get(), fixed)) out.push_back({w.robot_shapes[s].link, body});
+    }
+    if (w.held && touching(c.held.get(), fixed)) out.push_back({std::nullopt, body});
+  }
+  auto key = [](const FixedContact& f) { return std::pair(f.link.value_or(std::numeric_limits<robot::LinkIndex>::max()), f.fixed_body); };
+  std::sort(out.begin(), out.end(), [&](const FixedContact& a, const FixedContact& b) { return key(a) < key(b); });
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::string CollisionWorld::describe_fixed_contacts(const Eigen::VectorXd& q, Context& context) const {
+  std::string out;
+  for (const FixedContact& f : fixed_contacts(q, context)) {
+    if (!out.empty()) out += ", ";
+    out += f.link ? impl_->robot->model()->links()[static_cast<std::size_t>(*f.link)].name : std::string("the held object");
+    out += " on " + impl_->scene.fixed[f.fixed_body].id;
+  }
+  return out;
+}
+
 double CollisionWorld::min_distance(const Eigen::VectorXd& q, Context& context,
                                     std::span<const ObjectIndex> ignored) const {
   const Impl& w = *impl_;

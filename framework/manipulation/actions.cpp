@@ -5,6 +5,7 @@
 #include <span>
 
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/manipulation/base_placement.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
 #include "cluttertamp/plugin/placement_sampler.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
@@ -33,7 +34,6 @@ std::optional<Trajectory> move(plugin::PlanningContext& context, const WorldStat
   return answer.trajectory;
 }
 
-// True when every configuration of the straight joint-space segment is free.
 // The contacts of the first state in collision on the straight segment a→b, checked
 // every 0.01 rad; a valid report when the segment is free.
 collision::CollisionReport straight_contacts(plugin::PlanningContext& context, const WorldState& state,
@@ -51,6 +51,7 @@ collision::CollisionReport straight_contacts(plugin::PlanningContext& context, c
   return {};
 }
 
+// True when every configuration of the straight joint-space segment is free.
 bool straight_free(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& a,
                    const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored) {
   return straight_contacts(context, state, a, b, ignored).valid();
@@ -357,26 +358,68 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
                 last ? last->blocking_objects : std::vector<ObjectIndex>{});
 }
 
+namespace {
+
+// A configuration holding the target at `exit` (object pose, world frame) and the pose
+// it arrives in. A mobile base stands behind the tool (BasePlacement); an upright
+// cylinder may arrive turned about its axis — the same solid — so that the base can
+// stand where no table is: of the turns by 45 degree steps whose configuration is free,
+// the one leaving the base nearest to where it stands holding the target.
+std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> exit_configuration(plugin::PlanningContext& context,
+                                                                                 const WorldState& holding,
+                                                                                 const plugin::Grasp& grasp,
+                                                                                 const Eigen::Isometry3d& exit) {
+  const robot::RobotDescription& robot = context.robot();
+  const Eigen::VectorXd& from = holding.robot_configuration;
+  const auto mobile = BasePlacement::of(robot);
+  if (!mobile) {
+    const Eigen::Isometry3d tool = exit * grasp.gripper_T_object.inverse();
+    const auto solutions = robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, from);
+    if (solutions.empty()) return std::nullopt;
+    return std::pair(solutions[0], exit);
+  }
+  collision::CollisionWorld& world = *context.world;
+  world.sync(holding);
+  auto checker = world.make_context();
+  const SceneObject& target = context.scene().objects.at(*holding.held);
+  const bool turnable = std::holds_alternative<Cylinder>(target.shape) && std::abs(exit.linear()(2, 2)) > 1 - 1e-6;
+  const auto& base = mobile->base_variables();
+  std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> best;
+  double best_travel = 0.0;
+  for (int k = 0; k < (turnable ? 8 : 1); ++k) {
+    const Eigen::Isometry3d arrived = exit * Eigen::AngleAxisd(k * M_PI / 4, Eigen::Vector3d::UnitZ());
+    for (const Eigen::VectorXd& q : mobile->solve(world, *checker, arrived * grasp.gripper_T_object.inverse(), from)) {
+      context.count(counter::collision_checks);
+      if (!world.is_valid(q, *checker, {})) continue;
+      const double travel = std::hypot(q[base[0]] - from[base[0]], q[base[1]] - from[base[1]]);
+      if (!best || travel < best_travel) {
+        best = std::pair(q, arrived);
+        best_travel = travel;
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state) {
   const ObjectIndex target = context.scene().target;
   ActionOutcome picked = pick(context, state, target);
   if (!picked.ok) return picked;
-  const robot::RobotDescription& robot = context.robot();
-  const plugin::Grasp& grasp = *picked.grasp;
   Eigen::Isometry3d exit = state.world_T_objects[target];
   exit.translation() = context.scene().world_T_exit.translation();
-  const Eigen::Isometry3d tool = exit * grasp.gripper_T_object.inverse();
-  const auto solutions = robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, picked.after.robot_configuration);
-  if (solutions.empty()) return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
+  const auto held_at_exit = exit_configuration(context, picked.after, *picked.grasp, exit);
+  if (!held_at_exit) return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
   std::optional<Failure> why;
-  const auto carry = move_out(context, picked.after, solutions[0], why);
+  const auto carry = move_out(context, picked.after, held_at_exit->first, why);
   if (!carry) {
     return failed("carry", "no motion carries the target to x_s" + (why ? ": " + why->reason : std::string()),
                   why ? why->blocking_objects : std::vector<ObjectIndex>{});
   }
   picked.segments.push_back({"carry", *carry});
-  picked.after.robot_configuration = solutions[0];
-  picked.after.world_T_objects[target] = exit;
+  picked.after.robot_configuration = held_at_exit->first;
+  picked.after.world_T_objects[target] = held_at_exit->second;
   return picked;
 }
 

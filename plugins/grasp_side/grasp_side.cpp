@@ -9,10 +9,12 @@
 #include <optional>
 #include <random>
 #include <span>
+#include <string>
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/manipulation/base_placement.hpp"
 
 namespace {
 
@@ -23,22 +25,6 @@ using plugin::GraspAnswer;
 using plugin::GraspMotion;
 
 constexpr double kPi = M_PI;
-
-// The configuration variables of a mobile base at the root: prismatic along x,
-// prismatic along y, then a turn about z (pr2_mobile's base_x, base_y, base_yaw).
-std::optional<std::array<int, 3>> planar_base(const robot::RobotModel& model) {
-  const auto& variables = model.variables();
-  if (variables.size() < 4) return std::nullopt;
-  auto is = [&](std::size_t v, robot::JointType type, const Eigen::Vector3d& axis) {
-    const robot::Joint& j = model.joints()[static_cast<std::size_t>(variables[v])];
-    return j.type == type && j.axis.isApprox(axis) && j.parent_T_joint.linear().isIdentity(1e-9);
-  };
-  if (!is(0, robot::JointType::prismatic, Eigen::Vector3d::UnitX()) || !is(1, robot::JointType::prismatic, Eigen::Vector3d::UnitY()) ||
-      !is(2, robot::JointType::revolute, Eigen::Vector3d::UnitZ())) {
-    return std::nullopt;
-  }
-  return std::array<int, 3>{0, 1, 2};
-}
 
 class SideGrasps final : public plugin::GraspSampler {
  public:
@@ -93,6 +79,7 @@ class SideGrasps final : public plugin::GraspSampler {
     auto checker = world.make_context();
     const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
     const Eigen::VectorXd seed = query.state->robot_configuration.size() ? query.state->robot_configuration : robot.home();
+    const auto mobile = base_distance_ > 0 ? manipulation::BasePlacement::of(robot) : std::nullopt;
     std::mt19937_64 rng(context.seed ^ (0x9e3779b97f4a7c15ull * (query.object + 1)));
 
     bool previous_unreachable = true;
@@ -102,7 +89,7 @@ class SideGrasps final : public plugin::GraspSampler {
       context.count(counter::samples);
       Grasp grasp = make_grasp(c, *half_width, object_height(object), world_T_object, gripper);
       const std::size_t blocked_before = answer.blocked.size();
-      evaluate(context, world, *checker, robot, base_T_world, seed, query.object, grasp, answer);
+      evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, answer);
       previous_unreachable = answer.blocked.size() > blocked_before && !answer.blocked.back().freeable &&
                              answer.blocked.back().reason.rfind("unreachable", 0) == 0;
       if (static_cast<std::int64_t>(answer.usable.size()) >= max_usable_) break;
@@ -210,38 +197,34 @@ class SideGrasps final : public plugin::GraspSampler {
     return g;
   }
 
+  // One IK solution through the grasp, and how the pre-grasp and lift near it are solved.
+  struct Branch {
+    Eigen::VectorXd q_grasp;
+    const manipulation::BasePlacement* placed;  // the base placed, the arm solved alone; null: the whole robot
+  };
+
   // IK through the grasp, then per branch the pre-grasp and lift nearest to it; checks
   // the approach (fingers open, the object itself ignored), the grasp and the lift
   // (object held). Files the grasp as usable or blocked, with the objects in the way.
   void evaluate(plugin::PlanningContext& context, collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
-                const robot::RobotDescription& robot, const Eigen::Isometry3d& base_T_world, const Eigen::VectorXd& seed,
-                ObjectIndex object, Grasp& grasp, GraspAnswer& answer) const {
+                const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile, const Eigen::Isometry3d& base_T_world,
+                const Eigen::VectorXd& seed, ObjectIndex object, Grasp& grasp, GraspAnswer& answer) const {
     const auto finger = robot.finger_variable();
     Eigen::VectorXd open_seed = seed;
     if (finger) open_seed[*finger] = grasp.finger_open;
-    grasp.ik_solutions = robot.ik().solve(base_T_world * grasp.world_T_gripper, open_seed);
-    // The IK branches tried: the two nearest the seed, per base placement.
-    std::vector<std::size_t> tried{0, 1};
-    if (base_distance_ > 0) {
-      if (const auto base = planar_base(*robot.model())) {
-        // A mobile base first stands behind the grasp, facing along its approach (Tian
-        // et al., Section V-B: base placements around the clutter): IK from where the
-        // robot is rarely finds the far side of a table.
-        const Eigen::Vector3d approach = grasp.world_T_gripper.rotation().col(2);
-        const Eigen::Vector2d a = approach.head<2>().normalized();
-        Eigen::VectorXd placed = open_seed;
-        const Eigen::Vector3d at = (base_T_world * grasp.world_T_gripper).translation();
-        placed[(*base)[0]] = at.x() - base_distance_ * a.x();
-        placed[(*base)[1]] = at.y() - base_distance_ * a.y();
-        placed[(*base)[2]] = std::atan2(a.y(), a.x());
-        auto behind = robot.ik().solve(base_T_world * grasp.world_T_gripper, placed);
-        // Then from where the base stands: the near side is often better reached from there.
-        const std::size_t here = behind.size();
-        tried = {0, 1, here, here + 1};
-        behind.insert(behind.end(), grasp.ik_solutions.begin(), grasp.ik_solutions.end());
-        grasp.ik_solutions = std::move(behind);
+    std::vector<Branch> branches;
+    if (mobile) {
+      // A mobile base first stands behind the grasp, the arm solved alone (Tian et al.,
+      // Section V-B): IK of the whole robot from where it is leaves the base wherever
+      // its steps end, often in the table.
+      for (Eigen::VectorXd& q : mobile->solve(world, checker, grasp.world_T_gripper, open_seed, base_distance_, 1)) {
+        branches.push_back({std::move(q), &*mobile});
       }
     }
+    // Then the whole robot from where it stands: the near side is often better reached from there.
+    auto whole = robot.ik().solve(base_T_world * grasp.world_T_gripper, open_seed);
+    for (std::size_t i = 0; i < whole.size() && i < 2; ++i) branches.push_back({std::move(whole[i]), nullptr});
+    for (const Branch& b : branches) grasp.ik_solutions.push_back(b.q_grasp);
     if (grasp.ik_solutions.empty()) {
       answer.blocked.push_back({grasp, {}, "unreachable: no IK solution", false});
       return;
@@ -252,13 +235,14 @@ class SideGrasps final : public plugin::GraspSampler {
     std::string why = "unreachable: the approach or lift leaves the workspace";
     const ObjectIndex ignore_target[] = {object};
     const Eigen::Isometry3d world_T_object = world.object_pose(object);
-    std::sort(tried.begin(), tried.end());
-    tried.erase(std::unique(tried.begin(), tried.end()), tried.end());
-    for (std::size_t b : tried) {
-      if (b >= grasp.ik_solutions.size()) break;
-      const Eigen::VectorXd& q_grasp = grasp.ik_solutions[b];
-      const auto pre = robot.ik().solve(base_T_world * grasp.world_T_pregrasp, q_grasp);
-      const auto lift = robot.ik().solve(base_T_world * grasp.world_T_lift, q_grasp);
+    for (const Branch& branch : branches) {
+      const Eigen::VectorXd& q_grasp = branch.q_grasp;
+      auto near = [&](const Eigen::Isometry3d& world_T_tool) {
+        return branch.placed ? branch.placed->solve_arm(world.scene().world_T_robot_base, world_T_tool, q_grasp)
+                             : robot.ik().solve(base_T_world * world_T_tool, q_grasp);
+      };
+      const auto pre = near(grasp.world_T_pregrasp);
+      const auto lift = near(grasp.world_T_lift);
       if (pre.empty() || lift.empty() || (pre[0] - q_grasp).cwiseAbs().maxCoeff() > 0.8 ||
           (lift[0] - q_grasp).cwiseAbs().maxCoeff() > 0.8) {
         continue;  // not one continuous branch
@@ -267,10 +251,12 @@ class SideGrasps final : public plugin::GraspSampler {
       if (finger) motion.lift[*finger] = grasp.finger_closed;
       collision::ObjectSet objects;
       bool hits_fixed = false, self = false;
+      std::string fixed_contacts;  // which link met which fixed body, first time seen
       auto check = [&](const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
         context.count(counter::collision_checks);
         const collision::CollisionReport r = world.check(q, checker, ignored);
         objects.insert(objects.end(), r.objects.begin(), r.objects.end());
+        if (r.fixed && !hits_fixed) fixed_contacts = world.describe_fixed_contacts(q, checker);
         hits_fixed = hits_fixed || r.fixed;
         self = self || r.self;
       };
@@ -305,7 +291,9 @@ class SideGrasps final : public plugin::GraspSampler {
       if (!any_branch || (branch_freeable && (!freeable || objects.size() < blocking.size()))) {
         blocking = objects;
         freeable = branch_freeable;
-        why = hits_fixed ? "fixed geometry is in the way" : self ? "the arm would hit itself" : "movable objects are in the way";
+        why = hits_fixed ? "fixed geometry is in the way: " + fixed_contacts
+              : self     ? "the arm would hit itself"
+                         : "movable objects are in the way";
       }
       any_branch = true;
     }

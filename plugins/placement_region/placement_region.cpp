@@ -7,6 +7,7 @@
 #include <random>
 
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/manipulation/base_placement.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/placement_sampler.hpp"
 
@@ -112,7 +113,9 @@ class RegionPlacements final : public plugin::PlacementSampler {
                                            const plugin::PlacementQuery& query) const {
     const Eigen::Isometry3d world_T_tool = world_T_object * gripper_T_object.inverse();
     const Eigen::VectorXd seed = query.state->robot_configuration.size() ? query.state->robot_configuration : robot.home();
-    const auto solutions = robot.ik().solve(base_T_world * world_T_tool, seed);
+    // A mobile base stands behind the tool (IK of the whole robot can leave it in a table).
+    const auto mobile = manipulation::BasePlacement::of(robot);
+    const auto solutions = mobile ? mobile->solve(world, checker, world_T_tool, seed) : robot.ik().solve(base_T_world * world_T_tool, seed);
     if (solutions.empty()) return std::nullopt;
     const Eigen::Isometry3d original = world.object_pose(query.object);
     world.set_object_pose(query.object, world_T_object);

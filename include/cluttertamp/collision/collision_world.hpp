@@ -3,6 +3,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -23,6 +24,14 @@ struct CollisionReport {
   bool fixed = false;  ///< the robot or the held object touches fixed geometry
   ObjectSet objects;   ///< every movable object the robot or held object touches
   bool valid() const { return !self && !fixed && objects.empty(); }
+};
+
+/// A robot link (or the held object) touching a fixed body: what "fixed geometry is in
+/// the way" means, for messages and diagnosis.
+struct FixedContact {
+  std::optional<robot::LinkIndex> link;  ///< the robot's link; none: the held object
+  std::size_t fixed_body = 0;            ///< index into Scene::fixed
+  bool operator==(const FixedContact&) const = default;
 };
 
 /// A disc footprint in the shelf plane and the height band it occupies: the target
@@ -101,6 +110,12 @@ class CLUTTERTAMP_API CollisionWorld {
   /// The pairs of robot links (lower index first, sorted) in contact at q, among the
   /// pairs the description does not disable: what `cluttertamp self-collisions` counts.
   std::vector<std::pair<std::size_t, std::size_t>> self_contacts(const Eigen::VectorXd& q, Context& context) const;
+  /// Every (link, fixed body) pair in contact at q, sorted by link then body (the held
+  /// object last), without repeats. Slower than check(): for explaining a failure.
+  std::vector<FixedContact> fixed_contacts(const Eigen::VectorXd& q, Context& context) const;
+  /// "l_forearm_link on table, l_wrist_link on table": fixed_contacts in words, or ""
+  /// when there are none.
+  std::string describe_fixed_contacts(const Eigen::VectorXd& q, Context& context) const;
   /// Smallest distance (m) from the robot and held object to fixed bodies and movable
   /// objects; 0 when touching or overlapping (penetration depth is not computed).
   double min_distance(const Eigen::VectorXd& q, Context& context, std::span<const ObjectIndex> ignored = {}) const;
