@@ -81,6 +81,7 @@ TEST_F(BasePlacementTable, TheBaseStandsOutsideTheTableFacingTheApproach) {
       EXPECT_GE(behind.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw))), 0.6 - 1e-9);
       EXPECT_NEAR(behind.x() * std::sin(yaw) - behind.y() * std::cos(yaw), 0.0, 1e-9);
       EXPECT_TRUE(world_->self_contacts(q, *checker_).empty());
+      EXPECT_TRUE(robot_->model()->within_limits(q));  // the base's yaw wrapped into [-pi, pi]
     }
   }
   // 0.6 m behind a grasp at the middle puts the base's front edge 0.08 m into the table
@@ -101,6 +102,37 @@ TEST_F(BasePlacementTable, TheArmAloneKeepsTheBaseWhereItIs) {
   ASSERT_FALSE(arm.empty());
   EXPECT_EQ(arm[0].head<3>(), placed[0].head<3>());
   EXPECT_LT(robot::pose_error(world_->tool_pose(arm[0], *checker_), lifted).first, 1e-6);
+}
+
+// The robot's root turned and moved in the world: base variables are in the root's
+// frame, the placement in the world's.
+TEST(BasePlacement, PlacesTheBaseInTheWorldWhereverTheRobotsRootIs) {
+  const auto robot = std::make_shared<const robot::RobotDescription>(
+      robot::RobotDescription::load(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/pr2_mobile.yaml"));
+  Scene scene;
+  scene.world_T_robot_base = at(2.0, -1.0, 0.0);
+  scene.world_T_robot_base.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  test::add_box(scene, "table", {0.7, 0.7, 0.4}, {2.0, 0.0, 0.2});
+  collision::CollisionWorld world(scene, robot);
+  auto checker = world.make_context();
+  // A side grasp at the table's middle approaching along world -y, from its +y side.
+  Eigen::Isometry3d tool = at(2.0, 0.0, 0.53);
+  tool.linear().col(0) = -Eigen::Vector3d::UnitZ();
+  tool.linear().col(2) = -Eigen::Vector3d::UnitY();
+  tool.linear().col(1) = tool.linear().col(2).cross(tool.linear().col(0));
+  const auto placement = manipulation::BasePlacement::of(*robot);
+  ASSERT_TRUE(placement.has_value());
+  const auto solutions = placement->solve(world, *checker, tool, robot->home());
+  ASSERT_FALSE(solutions.empty());
+  const Eigen::VectorXd& q = solutions[0];
+  EXPECT_TRUE(robot->model()->within_limits(q));
+  EXPECT_LT(robot::pose_error(world.tool_pose(q, *checker), tool).first, 1e-6);
+  const std::string contacts = world.describe_fixed_contacts(q, *checker);
+  EXPECT_EQ(contacts.find("base_link"), std::string::npos) << contacts;
+  // The base's centre in the world: on the line x = 2 beyond the table's +y edge (0.35).
+  const Eigen::Vector3d base = scene.world_T_robot_base * Eigen::Vector3d(q[0], q[1], 0.0);
+  EXPECT_NEAR(base.x(), 2.0, 1e-9);
+  EXPECT_GE(base.y(), 0.6 - 1e-9);
 }
 
 TEST(BasePlacement, OnlyForARobotOnAPlanarBase) {

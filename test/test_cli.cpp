@@ -693,6 +693,9 @@ TEST_F(Cli, BenchMobileRunsOnTablesLikeTheFigureNine) {
         << why;
     ++passed_over;
   }
+  // Seed 0's table fails the filter with today's samplers; should it pass one day, start
+  // this test at a seed that does not, so that the filter is exercised.
+  EXPECT_GE(passed_over, 1) << r.output;
   const auto json = nlohmann::json::parse(test::read_text(json_file));
   EXPECT_EQ(json["table_selection"], "fig9");
   EXPECT_EQ(json["tables"], 1);

@@ -4,7 +4,6 @@
 // approach (pre-grasp to grasp, fingers open), the grasp and the lift (object held)
 // are collision-free; otherwise the answer names the movable objects in the way.
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <optional>
 #include <random>
@@ -12,9 +11,9 @@
 #include <string>
 
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/manipulation/base_placement.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
-#include "cluttertamp/manipulation/base_placement.hpp"
 
 namespace {
 
@@ -203,27 +202,37 @@ class SideGrasps final : public plugin::GraspSampler {
     const manipulation::BasePlacement* placed;  // the base placed, the arm solved alone; null: the whole robot
   };
 
-  // IK through the grasp, then per branch the pre-grasp and lift nearest to it; checks
-  // the approach (fingers open, the object itself ignored), the grasp and the lift
-  // (object held). Files the grasp as usable or blocked, with the objects in the way.
-  void evaluate(plugin::PlanningContext& context, collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
-                const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile, const Eigen::Isometry3d& base_T_world,
-                const Eigen::VectorXd& seed, ObjectIndex object, Grasp& grasp, GraspAnswer& answer) const {
-    const auto finger = robot.finger_variable();
-    Eigen::VectorXd open_seed = seed;
-    if (finger) open_seed[*finger] = grasp.finger_open;
+  // The IK solutions through the grasp that are checked. A mobile base first stands
+  // behind the grasp with the arm solved alone (Tian et al., Section V-B): IK of the
+  // whole robot from where it is leaves the base wherever its steps end, often in the
+  // table. Then the whole robot from where it stands: the near side is often better
+  // reached from there, and a fixed base has only this.
+  std::vector<Branch> ik_branches(collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
+                                  const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile,
+                                  const Eigen::Isometry3d& base_T_world, const Eigen::VectorXd& open_seed,
+                                  const Grasp& grasp) const {
     std::vector<Branch> branches;
     if (mobile) {
-      // A mobile base first stands behind the grasp, the arm solved alone (Tian et al.,
-      // Section V-B): IK of the whole robot from where it is leaves the base wherever
-      // its steps end, often in the table.
       for (Eigen::VectorXd& q : mobile->solve(world, checker, grasp.world_T_gripper, open_seed, base_distance_, 1)) {
         branches.push_back({std::move(q), &*mobile});
       }
     }
-    // Then the whole robot from where it stands: the near side is often better reached from there.
     auto whole = robot.ik().solve(base_T_world * grasp.world_T_gripper, open_seed);
     for (std::size_t i = 0; i < whole.size() && i < 2; ++i) branches.push_back({std::move(whole[i]), nullptr});
+    return branches;
+  }
+
+  // Per IK branch, the pre-grasp and lift nearest to it; checks the approach (fingers
+  // open, the object itself ignored), the grasp and the lift (object held). Files the
+  // grasp as usable or blocked, with the objects in the way.
+  void evaluate(plugin::PlanningContext& context, collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
+                const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile,
+                const Eigen::Isometry3d& base_T_world, const Eigen::VectorXd& seed, ObjectIndex object, Grasp& grasp,
+                GraspAnswer& answer) const {
+    const auto finger = robot.finger_variable();
+    Eigen::VectorXd open_seed = seed;
+    if (finger) open_seed[*finger] = grasp.finger_open;
+    const std::vector<Branch> branches = ik_branches(world, checker, robot, mobile, base_T_world, open_seed, grasp);
     for (const Branch& b : branches) grasp.ik_solutions.push_back(b.q_grasp);
     if (grasp.ik_solutions.empty()) {
       answer.blocked.push_back({grasp, {}, "unreachable: no IK solution", false});

@@ -42,7 +42,8 @@ class RegionPlacements final : public plugin::PlacementSampler {
     if (world.held()) world.detach(query.state->world_T_objects.at(*world.held()));
     auto checker = world.make_context();
     const robot::RobotDescription& robot = context.robot();
-    const Eigen::Isometry3d base_T_world = scene.world_T_robot_base.inverse();
+    // A mobile base stands behind the tool (IK of the whole robot can leave it in a table).
+    const auto mobile = manipulation::BasePlacement::of(robot);
     std::mt19937_64 rng(context.seed ^ (0xc2b2ae3d27d4eb4full * (query.object + 1)));
     std::uniform_real_distribution<double> unit(-0.5, 0.5), turn(-M_PI, M_PI);
     const double half_height = std::get_if<Cylinder>(&object.shape) ? std::get<Cylinder>(object.shape).height / 2
@@ -74,7 +75,7 @@ class RegionPlacements final : public plugin::PlacementSampler {
         continue;
       }
       const Eigen::Isometry3d grip = query.gripper_T_object ? *query.gripper_T_object : facing_grip(scene, pose);
-      const auto configuration = reachable(context, world, *checker, robot, base_T_world, pose, grip, query);
+      const auto configuration = reachable(context, world, *checker, robot, mobile, pose, grip, query);
       if (!configuration) {
         ++unreachable;
         continue;
@@ -108,14 +109,13 @@ class RegionPlacements final : public plugin::PlacementSampler {
 
   std::optional<Eigen::VectorXd> reachable(plugin::PlanningContext& context, collision::CollisionWorld& world,
                                            collision::CollisionWorld::Context& checker,
-                                           const robot::RobotDescription& robot, const Eigen::Isometry3d& base_T_world,
+                                           const robot::RobotDescription& robot,
+                                           const std::optional<manipulation::BasePlacement>& mobile,
                                            const Eigen::Isometry3d& world_T_object, const Eigen::Isometry3d& gripper_T_object,
                                            const plugin::PlacementQuery& query) const {
     const Eigen::Isometry3d world_T_tool = world_T_object * gripper_T_object.inverse();
     const Eigen::VectorXd seed = query.state->robot_configuration.size() ? query.state->robot_configuration : robot.home();
-    // A mobile base stands behind the tool (IK of the whole robot can leave it in a table).
-    const auto mobile = manipulation::BasePlacement::of(robot);
-    const auto solutions = mobile ? mobile->solve(world, checker, world_T_tool, seed) : robot.ik().solve(base_T_world * world_T_tool, seed);
+    const auto solutions = manipulation::reach(robot, mobile, world, checker, world_T_tool, seed);
     if (solutions.empty()) return std::nullopt;
     const Eigen::Isometry3d original = world.object_pose(query.object);
     world.set_object_pose(query.object, world_T_object);

@@ -111,9 +111,11 @@ class CLUTTERTAMP_API CollisionWorld {
   /// pairs the description does not disable: what `cluttertamp self-collisions` counts.
   std::vector<std::pair<std::size_t, std::size_t>> self_contacts(const Eigen::VectorXd& q, Context& context) const;
   /// Every (link, fixed body) pair in contact at q, sorted by link then body (the held
-  /// object last), without repeats. Slower than check(): for explaining a failure.
+  /// object last), without repeats: which part of the robot is in the way, for messages
+  /// and for placing a mobile base. Checks every shape against every fixed body, with
+  /// no early exit: cheap for the few fixed bodies of a scene.
   std::vector<FixedContact> fixed_contacts(const Eigen::VectorXd& q, Context& context) const;
-  /// "l_forearm_link on table, l_wrist_link on table": fixed_contacts in words, or ""
+  /// "base_link on table, torso_lift_link on table": fixed_contacts in words, or ""
   /// when there are none.
   std::string describe_fixed_contacts(const Eigen::VectorXd& q, Context& context) const;
   /// Smallest distance (m) from the robot and held object to fixed bodies and movable

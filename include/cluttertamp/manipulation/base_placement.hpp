@@ -25,11 +25,12 @@ namespace cluttertamp::manipulation {
 /// the arm reaches into. Here the base is placed first and the arm solved alone.
 class CLUTTERTAMP_API BasePlacement {
  public:
-  /// The base the tool first stands behind, m: within the PR2's reach of a table's
-  /// middle from outside a 0.7 m table.
+  /// How far behind the tool the base first stands, m: the PR2 reaches a 0.7 m table's
+  /// middle from outside it.
   static constexpr double kDefaultDistance = 0.6;
 
-  /// The placement model of `robot`, or nothing when its root is no planar base.
+  /// The placement model of `robot`, or nothing when its root is no planar base (the
+  /// three joints at the root, each at its parent's origin) or no IK solves its arm.
   static std::optional<BasePlacement> of(const robot::RobotDescription& robot);
 
   /// Configurations with the tool at `world_T_tool` (world frame), at most `max`, one
@@ -39,10 +40,11 @@ class CLUTTERTAMP_API BasePlacement {
   /// table's edge where the approach meets its corner). Where the body (every link the
   /// arm does not move) would touch fixed geometry of `world`, or the arm would touch
   /// the robot itself, further back in 0.1 m steps, up to 0.5 m more; the first clear
-  /// placement the arm cannot reach ends that turn. The arm is solved alone from
-  /// `seed`'s arm joints; it is not checked against fixed geometry or objects, nor is
-  /// the held object. A tool pointing straight up or down has no approach to stand
-  /// behind: no solutions.
+  /// placement the arm cannot reach, or a placement outside the base joints' limits,
+  /// ends that turn. The arm is solved alone from `seed`'s arm joints; it is not
+  /// checked against fixed geometry or objects, nor is the held object. A tool whose
+  /// approach is within 5 degrees of vertical has no direction to stand behind: no
+  /// solutions. Throws std::invalid_argument for a seed of the wrong size.
   std::vector<Eigen::VectorXd> solve(const collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
                                      const Eigen::Isometry3d& world_T_tool, const Eigen::VectorXd& seed,
                                      double distance = kDefaultDistance, std::size_t max = 2) const;
@@ -63,5 +65,14 @@ class CLUTTERTAMP_API BasePlacement {
   robot::LinkIndex arm_root_ = -1;               ///< the first link the arm moves
   std::array<int, 3> base_{0, 1, 2};
 };
+
+/// Configurations with the tool at `world_T_tool` (world frame), nearest `seed` first:
+/// with a `placement`, its solve(world, checker, world_T_tool, seed); without, the
+/// robot's own IK (RobotDescription::ik) seeded by `seed`.
+CLUTTERTAMP_API std::vector<Eigen::VectorXd> reach(const robot::RobotDescription& robot,
+                                                   const std::optional<BasePlacement>& placement,
+                                                   const collision::CollisionWorld& world,
+                                                   collision::CollisionWorld::Context& checker,
+                                                   const Eigen::Isometry3d& world_T_tool, const Eigen::VectorXd& seed);
 
 }  // namespace cluttertamp::manipulation
