@@ -657,6 +657,30 @@ TEST_F(Cli, TheOcclusionPlannerLooksBehindTheMiddleColumnsFirst) {
   EXPECT_EQ(moved.back(), "target");
 }
 
+// On a table the carry may lift the target over its neighbours: with grasp_orders, the
+// blockers of one of its grasps alone replace the graph's longer way (table seed 45:
+// o1 alone, where the target's footprint path needs two).
+TEST_F(Cli, OnATableOneGraspsBlockersCanReplaceTheGraphsLongerWay) {
+  const fs::path scene = dir_ / "t45.yaml", with = dir_ / "p45.yaml", without = dir_ / "p45-off.yaml";
+  ASSERT_EQ(run("generate --table --objects 20 --seed 45 --any --attempts 1 -q --output " + scene.string() + " --problem " +
+                with.string())
+                .exit_code,
+            0);
+  const std::string text = test::read_text(with);
+  ASSERT_NE(text.find("grasp_orders: 3"), std::string::npos) << text;
+  std::ofstream(without) << test::replaced(text, "grasp_orders: 3", "grasp_orders: 0");
+  auto plan_of = [&](const fs::path& problem) {
+    const CliRun r = run("plan " + problem.string() + " -q -o " + (dir_ / problem.stem()).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return nlohmann::json::parse(test::read_text(dir_ / problem.stem() / "result.json"));
+  };
+  const auto on = plan_of(with), off = plan_of(without);
+  EXPECT_EQ(on["counters"]["grasp_orders_taken"], 1);
+  EXPECT_FALSE(off["counters"].contains("grasp_orders_taken"));
+  EXPECT_LT(on["moved_objects"].size(), off["moved_objects"].size()) << on["moved_objects"] << off["moved_objects"];
+  EXPECT_EQ(on["moved_objects"].back(), "target");
+}
+
 // Section V-B: a mobile manipulator that plans from every side of a table takes the
 // target out by the side that needs fewest removals: one, where planning from the
 // robot's side needs more.

@@ -115,6 +115,7 @@ int bench_mobile(const BenchArgs& args) {
     Parameters p;
     p.set("initial_L", std::string(s.parameter));
     p.set("area_margin", 0.3);
+    p.set("grasp_orders", std::int64_t{3});  // a table has no board above: the carry may lift the target over objects
     const auto planner = registry.create<plugin::TaskPlanner>("retrieval_graph", p, {"bench mobile", 0, 0});
     for (std::size_t i = 0; i < instances.size(); ++i) {
       const auto& [scene_seed, scene] = instances[i];

@@ -155,7 +155,7 @@ int generate(const GenerateArgs& args) {
           << "scene: " << fs::relative(fs::absolute(args.output), dir).string() << "\n"
           << "robot: {description: " << fs::relative(fs::absolute(args.robot), dir).string() << "}\n"
           << "task: {retrieve: target}\n"
-          << (args.table ? "planner: {plugin: retrieval_graph, time_limit: 120, seed: 0, parameters: {area_margin: 0.3}}\n"
+          << (args.table ? "planner: {plugin: retrieval_graph, time_limit: 120, seed: 0, parameters: {area_margin: 0.3, grasp_orders: 3}}\n"
                          : std::string("planner: {plugin: ") + (args.occlusion ? "occlusion" : "retrieval_graph") +
                                ", time_limit: 60, seed: 0}\n")
           << (args.table ? "plugins: {grasp_sampler: {plugin: grasp_side, parameters: {spread: 180, directions: 18, base_distance: 0.6}}, motion_sampler: motion_ompl, "
