@@ -133,6 +133,8 @@ TEST(BasePlacement, PlacesTheBaseInTheWorldWhereverTheRobotsRootIs) {
   const Eigen::Vector3d base = scene.world_T_robot_base * Eigen::Vector3d(q[0], q[1], 0.0);
   EXPECT_NEAR(base.x(), 2.0, 1e-9);
   EXPECT_GE(base.y(), 0.6 - 1e-9);
+  // Facing world -y, along the approach (the root is turned +90 degrees: root yaw pi).
+  EXPECT_NEAR(std::abs(std::remainder(q[2] + M_PI / 2 - (-M_PI / 2), 2 * M_PI)), 0.0, 1e-9);
 }
 
 TEST(BasePlacement, OnlyForARobotOnAPlanarBase) {

@@ -669,13 +669,15 @@ TEST_F(Cli, OnATableOneGraspsBlockersCanReplaceTheGraphsLongerWay) {
   const std::string text = test::read_text(with);
   ASSERT_NE(text.find("grasp_orders: 3"), std::string::npos) << text;
   std::ofstream(without) << test::replaced(text, "grasp_orders: 3", "grasp_orders: 0");
+  // A generous budget per try, so that a loaded machine does not decide the result.
+  std::ofstream(with) << test::replaced(text, "grasp_orders: 3", "grasp_orders: 3, shorten_time: 5");
   auto plan_of = [&](const fs::path& problem) {
     const CliRun r = run("plan " + problem.string() + " -q -o " + (dir_ / problem.stem()).string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return nlohmann::json::parse(test::read_text(dir_ / problem.stem() / "result.json"));
   };
   const auto on = plan_of(with), off = plan_of(without);
-  EXPECT_EQ(on["counters"]["grasp_orders_taken"], 1);
+  EXPECT_EQ(on["counters"].value("grasp_orders_taken", 0), 1);
   EXPECT_FALSE(off["counters"].contains("grasp_orders_taken"));
   EXPECT_LT(on["moved_objects"].size(), off["moved_objects"].size()) << on["moved_objects"] << off["moved_objects"];
   EXPECT_EQ(on["moved_objects"].back(), "target");
@@ -713,7 +715,8 @@ TEST_F(Cli, BenchMobileRunsOnTablesLikeTheFigureNine) {
   for (std::size_t at = 0; (at = r.output.find("table seed " + std::to_string(passed_over) + ": ", at)) != std::string::npos;) {
     const std::string why = r.output.substr(at, r.output.find('\n', at) - at);
     EXPECT_TRUE(why.find("no single object frees the target") != std::string::npos ||
-                why.find("comes out directly") != std::string::npos || why.find("from the robot's side") != std::string::npos)
+                why.find("comes out directly") != std::string::npos || why.find("from the robot's side") != std::string::npos ||
+                why.find("not decided in time") != std::string::npos)
         << why;
     ++passed_over;
   }
@@ -724,7 +727,7 @@ TEST_F(Cli, BenchMobileRunsOnTablesLikeTheFigureNine) {
   EXPECT_EQ(json["table_selection"], "fig9");
   EXPECT_EQ(json["tables"], 1);
   const auto rows = csv_rows(csv);
-  EXPECT_EQ(rows.size(), 3u);  // the three initial limits
+  ASSERT_EQ(rows.size(), 3u);  // the three initial limits
   for (const auto& cells : rows) {
     ASSERT_GE(cells.size(), 6u);
     EXPECT_EQ(cells[1], std::to_string(passed_over)) << cells[0];  // the first seed not passed over
@@ -735,7 +738,9 @@ TEST_F(Cli, BenchMobileRunsOnTablesLikeTheFigureNine) {
       run("bench mobile -q --seed 0 --scenes 1 --runs 1 --mobile-tables random --csv " + random_csv.string() + " --json " + json_file.string());
   EXPECT_NE(random.exit_code, 2) << random.output;
   EXPECT_EQ(nlohmann::json::parse(test::read_text(json_file))["table_selection"], "random");
-  for (const auto& cells : csv_rows(random_csv)) EXPECT_EQ(cells.at(1), "0") << cells[0];  // the first seed, whatever it is like
+  const auto random_rows = csv_rows(random_csv);
+  ASSERT_EQ(random_rows.size(), 3u);
+  for (const auto& cells : random_rows) EXPECT_EQ(cells.at(1), "0") << cells[0];  // the first seed, whatever it is like
   EXPECT_EQ(run("bench mobile --mobile-tables some").exit_code, 2);
 }
 

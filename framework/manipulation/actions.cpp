@@ -372,14 +372,15 @@ std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> exit_configuration(
   const robot::RobotDescription& robot = context.robot();
   const Eigen::VectorXd& from = holding.robot_configuration;
   const auto mobile = BasePlacement::of(robot);
-  collision::CollisionWorld& world = *context.world;
-  world.sync(holding);
-  auto checker = world.make_context();
   if (!mobile) {
-    const auto solutions = reach(robot, mobile, world, *checker, exit * grasp.gripper_T_object.inverse(), from);
+    const Eigen::Isometry3d tool = exit * grasp.gripper_T_object.inverse();
+    const auto solutions = robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, from);
     if (solutions.empty()) return std::nullopt;
     return std::pair(solutions[0], exit);
   }
+  collision::CollisionWorld& world = *context.world;
+  world.sync(holding);
+  auto checker = world.make_context();
   const SceneObject& target = context.scene().objects.at(*holding.held);
   const bool turnable = std::holds_alternative<Cylinder>(target.shape) && std::abs(exit.linear()(2, 2)) > 1 - 1e-6;
   const auto& base = mobile->base_variables();
@@ -409,7 +410,10 @@ ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state
   Eigen::Isometry3d exit = state.world_T_objects[target];
   exit.translation() = context.scene().world_T_exit.translation();
   const auto held_at_exit = exit_configuration(context, picked.after, *picked.grasp, exit);
-  if (!held_at_exit) return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
+  if (!held_at_exit) {
+    context.world->sync(state);  // as the other actions leave it
+    return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
+  }
   std::optional<Failure> why;
   const auto carry = move_out(context, picked.after, held_at_exit->first, why);
   if (!carry) {

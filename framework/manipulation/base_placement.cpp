@@ -80,7 +80,7 @@ std::vector<Eigen::VectorXd> BasePlacement::solve(const collision::CollisionWorl
       placed[base_[0]] = centre.x();
       placed[base_[1]] = centre.y();
       placed[base_[2]] = yaw;
-      if (!model_->within_limits(placed)) break;  // further back leaves the base's range too
+      if (!base_within_limits(placed)) continue;
       const auto contacts = world.fixed_contacts(placed, checker);
       const bool body_clear = std::none_of(contacts.begin(), contacts.end(), [&](const collision::FixedContact& c) {
         return c.link && !model_->descends_from(*c.link, arm_root_);
@@ -96,6 +96,13 @@ std::vector<Eigen::VectorXd> BasePlacement::solve(const collision::CollisionWorl
     if (out.size() >= max) break;
   }
   return out;
+}
+
+bool BasePlacement::base_within_limits(const Eigen::VectorXd& q) const {
+  return std::all_of(base_.begin(), base_.end(), [&](int v) {
+    const robot::Joint& j = model_->joints()[static_cast<std::size_t>(model_->variables()[static_cast<std::size_t>(v)])];
+    return q[v] >= j.lower - 1e-9 && q[v] <= j.upper + 1e-9;
+  });
 }
 
 std::vector<Eigen::VectorXd> BasePlacement::solve_arm(const Eigen::Isometry3d& world_T_robot_base,

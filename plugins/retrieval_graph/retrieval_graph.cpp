@@ -313,6 +313,7 @@ class Search {
   // may work only in another order: a second pass tries each drop with the rest
   // ordered nearest the exit first (on Table VI's min4 shelf a run moved o5 and o15 of
   // one way out and then o1, o9, o10 of the other, which works only front first).
+  // Then, with `grasp_orders`, grasp_order.
   ObjectSet shortened(ObjectSet order, Result& result) {
     const plugin::Deadline run_deadline = context_.deadline;
     struct Restore {
@@ -339,29 +340,39 @@ class Search {
     drop_pass(false);
     if (dropped > 0) drop_pass(true);
     result.counters["removals_dropped"] = dropped;
-    // The target's footprint path counts objects a carry may lift it over (a table has
-    // no board above): the blockers of one of its grasps alone can be fewer than the
-    // graph's way (on bench mobile tables, one object where the way had two).
-    // Off by default: in shelves the carry cannot lift the target over anything, and
-    // the failed tries cost Table I's shelf20 a median of 1.3 s instead of 0.2 s.
-    std::uint64_t replaced = 0;
+    if (settings_.grasp_orders > 0) {
+      context_.deadline = run_deadline;
+      result.counters["grasp_orders_taken"] = grasp_order(order, tried, run_deadline) ? 1 : 0;
+    }
+    return order;
+  }
+
+  // Replaces `order` by the blockers of one of the target's own freeable grasps in the
+  // initial state when they alone let the target out: true when it did. The graph's
+  // footprint path counts objects a carry may lift the target over (a table has no
+  // board above), so one grasp's blockers can be fewer than the graph's way (on bench
+  // mobile tables, one object where the way had two). At most `grasp_orders` distinct
+  // sets not `tried` yet, each smaller than `order`, fewest objects first (the
+  // sampler's order among equals), each set nearest x_s first, each within
+  // `shorten_time` per object plus one. Off by default: in shelves the carry cannot
+  // lift the target over anything, and the failed tries cost Table I's shelf20 a
+  // median of 1.3 s instead of 0.2 s.
+  bool grasp_order(ObjectSet& order, std::set<ObjectSet>& tried, const plugin::Deadline& run_deadline) {
+    if (order.size() < 2 || run_deadline.expired()) return false;  // no smaller set would remove anything
     int tries = 0;
-    const auto sets = settings_.grasp_orders > 0 ? grasp_blocker_sets(context_.scene().target, initial_, false)
-                                                 : std::vector<ObjectSet>{};
-    for (ObjectSet set : sets) {
+    for (ObjectSet set : grasp_blocker_sets(context_.scene().target, initial_, false)) {
       if (set.size() >= order.size() || tries >= settings_.grasp_orders || run_deadline.expired()) break;
       nearest_exit_first(set);
       if (!tried.insert(set).second) continue;
       ++tries;
-      context_.deadline = plugin::Deadline::after(std::min(settings_.shorten_time * double(set.size() + 1), run_deadline.remaining()));
+      context_.deadline =
+          plugin::Deadline::after(std::min(settings_.shorten_time * double(set.size() + 1), run_deadline.remaining()));
       if (checker_.retrieve(set, reseeds_).ok) {
         order = std::move(set);
-        ++replaced;
-        break;
+        return true;
       }
     }
-    if (settings_.grasp_orders > 0) result.counters["grasp_orders_taken"] = replaced;
-    return order;
+    return false;
   }
 
   // Sorts `objects` by the distance of their initial positions from the exit x_s (in

@@ -40,8 +40,8 @@ class CLUTTERTAMP_API BasePlacement {
   /// table's edge where the approach meets its corner). Where the body (every link the
   /// arm does not move) would touch fixed geometry of `world`, or the arm would touch
   /// the robot itself, further back in 0.1 m steps, up to 0.5 m more; the first clear
-  /// placement the arm cannot reach, or a placement outside the base joints' limits,
-  /// ends that turn. The arm is solved alone from `seed`'s arm joints; it is not
+  /// placement the arm cannot reach ends that turn; placements outside the base joints'
+  /// limits are passed over. The arm is solved alone from `seed`'s arm joints; it is not
   /// checked against fixed geometry or objects, nor is the held object. A tool whose
   /// approach is within 5 degrees of vertical has no direction to stand behind: no
   /// solutions. Throws std::invalid_argument for a seed of the wrong size.
@@ -60,15 +60,16 @@ class CLUTTERTAMP_API BasePlacement {
 
  private:
   BasePlacement() = default;
+  bool base_within_limits(const Eigen::VectorXd& q) const;
   std::shared_ptr<const robot::RobotModel> model_;
   std::shared_ptr<const robot::NumericIk> arm_;  ///< from the link the turn carries to the tool
   robot::LinkIndex arm_root_ = -1;               ///< the first link the arm moves
   std::array<int, 3> base_{0, 1, 2};
 };
 
-/// Configurations with the tool at `world_T_tool` (world frame), nearest `seed` first:
-/// with a `placement`, its solve(world, checker, world_T_tool, seed); without, the
-/// robot's own IK (RobotDescription::ik) seeded by `seed`.
+/// Configurations with the tool at `world_T_tool` (world frame): with a `placement`,
+/// its solve(world, checker, world_T_tool, seed), in its order; without, the robot's
+/// own IK (RobotDescription::ik) seeded by `seed`, nearest the seed first.
 CLUTTERTAMP_API std::vector<Eigen::VectorXd> reach(const robot::RobotDescription& robot,
                                                    const std::optional<BasePlacement>& placement,
                                                    const collision::CollisionWorld& world,
