@@ -876,5 +876,27 @@ TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
   }
 }
 
+// bench push reaches within the tolerances it is given, for every planner, and says
+// which; a tolerance that is not positive is bad input. One easy scene, one seed, 3 s.
+TEST_F(Cli, BenchPushTakesTheReachTolerancesItIsGiven) {
+  const fs::path scenes = dir_ / "push";
+  fs::create_directories(scenes);
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push";
+  std::ofstream(scenes / "p01.yaml") << test::replaced(test::read_text(source / "easy.yaml"), "../../domains/",
+                                                       (fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains").string() + "/");
+  fs::copy_file(source / "easy-scene.yaml", scenes / "easy-scene.yaml");
+  const fs::path json_file = dir_ / "push.json";
+  const CliRun r = run("bench push -q --runs 1 --time-limit 3 --goal-distance 0.02 --goal-heading 0.4 --push-scenes " +
+                       scenes.string() + " --json " + json_file.string());
+  EXPECT_NE(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("reached within 0.020 m and 0.40 rad"), std::string::npos) << r.output;
+  const auto json = nlohmann::json::parse(test::read_text(json_file));
+  EXPECT_DOUBLE_EQ(json["goal_distance_m"].get<double>(), 0.02);
+  EXPECT_DOUBLE_EQ(json["goal_heading_rad"].get<double>(), 0.4);
+  EXPECT_EQ(json["planners"].size(), 3u);
+  EXPECT_EQ(run("bench push --goal-distance 0 --push-scenes " + scenes.string()).exit_code, 2);
+  EXPECT_EQ(run("bench push --goal-heading -1 --push-scenes " + scenes.string()).exit_code, 2);
+}
+
 }  // namespace
 }  // namespace cluttertamp

@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/physics/push_planning.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/search/planner.hpp"
 #include "cluttertamp/version.hpp"
@@ -238,6 +239,16 @@ int main(int argc, char** argv) {
                     "push: directory of reach problems pNN.yaml, each with its guidance pNN-guidance.yaml (else: generated)")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);
+  bench_args.goal_distance = cluttertamp::physics::ReachTolerances{}.distance;
+  bench_args.goal_heading = cluttertamp::physics::ReachTolerances{}.heading;
+  bench->add_option("--goal-distance", bench_args.goal_distance,
+                    "push: the target counts as reached with the gripper's face this close to its surface, m")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  bench->add_option("--goal-heading", bench_args.goal_heading,
+                    "push: ... and the target within this angle of the gripper's heading, rad")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   bench->add_option("--table", bench_args.tables,
                     "retrieval: I (12/16/20 objects, L strategies), V (100 objects, against traversability_graph), "
                     "VI (known minima, against exhaustive); repeatable, default I")
