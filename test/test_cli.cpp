@@ -103,6 +103,19 @@ class Cli : public ::testing::Test {
     return nlohmann::json::parse(in);
   }
 
+  // `plan problem_file` into the test's directory `name`: the run and, when it wrote
+  // one, its result.json (else null).
+  struct Planned {
+    CliRun run;
+    nlohmann::json result;
+  };
+  Planned planned(const fs::path& problem_file, const std::string& name, const std::string& extra = "") {
+    const fs::path out = dir_ / name;
+    Planned p{run("plan " + problem_file.string() + " -o " + out.string() + " " + extra), nullptr};
+    if (fs::exists(out / "result.json")) p.result = nlohmann::json::parse(test::read_text(out / "result.json"));
+    return p;
+  }
+
   fs::path dir_;
 };
 
@@ -624,9 +637,8 @@ TEST_F(Cli, ABadGuidanceFileIsBadInputWithItsLine) {
 // object the plan moves had been seen (or found) by the time it was moved.
 TEST_F(Cli, TheOcclusionPlannerRetrievesAHiddenTargetMovingOnlyWhatItHadSeen) {
   const fs::path problem_file = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/occlusion/occ12.yaml";
-  const CliRun r = run("plan " + problem_file.string() + " -o " + (dir_ / "occ").string());
+  const auto [r, result] = planned(problem_file, "occ");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto result = nlohmann::json::parse(test::read_text(dir_ / "occ/result.json"));
   const std::vector<std::string> moved = result["moved_objects"];
   ASSERT_FALSE(moved.empty());
   EXPECT_EQ(moved.back(), "target");
@@ -648,9 +660,8 @@ TEST_F(Cli, TheOcclusionPlannerRetrievesAHiddenTargetMovingOnlyWhatItHadSeen) {
 // nearest the line from x_s first: a middle column, reached straightest.
 TEST_F(Cli, TheOcclusionPlannerLooksBehindTheMiddleColumnsFirst) {
   const fs::path problem_file = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/occlusion/occ16.yaml";
-  const CliRun r = run("plan " + problem_file.string() + " -o " + (dir_ / "occ16").string());
+  const auto [r, result] = planned(problem_file, "occ16");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto result = nlohmann::json::parse(test::read_text(dir_ / "occ16/result.json"));
   const std::vector<std::string> moved = result["moved_objects"];
   ASSERT_FALSE(moved.empty());
   EXPECT_TRUE(moved.front() == "o4" || moved.front() == "o8") << moved.front();  // the middle fronts (y = -0.07, 0.07)
@@ -672,9 +683,9 @@ TEST_F(Cli, OnATableOneGraspsBlockersCanReplaceTheGraphsLongerWay) {
   // A generous budget per try, so that a loaded machine does not decide the result.
   std::ofstream(with) << test::replaced(text, "grasp_orders: 3", "grasp_orders: 3, shorten_time: 5");
   auto plan_of = [&](const fs::path& problem) {
-    const CliRun r = run("plan " + problem.string() + " -q -o " + (dir_ / problem.stem()).string());
+    const auto [r, result] = planned(problem, problem.stem().string(), "-q");
     EXPECT_EQ(r.exit_code, 0) << r.output;
-    return nlohmann::json::parse(test::read_text(dir_ / problem.stem() / "result.json"));
+    return result;
   };
   const auto on = plan_of(with), off = plan_of(without);
   EXPECT_EQ(on["counters"].value("grasp_orders_taken", 0), 1);
@@ -689,9 +700,8 @@ TEST_F(Cli, OnATableOneGraspsBlockersCanReplaceTheGraphsLongerWay) {
 TEST_F(Cli, AMobileManipulatorTakesTheTargetOutWhereFewestObjectsBlock) {
   const fs::path dir = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/mobile";
   auto moved = [&](const std::string& problem) {
-    const CliRun r = run("plan " + (dir / problem).string() + " -o " + (dir_ / problem).string());
+    const auto [r, result] = planned(dir / problem, problem);
     EXPECT_EQ(r.exit_code, 0) << r.output;
-    const auto result = nlohmann::json::parse(test::read_text(dir_ / problem / "result.json"));
     return result["moved_objects"].get<std::vector<std::string>>();
   };
   const std::vector<std::string> all_sides = moved("ring-all-sides.yaml");
@@ -881,10 +891,7 @@ TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
 TEST_F(Cli, BenchPushTakesTheReachTolerancesItIsGiven) {
   const fs::path scenes = dir_ / "push";
   fs::create_directories(scenes);
-  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push";
-  std::ofstream(scenes / "p01.yaml") << test::replaced(test::read_text(source / "easy.yaml"), "../../domains/",
-                                                       (fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains").string() + "/");
-  fs::copy_file(source / "easy-scene.yaml", scenes / "easy-scene.yaml");
+  bundled_copy(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/easy.yaml", "push/p01.yaml", {});
   const fs::path json_file = dir_ / "push.json";
   const CliRun r = run("bench push -q --runs 1 --time-limit 3 --goal-distance 0.02 --goal-heading 0.4 --push-scenes " +
                        scenes.string() + " --json " + json_file.string());
