@@ -25,6 +25,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The RTC goal with the default tolerances, checked without ReachGoal: the target's
+// centre between the fingers (within 5 mm), from the palm's face to the fingertips and
+// no nearer a finger than its radius, and within 0.5 rad of the gripper's heading.
+void expect_target_between_fingers(const Scene& scene, const physics::PushState& state) {
+  const physics::PushSettings g;
+  const Eigen::Vector2d to = state.objects[scene.target].pose.head<2>() - state.gripper.head<2>();
+  const Eigen::Vector2d local = Eigen::Rotation2Dd(-state.gripper.z()) * to;
+  const double radius = std::get<Cylinder>(scene.objects[scene.target].shape).radius;
+  EXPECT_GE(local.x(), g.gripper_size.x() / 2 - 0.005 - 1e-6);
+  EXPECT_LE(local.x(), g.gripper_size.x() / 2 + g.finger_length + 0.005 + 1e-6);
+  EXPECT_LE(std::abs(local.y()), g.gripper_size.y() / 2 - g.finger_width - radius + 0.005 + 1e-6);
+  EXPECT_LE(std::abs(std::remainder(std::atan2(to.y(), to.x()) - state.gripper.z(), 2 * M_PI)), 0.5 + 1e-6);
+}
+
 // A plan step's "controls" values ([vx vy yaw-rate duration] per control) as controls.
 std::vector<physics::PushControl> push_controls(const std::vector<double>& values) {
   std::vector<physics::PushControl> controls;
@@ -555,9 +569,7 @@ TEST_F(Cli, GuidedPlansSatisfyEveryGuideAndReachTheTargetWhenReplayed) {
       const Eigen::Vector2d object = replay.end.objects[guidance[k].object].pose.head<2>();
       EXPECT_LE((object - guidance[k].centre).norm(), guidance[k].diameter / 2 + 1e-9) << "the guide holds";
     } else {
-      const Eigen::Vector2d to = replay.end.objects[scene.target].pose.head<2>() - replay.end.gripper.head<2>();
-      const double reach = 0.02 + std::get<Cylinder>(scene.objects[scene.target].shape).radius;
-      EXPECT_NEAR(to.norm(), reach, 0.03 + 1e-6) << "the gripper's face at the target";
+      expect_target_between_fingers(scene, replay.end);
     }
     state = physics::world_state_of(state, replay.end);
     gripper = replay.end.gripper;
@@ -611,6 +623,41 @@ TEST_F(Cli, RetrievalWithPushesPushesAsideWhatItCanAndRetrievesTheTarget) {
   const CliRun missing = plan(without);
   EXPECT_EQ(missing.exit_code, 1) << missing.output;
   EXPECT_NE(missing.output.find("retrieval_graph with push: true needs a push sampler"), std::string::npos) << missing.output;
+}
+
+// A guide that cannot be satisfied (its region is where a fixed post stands) is kept as
+// a failure and passed over by default (no parameter): the run still reaches the
+// target. With `unsatisfied_guides: stop` it ends the run with the guide's reason.
+TEST_F(Cli, AGuideThatCannotBeSatisfiedIsSkippedUnlessTheProblemSaysStop) {
+  const fs::path push_dir = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push";
+  const fs::path scene = dir_ / "post-scene.yaml";
+  std::ofstream(scene) << test::read_text(push_dir / "easy-scene.yaml")
+                       << "  - {id: post, cylinder: {radius: 0.04, height: 0.26}, pose: {xyz: [0.95, 0.25, 0.53]}, "
+                          "mass: 1, movable: false}\n";
+  const fs::path guidance = dir_ / "post-guidance.yaml";
+  std::ofstream(guidance) << "version: 1\nguides:\n  - {object: o3, centre: [0.95, 0.25], diameter: 0.04}\n";
+  for (const std::string mode : {"skip", "stop"}) {
+    SCOPED_TRACE(mode);
+    const fs::path file = bundled_copy(push_dir / "easy-guided.yaml", "post-" + mode + ".yaml",
+                                       {{"scene: easy-scene.yaml", "scene: " + scene.string()},
+                                        {"guidance: auto", "guidance: " + guidance.string() + ", steer: 0.3" +
+                                                               (mode == "stop" ? ", unsatisfied_guides: stop" : "")}});
+    const CliRun r = plan(file, "--seed 1 --time-limit 6");
+    const nlohmann::json j = result();
+    EXPECT_EQ(j["counters"]["guides_satisfied"], 0);
+    ASSERT_FALSE(j["failures"].empty());
+    EXPECT_EQ(j["failures"][0]["reason"].get<std::string>().rfind("guide 1 (push 'o3'", 0), 0u) << j["failures"].dump();
+    if (mode == "skip") {
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      EXPECT_EQ(j["counters"]["guides_skipped"], 1);
+      ASSERT_EQ(j["plan"].size(), 1u) << "the reach alone";
+      EXPECT_EQ(j["plan"][0]["values"].count("guide"), 0u);
+    } else {
+      EXPECT_EQ(r.exit_code, 1) << r.output;
+      EXPECT_EQ(j["counters"]["guides_skipped"], 0);
+      EXPECT_EQ(j["reason"].get<std::string>().rfind("guide 1 (push 'o3'", 0), 0u) << j["reason"];
+    }
+  }
 }
 
 // A guidance file naming an unknown object, or a region off the shelf, is bad input.
@@ -877,10 +924,7 @@ TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
     EXPECT_TRUE(replay.valid) << "nothing fell, left the shelf or entered a wall";
     const physics::PushState& state = replay.end;
     const Eigen::Vector2d target = state.objects[scene.target].pose.head<2>();
-    const Eigen::Vector2d to = target - state.gripper.head<2>();
-    const double reach = 0.02 + std::get<Cylinder>(scene.objects[scene.target].shape).radius;
-    EXPECT_NEAR(to.norm(), reach, 0.03 + 1e-6) << "the gripper's face at the target";
-    EXPECT_LE(std::abs(std::remainder(std::atan2(to.y(), to.x()) - state.gripper.z(), 2 * M_PI)), 0.5 + 1e-6);
+    expect_target_between_fingers(scene, state);
     const auto& last = j["plan"][0]["trajectory"]["positions"].back();
     EXPECT_NEAR(last[0].get<double>(), state.gripper.x(), 1e-3) << "the replay ends where the plan says";
   }
@@ -893,16 +937,18 @@ TEST_F(Cli, BenchPushTakesTheReachTolerancesItIsGiven) {
   fs::create_directories(scenes);
   bundled_copy(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/easy.yaml", "push/p01.yaml", {});
   const fs::path json_file = dir_ / "push.json";
-  const CliRun r = run("bench push -q --runs 1 --time-limit 3 --goal-distance 0.02 --goal-heading 0.4 --push-scenes " +
-                       scenes.string() + " --json " + json_file.string());
+  const CliRun r = run("bench push -q --runs 1 --time-limit 3 --goal-distance 0.02 --goal-heading 0.4 --steer 0.25 "
+                       "--push-scenes " + scenes.string() + " --json " + json_file.string());
   EXPECT_NE(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("reached within 0.020 m and 0.40 rad"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("reached within 0.020 m and 0.40 rad, steering 0.25"), std::string::npos) << r.output;
   const auto json = nlohmann::json::parse(test::read_text(json_file));
   EXPECT_DOUBLE_EQ(json["goal_distance_m"].get<double>(), 0.02);
   EXPECT_DOUBLE_EQ(json["goal_heading_rad"].get<double>(), 0.4);
+  EXPECT_DOUBLE_EQ(json["steer"].get<double>(), 0.25);
   EXPECT_EQ(json["planners"].size(), 3u);
   EXPECT_EQ(run("bench push --goal-distance 0 --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --goal-heading -1 --push-scenes " + scenes.string()).exit_code, 2);
+  EXPECT_EQ(run("bench push --steer 1.5 --push-scenes " + scenes.string()).exit_code, 2);
 }
 
 }  // namespace

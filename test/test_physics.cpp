@@ -89,8 +89,10 @@ TEST(PushPhysics, APushOverTheBoardEdgeDropsTheObjectAndAWallStopsNothingButIsRe
     const PushWorld world(scene, initial);
     const physics::PushOutcome out = world.propagate(world.state_of(initial, {0.9, 0.0, 0.0}), PushControl{{0.2, 0, 0}, 1.0});
     EXPECT_TRUE(out.gripper_hit_fixed) << "the gripper entered the wall at x = 1.05";
-    const physics::PushOutcome short_of = world.propagate(world.state_of(initial, {0.9, 0.0, 0.0}), PushControl{{0.2, 0, 0}, 0.5});
-    EXPECT_FALSE(short_of.gripper_hit_fixed) << "it stops at x = 1.0, front face 1.02";
+    const physics::PushOutcome short_of = world.propagate(world.state_of(initial, {0.9, 0.0, 0.0}), PushControl{{0.2, 0, 0}, 0.3});
+    EXPECT_FALSE(short_of.gripper_hit_fixed) << "it stops at x = 0.96, the fingertips at 1.03";
+    const physics::PushOutcome fingers_in = world.propagate(world.state_of(initial, {0.9, 0.0, 0.0}), PushControl{{0.2, 0, 0}, 0.5});
+    EXPECT_TRUE(fingers_in.gripper_hit_fixed) << "at x = 1.0 the palm's face (1.02) is short of it, the fingertips (1.07) are not";
   }
 }
 

@@ -67,6 +67,34 @@ TEST(PushPlanning, TheSupportRegionStopsAtTheWalls) {
   EXPECT_NEAR(world.gripper_region().min().x(), 0.40, 1e-9) << "the exit, less 5 cm";
 }
 
+// The RTC goal is the target's centre between the fingers (Papallas & Dogar's "within
+// the end-effector"): from the palm's face (2 cm ahead of the gripper's centre) to the
+// fingertips (7 cm), at most the gap's half less the target's radius (4.5 - 3.5 cm)
+// across. Without fingers it is the face at the target's surface.
+TEST(PushPlanning, TheReachGoalIsTheTargetBetweenTheFingers) {
+  const Scene scene = board_scene({{0.9, 0.0}});
+  const WorldState initial = WorldState::initial(scene);
+  const PushWorld world(scene, initial);
+  const physics::ReachGoal goal(world, 0, physics::ReachTolerances{});
+  const auto at = [&](double x, double y, double yaw) { return world.state_of(initial, {x, y, yaw}); };
+  EXPECT_EQ(goal.distance(at(0.9 - 0.055, 0.0, 0.0)), 0.0) << "centre 5.5 cm ahead: in the pocket";
+  EXPECT_EQ(goal.distance(at(0.9 - 0.069, 0.0, 0.0)), 0.0) << "centre 1 mm short of the fingertips' line";
+  EXPECT_NEAR(goal.distance(at(0.9 - 0.08, 0.0, 0.0)), 0.01, 1e-9) << "1 cm beyond the fingertips";
+  EXPECT_NEAR(goal.distance(at(0.9 - 0.055, 0.02, 0.0)), 0.01, 1e-9) << "2 cm across: 1 cm too near a finger";
+  EXPECT_GT(goal.distance(at(0.9 + 0.055, 0.0, 0.0)), 0.1) << "behind the target, facing away";
+  EXPECT_EQ(goal.distance(at(0.9, -0.055, M_PI / 2)), 0.0) << "from the side, turned towards it";
+  const Eigen::Vector3d aim = goal.gripper_target(at(0.5, 0.0, 0.0));
+  EXPECT_NEAR(aim.x(), 0.9 - 0.02 - 0.035, 1e-9) << "the palm's face at the target's surface";
+  EXPECT_EQ(goal.distance(at(aim.x(), aim.y(), aim.z())), 0.0);
+
+  physics::PushSettings box;
+  box.finger_length = 0;
+  const PushWorld box_world(scene, initial, box);
+  const physics::ReachGoal face(box_world, 0, physics::ReachTolerances{});
+  EXPECT_NEAR(face.distance(box_world.state_of(initial, {0.9 - 0.055, 0.0, 0.0})), 0.0, 1e-12) << "the face at its surface";
+  EXPECT_NEAR(face.distance(box_world.state_of(initial, {0.9 - 0.075, 0.0, 0.0})), 0.02, 1e-9);
+}
+
 // A cylinder alone on the board, pushed by the kinodynamic search (steered, Section
 // V-A) into a 3 cm region 12 cm away and off the line it starts on.
 TEST(PushPlanning, APlannedPushPutsTheCylinderInItsRegionWhenReplayed) {

@@ -9,6 +9,7 @@
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/io/result_json.hpp"
+#include "cluttertamp/physics/push_world.hpp"
 #include "cluttertamp/run/guided_session.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/viewer/plan_html.hpp"
@@ -51,6 +52,15 @@ TEST_F(ViewerTest, ReplayMovesPushedAndHeldObjectsToWhereThePlanLeavesThem) {
                                                                 io::drawings_to_json(run.result), "memory"}));
   ASSERT_EQ(replay["steps"].size(), 2u);
   EXPECT_EQ(replay["steps"][0]["action"], "push");
+  // The pusher drawn as the physics' gripper: the palm, then a finger either side ahead.
+  const physics::PushSettings gripper;
+  ASSERT_EQ(replay["pusher"]["parts"].size(), 3u);
+  EXPECT_EQ(replay["pusher"]["parts"][0]["offset"], Json::array({0.0, 0.0}));
+  for (const int k : {1, 2}) {
+    const Json& finger = replay["pusher"]["parts"][k];
+    EXPECT_DOUBLE_EQ(finger["offset"][0].get<double>(), gripper.gripper_size.x() / 2 + gripper.finger_length / 2);
+    EXPECT_NEAR(std::abs(finger["offset"][1].get<double>()), (gripper.gripper_size.y() - gripper.finger_width) / 2, 1e-12);
+  }
   EXPECT_EQ(replay["steps"][1]["action"], "retrieve");
   const std::vector<double>& pushed = run.result.plan[0].values.at("o3");
   const Eigen::Vector3d o3 = last_position(replay, "o3");
@@ -126,6 +136,7 @@ TEST_F(ViewerTest, AGuidedSessionRecordsItsInputsAndPushesIntoTheRegion) {
   ASSERT_TRUE(out.ok) << out.message;
   const Json state = Json::parse(session.state_json());
   ASSERT_EQ(state["inputs"].size(), 1u);
+  EXPECT_EQ(state["gripper"]["boxes"].size(), 3u) << "the page draws the palm and two fingers";
   for (const Json& o : state["objects"]) {
     if (o["id"] == "o3") EXPECT_LE(std::hypot(o["pose"][0].get<double>() - 0.78, o["pose"][1].get<double>() - 0.06), 0.05);
   }

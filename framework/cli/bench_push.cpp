@@ -35,6 +35,7 @@ struct Run {
   double seconds = 0, guidance_seconds = 0;
   std::uint64_t propagations = 0, guides = 0, guides_satisfied = 0;
   std::string reason;
+  std::uint64_t guides_skipped = 0;
 };
 
 std::uint64_t counter(const Result& r, const std::string& name) {
@@ -55,6 +56,7 @@ Problem configured(Problem problem, const std::string& setting, const fs::path& 
   problem.planner.parameters = Parameters{};
   problem.planner.parameters.set("goal_distance", args.goal_distance);
   problem.planner.parameters.set("goal_heading", args.goal_heading);
+  problem.planner.parameters.set("steer", args.steer);
   if (setting == "guided") {
     problem.planner.name = "grtc";
     problem.planner.parameters.set("guidance", fs::exists(guidance) ? guidance.string() : std::string("auto"));
@@ -174,7 +176,7 @@ int bench_push(const BenchArgs& args) {
   if (!args.csv.empty()) {
     csv.open(args.csv);
     if (!csv) throw InputError({args.csv.string(), 0, 0}, "cannot write the CSV file");
-    csv << "scene,planner,seed,solved,time_s,guidance_time_s,propagations,guides,guides_satisfied,reason\n";
+    csv << "scene,planner,seed,solved,time_s,guidance_time_s,propagations,guides,guides_satisfied,reason,guides_skipped\n";
   }
   std::vector<Run> runs;
   std::vector<std::string> scenes;
@@ -201,11 +203,11 @@ int bench_push(const BenchArgs& args) {
         const Result r = run::plan(configured_problem, registry, options).result;
         Run run{problem.name, setting.name, *options.seed, r.solved, r.time.total,
                 setting.name == "guided" ? r.time.task_planning : 0.0, counter(r, "propagations"),
-                counter(r, "guides"), counter(r, "guides_satisfied"), r.reason};
+                counter(r, "guides"), counter(r, "guides_satisfied"), r.reason, counter(r, "guides_skipped")};
         if (csv) {
           csv << run.scene << ',' << run.setting << ',' << run.seed << ',' << run.solved << ',' << run.seconds << ','
               << run.guidance_seconds << ',' << run.propagations << ',' << run.guides << ',' << run.guides_satisfied
-              << ',' << csv_field(run.reason) << "\n";
+              << ',' << csv_field(run.reason) << ',' << run.guides_skipped << "\n";
         }
         runs.push_back(std::move(run));
       }
@@ -215,7 +217,8 @@ int bench_push(const BenchArgs& args) {
 
   std::cout << "Reaching through clutter on " << files.size() << " scenes (" << args.push_scenes.string() << "), "
             << args.runs << " seeds each, " << fixed(args.time_limit, 0) << " s per run, reached within "
-            << fixed(args.goal_distance, 3) << " m and " << fixed(args.goal_heading, 2) << " rad\n\n";
+            << fixed(args.goal_distance, 3) << " m and " << fixed(args.goal_heading, 2) << " rad, steering "
+            << fixed(args.steer, 2) << "\n\n";
   std::cout << std::left << std::setw(9) << "planner" << std::setw(7) << "runs" << std::setw(9) << "success" << std::setw(14)
             << "paper (300 s)" << std::setw(26) << "mean time s [95% CI]" << std::setw(9) << "median" << "propagations\n";
   nlohmann::ordered_json json{{"scenes", scenes},
@@ -223,6 +226,7 @@ int bench_push(const BenchArgs& args) {
                               {"time_limit_s", args.time_limit},
                               {"goal_distance_m", args.goal_distance},
                               {"goal_heading_rad", args.goal_heading},
+                              {"steer", args.steer},
                               {"planners", nlohmann::ordered_json::array()}};
   std::map<std::string, double> success;
   for (const Setting& s : kSettings) {

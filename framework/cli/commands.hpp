@@ -135,8 +135,9 @@ struct BenchArgs {
   std::filesystem::path csv;             ///< bench retrieval, push
   std::filesystem::path svg;             ///< bench push
   std::filesystem::path push_scenes;     ///< bench push: directory of reach problems
-  double goal_distance = 0.03;           ///< bench push: ReachTolerances::distance for every planner, m
+  double goal_distance = 0.005;          ///< bench push: ReachTolerances::distance for every planner, m
   double goal_heading = 0.5;             ///< bench push: ReachTolerances::heading for every planner, rad
+  double steer = 0.0;                    ///< bench push: KinodynamicSettings::steer for every planner's reach
   std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
   std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
   std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml

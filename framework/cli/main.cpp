@@ -242,13 +242,18 @@ int main(int argc, char** argv) {
   bench_args.goal_distance = cluttertamp::physics::ReachTolerances{}.distance;
   bench_args.goal_heading = cluttertamp::physics::ReachTolerances{}.heading;
   bench->add_option("--goal-distance", bench_args.goal_distance,
-                    "push: the target counts as reached with the gripper's face this close to its surface, m")
+                    "push: the target counts as reached with its centre this close to the pocket between the gripper's fingers, m")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   bench->add_option("--goal-heading", bench_args.goal_heading,
                     "push: ... and the target within this angle of the gripper's heading, rad")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  bench_args.steer = cluttertamp::physics::KinodynamicSettings{}.steer;
+  bench->add_option("--steer", bench_args.steer,
+                    "push: fraction of every planner's sampled controls steered towards the target (guided: its reach)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   bench->add_option("--table", bench_args.tables,
                     "retrieval: I (12/16/20 objects, L strategies), V (100 objects, against traversability_graph), "
                     "VI (known minima, against exhaustive); repeatable, default I")

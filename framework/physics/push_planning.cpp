@@ -326,13 +326,34 @@ void ReachTolerances::read(const Parameters& p) {
 }
 
 ReachGoal::ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTolerances& tolerances)
-    : PushGoal(tolerances.distance), target_(target),
-      reach_(world.settings().gripper_size.x() / 2 + world.footprint_radius(target)), heading_(tolerances.heading) {}
+    : PushGoal(tolerances.distance), target_(target), heading_(tolerances.heading) {
+  const PushSettings& g = world.settings();
+  const double r = world.footprint_radius(target);
+  pocket_near_ = g.gripper_size.x() / 2;
+  pocket_far_ = pocket_near_ + g.finger_length;
+  pocket_half_width_ = g.gripper_size.y() / 2 - g.finger_width - r;
+  // A target too wide for the gap is reached as by a plain box: the face at its surface.
+  if (pocket_half_width_ <= 0) pocket_far_ = pocket_near_;
+  // The palm's face at the target's surface, or the target's centre at the fingertips
+  // when they are shorter than its radius.
+  reach_ = pocket_near_ + (pocket_far_ > pocket_near_ ? std::min(r, g.finger_length) : r);
+}
+
+Eigen::Vector3d ReachGoal::sample_spread() const {
+  // In the pocket, the target's bearing stays within what its width allows.
+  const double yaw = pocket_far_ > pocket_near_ ? std::min(heading_, std::atan2(pocket_half_width_, reach_)) : heading_;
+  return {0.0, 0.0, yaw};
+}
 
 double ReachGoal::distance(const PushState& s) const {
   const Eigen::Vector2d to = s.objects.at(target_).pose.head<2>() - s.gripper.head<2>();
   const double off = angle_between(std::atan2(to.y(), to.x()), s.gripper.z());
-  return std::abs(to.norm() - reach_) + std::max(0.0, off - heading_);
+  if (pocket_far_ <= pocket_near_) return std::abs(to.norm() - reach_) + std::max(0.0, off - heading_);
+  // The target's centre in the gripper's frame, and how far it is from the pocket.
+  const Eigen::Vector2d local = Eigen::Rotation2Dd(-s.gripper.z()) * to;
+  const double dx = std::max({0.0, pocket_near_ - local.x(), local.x() - pocket_far_});
+  const double dy = std::max(0.0, std::abs(local.y()) - pocket_half_width_);
+  return std::hypot(dx, dy) + std::max(0.0, off - heading_);
 }
 
 Eigen::Vector3d ReachGoal::gripper_target(const PushState& s) const {
@@ -366,7 +387,8 @@ Eigen::Vector3d GripperPoseGoal::gripper_target(const PushState& s) const {
 ObjectInRegionGoal::ObjectInRegionGoal(const PushWorld& world, ObjectIndex object, const Eigen::Vector2d& centre,
                                        double radius)
     : PushGoal(radius), object_(object), centre_(centre),
-      standoff_(world.settings().gripper_size.x() / 2 + world.footprint_radius(object)) {}
+      standoff_(world.settings().gripper_size.x() / 2 + world.footprint_radius(object)),
+      approach_(standoff_ + world.settings().finger_length + 0.01) {}
 
 double ObjectInRegionGoal::distance(const PushState& s) const {
   return (s.objects.at(object_).pose.head<2>() - centre_).norm();
@@ -376,12 +398,15 @@ Eigen::Vector3d ObjectInRegionGoal::gripper_target(const PushState& s) const {
   const Eigen::Vector2d object = s.objects.at(object_).pose.head<2>();
   const Eigen::Vector2d along = centre_ - object;
   const double yaw = along.norm() > 1e-6 ? std::atan2(along.y(), along.x()) : s.gripper.z();
-  // Behind the object, on the line that pushes it to the centre: until behind, head
-  // there; once there, the same point lies ahead and pushing it carries the object.
+  // Until lined up behind the object on the line that pushes it to the centre (its
+  // fingertips short of it, or closer in on that line), head for the approach point;
+  // once lined up, for where the palm's face leaves the object at the centre.
   const Eigen::Vector2d dir(std::cos(yaw), std::sin(yaw));
-  const Eigen::Vector2d behind = object - standoff_ * dir;
-  const bool lined_up = (s.gripper.head<2>() - behind).norm() < 0.02 && angle_between(s.gripper.z(), yaw) < 0.3;
-  const Eigen::Vector2d at = lined_up ? Eigen::Vector2d(centre_ - standoff_ * dir) : behind;
+  const Eigen::Vector2d rel = s.gripper.head<2>() - object;
+  const double behind = -rel.dot(dir), aside = std::abs(rel.dot(Eigen::Vector2d(-dir.y(), dir.x())));
+  const bool lined_up = aside < 0.02 && angle_between(s.gripper.z(), yaw) < 0.3 && behind > standoff_ - 0.01 &&
+                        behind < approach_ + 0.02;
+  const Eigen::Vector2d at = lined_up ? Eigen::Vector2d(centre_ - standoff_ * dir) : Eigen::Vector2d(object - approach_ * dir);
   return {at.x(), at.y(), yaw};
 }
 

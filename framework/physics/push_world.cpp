@@ -64,7 +64,8 @@ struct PushWorld::Impl {
   double plane = 0;           // the gripper's bottom, m
   double gripper_z = 0;       // the gripper's centre, m
   std::vector<std::unique_ptr<btCollisionShape>> fixed_shapes = {}, object_shapes = {};
-  std::unique_ptr<btCollisionShape> gripper_shape = nullptr;
+  std::vector<std::unique_ptr<btCollisionShape>> gripper_parts = {};  // the boxes of gripper_shape
+  std::unique_ptr<btCompoundShape> gripper_shape = nullptr;
   std::vector<btVector3> inertia = {};  // per object, for its mass
 
   // One simulation, built afresh per propagation: Bullet keeps contact caches and
@@ -153,10 +154,25 @@ Eigen::AlignedBox2d support_region(const Scene& scene, const WorldState& state, 
   return support;
 }
 
+std::vector<GripperBox> gripper_boxes(const PushSettings& settings) {
+  const Eigen::Vector3d& palm = settings.gripper_size;
+  std::vector<GripperBox> boxes{{palm, Eigen::Vector2d::Zero()}};
+  if (settings.finger_length > 0) {
+    const Eigen::Vector3d finger(settings.finger_length, settings.finger_width, palm.z());
+    for (const double side : {1.0, -1.0}) {
+      boxes.push_back({finger, {palm.x() / 2 + settings.finger_length / 2, side * (palm.y() - settings.finger_width) / 2}});
+    }
+  }
+  return boxes;
+}
+
 PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings settings)
     : impl_(std::make_unique<Impl>(Impl{scene, settings})) {
   Impl& w = *impl_;
   if (!(settings.time_step > 0)) throw std::invalid_argument("PushWorld: time_step must be positive");
+  if (settings.finger_length < 0 || !(settings.finger_width > 0) || 2 * settings.finger_width >= settings.gripper_size.y()) {
+    throw std::invalid_argument("PushWorld: fingers need a length >= 0 and a width > 0 that leaves a gap between them");
+  }
   for (const FixedBody& f : scene.fixed) w.fixed_shapes.push_back(make_shape(f.shape));
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
@@ -176,8 +192,13 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
   w.plane = support_top + settings.gripper_clearance;
   w.support = physics::support_region(scene, initial, settings);
   w.gripper_z = w.plane + settings.gripper_size.z() / 2;
-  const Eigen::Vector3d half = settings.gripper_size / 2;
-  w.gripper_shape = std::make_unique<btBoxShape>(btVector3(btScalar(half.x()), btScalar(half.y()), btScalar(half.z())));
+  w.gripper_shape = std::make_unique<btCompoundShape>();
+  for (const GripperBox& box : gripper_boxes(settings)) {
+    const Eigen::Vector3d half = box.size / 2;
+    w.gripper_parts.push_back(std::make_unique<btBoxShape>(btVector3(btScalar(half.x()), btScalar(half.y()), btScalar(half.z()))));
+    const btVector3 at(btScalar(box.offset.x()), btScalar(box.offset.y()), 0);
+    w.gripper_shape->addChildShape(btTransform(btQuaternion::getIdentity(), at), w.gripper_parts.back().get());
+  }
 }
 
 PushWorld::~PushWorld() = default;

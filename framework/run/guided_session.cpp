@@ -190,6 +190,17 @@ std::string GuidedSession::result_json() const {
   return io::result_to_json(impl_->problem, impl_->result, impl_->info());
 }
 
+namespace {
+// The gripper's palm and fingers from above: [x, y, depth, width] each, gripper frame, m.
+Json gripper_boxes_json(const physics::PushSettings& settings) {
+  Json boxes = Json::array();
+  for (const physics::GripperBox& b : physics::gripper_boxes(settings)) {
+    boxes.push_back({b.offset.x(), b.offset.y(), b.size.x(), b.size.y()});
+  }
+  return boxes;
+}
+}  // namespace
+
 std::string GuidedSession::state_json() const {
   const Impl& s = *impl_;
   const Scene& scene = s.problem.scene;
@@ -223,7 +234,8 @@ std::string GuidedSession::state_json() const {
            {"walls", walls},
            {"objects", objects},
            {"gripper", {{"pose", {s.gripper.x(), s.gripper.y(), s.gripper.z()}},
-                        {"size", {settings.gripper_size.x(), settings.gripper_size.y()}}}},
+                        {"size", {settings.gripper_size.x(), settings.gripper_size.y()}},
+                        {"boxes", gripper_boxes_json(settings)}}},
            {"diameter", s.options.diameter},
            {"time_limit", s.problem.time_limit},
            {"time_left", s.time_left()},

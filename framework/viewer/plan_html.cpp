@@ -477,8 +477,11 @@ std::string replay_json(const Problem& problem, const PlanFiles& plan, double fr
       for (Json& frame : out["frames"]) frame.erase("links");
     }
     if (replayer.pushed()) {
-      const physics::PushSettings settings;
-      out["pusher"] = {{"shape", shape_json(Box{settings.gripper_size})}};
+      Json parts = Json::array();  // the palm and the fingers, each at its offset in the pusher's frame
+      for (const physics::GripperBox& box : physics::gripper_boxes(physics::PushSettings{})) {
+        parts.push_back({{"shape", shape_json(Box{box.size})}, {"offset", {box.offset.x(), box.offset.y()}}});
+      }
+      out["pusher"] = {{"parts", parts}};
     }
     if (result.contains("human_guidance")) out["human_guidance"] = result.at("human_guidance");
     return out.dump(-1, ' ', false, Json::error_handler_t::replace);

@@ -113,19 +113,26 @@ class PushOmpl final : public plugin::PushSampler {
 
  private:
   // Fig. 2: a point behind the object on the line from the region's centre through it,
-  // as far from the object's centre as its enclosing circle plus the gripper's half
-  // depth (face towards the region) or half width (side edge towards it), plus a gap.
+  // as far from the object's centre as its enclosing circle plus a gap plus the
+  // gripper's reach ahead (the fingertips: face towards the region) or half width (side
+  // edge towards it, the side's middle, palm and finger, facing the object).
   std::vector<Eigen::Vector3d> approach_states(const physics::PushWorld& world, const physics::PushState& s,
                                                const plugin::PushQuery& q) const {
     const Eigen::Vector2d object = s.objects.at(q.object).pose.head<2>();
     const Eigen::Vector2d dir = (q.goal_xy - object).normalized();
+    const Eigen::Vector2d across(-dir.y(), dir.x());
     const double yaw = std::atan2(dir.y(), dir.x());
     const double r = world.footprint_radius(q.object) + gap_;
-    const Eigen::Vector3d& gripper = world.settings().gripper_size;
-    const Eigen::Vector2d face = object - (r + gripper.x() / 2) * dir;
-    const Eigen::Vector2d side = object - (r + gripper.y() / 2) * dir;
+    const physics::PushSettings& g = world.settings();
+    const Eigen::Vector2d face = object - (r + ahead(g)) * dir;
+    // Turned +90 degrees, the gripper's x is `across`: its side's middle lies at x =
+    // finger_length / 2 in its frame.
+    const Eigen::Vector2d side = object - (r + g.gripper_size.y() / 2) * dir - g.finger_length / 2 * across;
     return {{face.x(), face.y(), yaw}, {side.x(), side.y(), std::remainder(yaw + M_PI / 2, 2 * M_PI)}};
   }
+
+  // How far the gripper reaches ahead of its centre: the fingertips (or the palm's face).
+  static double ahead(const physics::PushSettings& g) { return g.gripper_size.x() / 2 + g.finger_length; }
 
   // The quick pass, before any search: a feedback pusher simulated in the physics.
   // Each round lines the gripper up behind the object on its line to the region's
@@ -137,8 +144,12 @@ class PushOmpl final : public plugin::PushSampler {
   std::optional<physics::PushPath> quick_push(const physics::PushWorld& world, const physics::PushState& start,
                                               const plugin::PushQuery& q, const plugin::Deadline& deadline,
                                               std::string& why) const {
-    const double standoff = world.footprint_radius(q.object) + world.settings().gripper_size.x() / 2 + gap_;
-    const double front = world.support_region().min().x() - world.settings().gripper_size.y() / 2 - gap_;
+    // Lined up with the fingertips a gap behind the object; the push then carries it
+    // in the pocket, against the palm.
+    const physics::PushSettings& g = world.settings();
+    const double standoff = world.footprint_radius(q.object) + ahead(g) + gap_;
+    // In front of the shelf, the gripper may turn without reaching into it.
+    const double front = world.support_region().min().x() - std::hypot(ahead(g), g.gripper_size.y() / 2) - gap_;
     physics::PushPath path{{start}, {}, search_.step};
     for (int round = 0; round < quick_rounds_; ++round) {
       if (deadline.expired()) {
@@ -154,7 +165,7 @@ class PushOmpl final : public plugin::PushSampler {
       const Eigen::Vector3d behind(object.x() - standoff * dir.x(), object.y() - standoff * dir.y(), yaw);
       std::optional<physics::PushPath> best;
       std::size_t best_disturbed = 0;
-      for (const std::vector<Eigen::Vector3d>& route : line_up_routes(s.gripper, behind, front)) {
+      for (const std::vector<Eigen::Vector3d>& route : line_up_routes(s.gripper, behind, front, g.finger_length + 0.03)) {
         if (deadline.expired()) break;
         physics::PushPath lined{{s}, {}, search_.step};
         bool ok = true;
@@ -175,7 +186,8 @@ class PushOmpl final : public plugin::PushSampler {
       }
       const physics::PushState& lined_up = best->states.back();
       const Eigen::Vector2d now = q.goal_xy - lined_up.objects[q.object].pose.head<2>();
-      const double stroke = std::min(quick_stroke_, std::max(0.0, now.dot(dir)));
+      // The fingers pass the object first: it moves once the palm's face meets it.
+      const double stroke = std::min(quick_stroke_, std::max(0.0, now.dot(dir))) + g.finger_length + gap_;
       const Eigen::Vector3d pushed = lined_up.gripper + Eigen::Vector3d(stroke * dir.x(), stroke * dir.y(), 0.0);
       if (!physics::simulate(world, *best, physics::straight_controls(lined_up.gripper, pushed, search_))) {
         why = "round " + std::to_string(round + 1) +
@@ -198,14 +210,14 @@ class PushOmpl final : public plugin::PushSampler {
 
   // Ways from the gripper pose `g` to the pose `behind`, as waypoints: straight there,
   // turning on the way; turning first, then straight; straight, then turning; and, from
-  // inside the shelf (front of it at x = `front`), backing 3 cm away from what the face
-  // touches, out to the front, across and in.
+  // inside the shelf (front of it at x = `front`), backing `back` m away from what the
+  // palm touches (out of the fingers), out to the front, across and in.
   static std::vector<std::vector<Eigen::Vector3d>> line_up_routes(const Eigen::Vector3d& g, const Eigen::Vector3d& behind,
-                                                                  double front) {
+                                                                  double front, double back_off) {
     std::vector<std::vector<Eigen::Vector3d>> routes{
         {behind}, {{g.x(), g.y(), behind.z()}, behind}, {{behind.x(), behind.y(), g.z()}, behind}};
     if (g.x() > front) {
-      const Eigen::Vector3d back(g.x() - 0.03 * std::cos(g.z()), g.y() - 0.03 * std::sin(g.z()), g.z());
+      const Eigen::Vector3d back(g.x() - back_off * std::cos(g.z()), g.y() - back_off * std::sin(g.z()), g.z());
       routes.push_back({back, {front, back.y(), g.z()}, {front, behind.y(), behind.z()}, behind});
     }
     return routes;

@@ -62,10 +62,14 @@ class CLUTTERTAMP_API PushGoal {
   double tolerance_;
 };
 
-/// When the target counts as reached: the gripper's face within `distance` m of its
-/// surface, the target within `heading` rad of the gripper's heading.
+/// When the target counts as reached. A gripper with fingers: the target's centre
+/// within `distance` m of the pocket between them (from the palm's face to the
+/// fingertips, as wide as the gap less the target's radius), which is "the target
+/// within the end-effector" of Papallas & Dogar, Section II-A. A plain box, or a target
+/// too wide for the gap: the palm's face within `distance` of the target's surface. Either way the target within `heading`
+/// rad of the gripper's heading, seen from the gripper's centre.
 struct ReachTolerances {
-  double distance = 0.03;
+  double distance = 0.005;
   double heading = 0.5;
 
   /// Reads `goal_distance` and `goal_heading`; throws InputError for a bad one.
@@ -78,13 +82,18 @@ class CLUTTERTAMP_API ReachGoal final : public PushGoal {
  public:
   ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTolerances& tolerances);
   double distance(const PushState& state) const override;
+  /// Facing the target, its centre at the palm's face plus its radius (at most the
+  /// fingers' length).
   Eigen::Vector3d gripper_target(const PushState& state) const override;
-  Eigen::Vector3d sample_spread() const override { return {0.0, 0.0, heading_}; }
+  Eigen::Vector3d sample_spread() const override;
 
  private:
   ObjectIndex target_;
-  double reach_;    // gripper centre to target centre when the face touches it, m
-  double heading_;  // rad
+  double reach_ = 0;     // gripper centre to target centre at gripper_target, m
+  double heading_;       // rad
+  // The pocket the target's centre must be in, in the gripper's frame (m): x from
+  // near to far (equal without fingers), |y| up to half_width.
+  double pocket_near_ = 0, pocket_far_ = 0, pocket_half_width_ = 0;
 };
 
 /// The gripper at one of `poses` (x, y m, yaw rad): an approach state of Section V-A.
@@ -104,8 +113,8 @@ class CLUTTERTAMP_API GripperPoseGoal final : public PushGoal {
 };
 
 /// An object's centre within `radius` of `centre` (world x, y, m): a guide satisfied.
-/// The gripper target is where the gripper's face would be with the object at the centre,
-/// pushed straight from where it is.
+/// The gripper target: lined up behind the object on the line through the centre (the
+/// fingertips short of it), then where the palm's face leaves it at the centre.
 class CLUTTERTAMP_API ObjectInRegionGoal final : public PushGoal {
  public:
   ObjectInRegionGoal(const PushWorld& world, ObjectIndex object, const Eigen::Vector2d& centre, double radius);
@@ -116,7 +125,8 @@ class CLUTTERTAMP_API ObjectInRegionGoal final : public PushGoal {
  private:
   ObjectIndex object_;
   Eigen::Vector2d centre_;
-  double standoff_;  // gripper centre behind the object's centre when pushing it, m
+  double standoff_;  // gripper centre behind the object's centre when the palm pushes it, m
+  double approach_;  // ... when lining up, the fingertips 1 cm short of it, m
 };
 
 /// A pushing plan: `states[k + 1]` is `controls[k]` applied to `states[k]` in

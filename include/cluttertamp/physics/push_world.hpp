@@ -39,12 +39,28 @@ struct PushControl {
 
 struct PushSettings {
   double time_step = 1.0 / 240.0;  ///< s per physics step (a control's duration is split evenly)
-  /// The gripper as a box (full edge lengths, m) in its own frame: x along the push
-  /// direction at yaw 0, y across it, z up. Defaults: a parallel gripper seen from above.
+  /// The gripper's palm as a box (full edge lengths, m) in the gripper's frame, centred
+  /// on it: x along the push direction at yaw 0, y across it, z up.
   Eigen::Vector3d gripper_size{0.04, 0.12, 0.06};
+  /// The fingers: two boxes `finger_length` (m) beyond the palm's face (+x) and
+  /// `finger_width` (m) across, their outer sides flush with the palm's, as tall as
+  /// it; a target between them is reached (ReachGoal). 0: the palm alone, a plain box.
+  /// Defaults: an open parallel gripper, 0.09 m between the fingers.
+  double finger_length = 0.05;
+  double finger_width = 0.015;
   double gripper_clearance = 0.01;  ///< m between the support plane and the gripper's bottom
   double fall_drop = 0.02;          ///< m an object's centre must sink to count as fallen
 };
+
+/// One box of the gripper: full edge lengths and where its centre is in the gripper's
+/// frame (x, y; m).
+struct GripperBox {
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+};
+
+/// The gripper as boxes: the palm, then the fingers (none when finger_length is 0).
+CLUTTERTAMP_API std::vector<GripperBox> gripper_boxes(const PushSettings& settings);
 
 /// What a propagation did besides the new state.
 struct PushOutcome {
