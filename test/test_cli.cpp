@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/statistics.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
@@ -625,6 +626,16 @@ TEST_F(Cli, RetrievalWithPushesPushesAsideWhatItCanAndRetrievesTheTarget) {
   EXPECT_NE(missing.output.find("retrieval_graph with push: true needs a push sampler"), std::string::npos) << missing.output;
 }
 
+// Fisher's exact test as bench push reports it, against the exact sums of binomial
+// coefficients (computed apart, in Python) and the tea-tasting table; equal rates give 1.
+TEST(BenchStatistics, FishersExactTestMatchesKnownValues) {
+  EXPECT_NEAR(cli::fisher_exact_p(3, 4, 1, 4), 0.4857, 1e-4);
+  EXPECT_NEAR(cli::fisher_exact_p(38, 60, 30, 60), 0.19701, 1e-5);
+  EXPECT_NEAR(cli::fisher_exact_p(10, 10, 0, 10), 1.0825e-5, 1e-8);
+  EXPECT_DOUBLE_EQ(cli::fisher_exact_p(5, 10, 5, 10), 1.0);
+  EXPECT_NEAR(cli::fisher_exact_p(0, 10, 10, 10), cli::fisher_exact_p(10, 10, 0, 10), 1e-15);
+}
+
 // A guide that cannot be satisfied (its region is where a fixed post stands) is kept as
 // a failure and passed over by default (no parameter): the run still reaches the
 // target. With `unsatisfied_guides: stop` it ends the run with the guide's reason.
@@ -945,6 +956,8 @@ TEST_F(Cli, BenchPushTakesTheReachTolerancesItIsGiven) {
   EXPECT_DOUBLE_EQ(json["goal_distance_m"].get<double>(), 0.02);
   EXPECT_DOUBLE_EQ(json["goal_heading_rad"].get<double>(), 0.4);
   EXPECT_DOUBLE_EQ(json["steer"].get<double>(), 0.25);
+  EXPECT_TRUE(json["goal_p_values"].contains("rrt") && json["goal_p_values"].contains("kpiece")) << json.dump();
+  EXPECT_NE(r.output.find("Fisher's exact p = "), std::string::npos) << r.output;
   EXPECT_EQ(json["planners"].size(), 3u);
   EXPECT_EQ(run("bench push --goal-distance 0 --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --goal-heading -1 --push-scenes " + scenes.string()).exit_code, 2);

@@ -267,10 +267,22 @@ int bench_push(const BenchArgs& args) {
     std::cout << "\n";
   }
   const bool met = success["guided"] > success["rrt"] && success["guided"] > success["kpiece"];
+  // How surprising the differences are if the planners were equally successful.
+  const Summary guided = summarise(runs, "guided");
+  std::ostringstream against;
+  nlohmann::ordered_json p_values;
+  for (const char* other : {"rrt", "kpiece"}) {
+    const Summary o = summarise(runs, other);
+    const double p = fisher_exact_p(guided.solved, guided.runs, o.solved, o.runs);
+    against << (p_values.empty() ? "" : "; ") << guided.solved << "/" << guided.runs << " against " << other << " "
+            << o.solved << "/" << o.runs << ", Fisher's exact p = " << fixed(p, 3);
+    p_values[other] = p;
+  }
   std::cout << "\nPaper: Papallas & Dogar 2020, Fig. 6 (10 scenes x 10 runs, 300 s; guided = GRTC-HITL, a person's "
                "guidance).\nGoal, guided beats RRT and KPIECE on success rate at equal time limits: "
-            << (met ? "met" : "NOT met") << "\n";
+            << (met ? "met" : "NOT met") << " (guided " << against.str() << ")\n";
   json["goal_met"] = met;
+  json["goal_p_values"] = p_values;
   if (!args.json.empty()) write_json_file(args.json, json);
   if (!args.svg.empty()) write_svg(runs, scenes, args.time_limit, args.svg);
   return met ? run::ExitCode::solved : run::ExitCode::no_plan;
