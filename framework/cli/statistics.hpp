@@ -1,6 +1,7 @@
 #pragma once
 // Summary statistics the bench commands print: one definition of each.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -56,6 +57,7 @@ inline double ci95_half_width(const std::vector<double>& v) {
 /// table at most as likely as `a` successes of `n1` against `b` of `n2`. Preconditions:
 /// a <= n1, b <= n2.
 inline double fisher_exact_p(std::size_t a, std::size_t n1, std::size_t b, std::size_t n2) {
+  assert(a <= n1 && b <= n2);
   const auto log_choose = [](double n, double k) { return std::lgamma(n + 1) - std::lgamma(k + 1) - std::lgamma(n - k + 1); };
   const std::size_t k = a + b, lo = k > n2 ? k - n2 : 0, hi = std::min(k, n1);
   const auto log_p = [&](std::size_t x) {
@@ -64,7 +66,8 @@ inline double fisher_exact_p(std::size_t a, std::size_t n1, std::size_t b, std::
   const double observed = log_p(a);
   double p = 0.0;
   for (std::size_t x = lo; x <= hi; ++x) {
-    if (log_p(x) <= observed + 1e-7) p += std::exp(log_p(x));  // relative tolerance for ties
+    const double l = log_p(x);
+    if (l <= observed + 1e-7) p += std::exp(l);  // relative tolerance for ties
   }
   return std::min(1.0, p);
 }

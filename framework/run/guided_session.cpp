@@ -234,7 +234,6 @@ std::string GuidedSession::state_json() const {
            {"walls", walls},
            {"objects", objects},
            {"gripper", {{"pose", {s.gripper.x(), s.gripper.y(), s.gripper.z()}},
-                        {"size", {settings.gripper_size.x(), settings.gripper_size.y()}},
                         {"boxes", gripper_boxes_json(settings)}}},
            {"diameter", s.options.diameter},
            {"time_limit", s.problem.time_limit},
