@@ -95,6 +95,27 @@ TEST(PushPlanning, TheReachGoalIsTheTargetBetweenTheFingers) {
   EXPECT_NEAR(face.distance(box_world.state_of(initial, {0.9 - 0.075, 0.0, 0.0})), 0.02, 1e-9);
 }
 
+// A guide's goal steers the gripper to line up behind the object, its fingertips 1 cm
+// short of it (approach: palm half depth 2 cm + radius 3.5 cm + fingers 5 cm + 1 cm),
+// and, once on that line (within 2 cm aside and 0.3 rad, between touching and the
+// approach point), to where the palm leaves the object at the region's centre.
+TEST(PushPlanning, AGuideLinesUpWithTheFingertipsShortOfTheObjectThenPushesWithThePalm) {
+  const Scene scene = board_scene({{0.95, 0.3}, {0.78, 0.0}});
+  const WorldState initial = WorldState::initial(scene);
+  const PushWorld world(scene, initial);
+  const physics::ObjectInRegionGoal goal(world, 1, {0.88, 0.0}, 0.03);
+  const auto aim = [&](double x, double y, double yaw) { return goal.gripper_target(world.state_of(initial, {x, y, yaw})); };
+  const Eigen::Vector3d approach(0.78 - 0.115, 0.0, 0.0), push(0.88 - 0.055, 0.0, 0.0);
+  EXPECT_LT((aim(0.5, 0.2, 0.0) - approach).norm(), 1e-9) << "from elsewhere: to the approach point";
+  EXPECT_LT((aim(approach.x(), 0.0, 0.0) - push).norm(), 1e-9) << "lined up: push through";
+  EXPECT_LT((aim(0.72, 0.0, 0.0) - push).norm(), 1e-9) << "on the line, fingers past the object's back";
+  EXPECT_LT((aim(approach.x(), 0.03, 0.0) - approach).norm(), 1e-9) << "3 cm aside is not lined up";
+  EXPECT_LT((aim(approach.x(), 0.0, 0.5) - approach).norm(), 1e-9) << "turned 0.5 rad is not lined up";
+  EXPECT_LT((aim(0.79 + 0.1, 0.0, 0.0) - approach).norm(), 1e-9) << "beyond the object is not behind it";
+  ASSERT_EQ(goal.goal_grippers(world.state_of(initial, {0.5, 0.0, 0.0})).size(), 1u);
+  EXPECT_LT((goal.goal_grippers(world.state_of(initial, {0.5, 0.0, 0.0}))[0] - push).norm(), 1e-9);
+}
+
 // A cylinder alone on the board, pushed by the kinodynamic search (steered, Section
 // V-A) into a 3 cm region 12 cm away and off the line it starts on.
 TEST(PushPlanning, APlannedPushPutsTheCylinderInItsRegionWhenReplayed) {
