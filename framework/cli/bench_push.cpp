@@ -33,9 +33,8 @@ struct Run {
   std::uint64_t seed = 0;
   bool solved = false;
   double seconds = 0, guidance_seconds = 0;
-  std::uint64_t propagations = 0, guides = 0, guides_satisfied = 0;
+  std::uint64_t propagations = 0, guides = 0, guides_satisfied = 0, guides_skipped = 0;
   std::string reason;
-  std::uint64_t guides_skipped = 0;
 };
 
 std::uint64_t counter(const Result& r, const std::string& name) {
@@ -203,7 +202,7 @@ int bench_push(const BenchArgs& args) {
         const Result r = run::plan(configured_problem, registry, options).result;
         Run run{problem.name, setting.name, *options.seed, r.solved, r.time.total,
                 setting.name == "guided" ? r.time.task_planning : 0.0, counter(r, "propagations"),
-                counter(r, "guides"), counter(r, "guides_satisfied"), r.reason, counter(r, "guides_skipped")};
+                counter(r, "guides"), counter(r, "guides_satisfied"), counter(r, "guides_skipped"), r.reason};
         if (csv) {
           csv << run.scene << ',' << run.setting << ',' << run.seed << ',' << run.solved << ',' << run.seconds << ','
               << run.guidance_seconds << ',' << run.propagations << ',' << run.guides << ',' << run.guides_satisfied
@@ -228,10 +227,9 @@ int bench_push(const BenchArgs& args) {
                               {"goal_heading_rad", args.goal_heading},
                               {"steer", args.steer},
                               {"planners", nlohmann::ordered_json::array()}};
-  std::map<std::string, double> success;
+  std::map<std::string, Summary> summaries;
   for (const Setting& s : kSettings) {
-    const Summary m = summarise(runs, s.name);
-    success[s.name] = m.success();
+    const Summary& m = summaries[s.name] = summarise(runs, s.name);
     std::vector<double> propagations;
     for (const Run& r : runs) {
       if (r.setting == s.name && r.solved) propagations.push_back(double(r.propagations));
@@ -266,13 +264,13 @@ int bench_push(const BenchArgs& args) {
     }
     std::cout << "\n";
   }
-  const bool met = success["guided"] > success["rrt"] && success["guided"] > success["kpiece"];
+  const Summary& guided = summaries["guided"];
+  const bool met = guided.success() > summaries["rrt"].success() && guided.success() > summaries["kpiece"].success();
   // How surprising the differences are if the planners were equally successful.
-  const Summary guided = summarise(runs, "guided");  // (the table above summarised it too)
   std::ostringstream against;
   nlohmann::ordered_json p_values;
   for (const char* other : {"rrt", "kpiece"}) {
-    const Summary o = summarise(runs, other);
+    const Summary& o = summaries[other];
     const double p = fisher_exact_p(guided.solved, guided.runs, o.solved, o.runs);
     against << (p_values.empty() ? "" : "; ") << guided.solved << "/" << guided.runs << " against " << other << " "
             << o.solved << "/" << o.runs << ", Fisher's exact p " << (p < 0.001 ? "< 0.001" : "= " + fixed(p, 3));

@@ -336,19 +336,19 @@ ReachGoal::ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTole
   if (pocket_half_width_ <= 0) pocket_far_ = pocket_near_;
   // The palm's face at the target's surface, or the target's centre at the fingertips
   // when they are shorter than its radius.
-  reach_ = pocket_near_ + (pocket_far_ > pocket_near_ ? std::min(r, g.finger_length) : r);
+  reach_ = pocket_near_ + (has_pocket() ? std::min(r, g.finger_length) : r);
 }
 
 Eigen::Vector3d ReachGoal::sample_spread() const {
   // In the pocket, the target's bearing stays within what its width allows.
-  const double yaw = pocket_far_ > pocket_near_ ? std::min(heading_, std::atan2(pocket_half_width_, reach_)) : heading_;
+  const double yaw = has_pocket() ? std::min(heading_, std::atan2(pocket_half_width_, reach_)) : heading_;
   return {0.0, 0.0, yaw};
 }
 
 double ReachGoal::distance(const PushState& s) const {
   const Eigen::Vector2d to = s.objects.at(target_).pose.head<2>() - s.gripper.head<2>();
   const double off = angle_between(std::atan2(to.y(), to.x()), s.gripper.z());
-  if (pocket_far_ <= pocket_near_) return std::abs(to.norm() - reach_) + std::max(0.0, off - heading_);
+  if (!has_pocket()) return std::abs(to.norm() - reach_) + std::max(0.0, off - heading_);
   // The target's centre in the gripper's frame, and how far it is from the pocket.
   const Eigen::Vector2d local = Eigen::Rotation2Dd(-s.gripper.z()) * to;
   const double dx = std::max({0.0, pocket_near_ - local.x(), local.x() - pocket_far_});

@@ -194,8 +194,7 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
   w.gripper_z = w.plane + settings.gripper_size.z() / 2;
   w.gripper_shape = std::make_unique<btCompoundShape>();
   for (const GripperBox& box : gripper_boxes(settings)) {
-    const Eigen::Vector3d half = box.size / 2;
-    w.gripper_parts.push_back(std::make_unique<btBoxShape>(btVector3(btScalar(half.x()), btScalar(half.y()), btScalar(half.z()))));
+    w.gripper_parts.push_back(make_shape(Box{box.size}));
     const btVector3 at(btScalar(box.offset.x()), btScalar(box.offset.y()), 0);
     w.gripper_shape->addChildShape(btTransform(btQuaternion::getIdentity(), at), w.gripper_parts.back().get());
   }

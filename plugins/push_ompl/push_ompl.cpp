@@ -210,8 +210,8 @@ class PushOmpl final : public plugin::PushSampler {
 
   // Ways from the gripper pose `g` to the pose `behind`, as waypoints: straight there,
   // turning on the way; turning first, then straight; straight, then turning; and, from
-  // inside the shelf (front of it at x = `front`), backing `back` m away from what the
-  // palm touches (out of the fingers), out to the front, across and in.
+  // inside the shelf (front of it at x = `front`), backing `back_off` m away from what
+  // the palm touches (out of the fingers), out to the front, across and in.
   static std::vector<std::vector<Eigen::Vector3d>> line_up_routes(const Eigen::Vector3d& g, const Eigen::Vector3d& behind,
                                                                   double front, double back_off) {
     std::vector<std::vector<Eigen::Vector3d>> routes{

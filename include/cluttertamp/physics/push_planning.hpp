@@ -94,6 +94,7 @@ class CLUTTERTAMP_API ReachGoal final : public PushGoal {
   // The pocket the target's centre must be in, in the gripper's frame (m): x from
   // near to far (equal without fingers), |y| up to half_width.
   double pocket_near_ = 0, pocket_far_ = 0, pocket_half_width_ = 0;
+  bool has_pocket() const { return pocket_far_ > pocket_near_; }
 };
 
 /// The gripper at one of `poses` (x, y m, yaw rad): an approach state of Section V-A.
