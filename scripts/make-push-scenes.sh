@@ -27,7 +27,7 @@ planner:
   plugin: rtc_ompl
   time_limit: 300
   seed: 0
-  parameters: {planner: rrt}
+  parameters: {planner: rrt, max_propagations: 20000}  # work budget; time_limit is the outer limit
 PROBLEM
   "$bin" guide "$dir/$n.yaml" --auto --output "$dir/$n-guidance.yaml" --quiet
 done

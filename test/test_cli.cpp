@@ -8,6 +8,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -327,7 +328,7 @@ TEST_F(Cli, AStreamRunWithNothingMovableSaysSo) {
   const fs::path file =
       bundled_copy(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked8.yaml", "unchecked.yaml",
                    {{"object_pruner: retrieval_graph", "object_pruner: {plugin: retrieval_graph, parameters: {checked: false}}"}});
-  const CliRun r = plan(file, "--time-limit 2");
+  const CliRun r = plan(file, "--time-limit 10");  // the search goes on until its limit
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("the object pruner's sequences named no object to move"), std::string::npos) << r.output;
   EXPECT_EQ(result()["counters"]["movable_objects"], 0);
@@ -543,9 +544,10 @@ TEST_F(Cli, GuidedPlansSatisfyEveryGuideAndReachTheTargetWhenReplayed) {
   const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10/p06.yaml";
   const fs::path file = bundled_copy(source, "guided.yaml",
                                      {{"plugin: rtc_ompl", "plugin: grtc"},
-                                      {"parameters: {planner: rrt}",
-                                       "parameters: {planner: rrt, guidance: p06-guidance.yaml}\nplugins: {push_sampler: push_ompl}"}});
-  const CliRun r = plan(file, "--seed 1 --time-limit 60");
+                                      {"parameters: {planner: rrt, max_propagations: 20000}",
+                                       "parameters: {planner: rrt, max_propagations: 20000, guidance: p06-guidance.yaml}\n"
+                                       "plugins: {push_sampler: push_ompl}"}});
+  const CliRun r = plan(file, "--seed 1 --time-limit 300");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = result();
   const Problem problem = io::load_problem(file);
@@ -652,8 +654,11 @@ TEST_F(Cli, AGuideThatCannotBeSatisfiedIsSkippedUnlessTheProblemSaysStop) {
     const fs::path file = bundled_copy(push_dir / "easy-guided.yaml", "post-" + mode + ".yaml",
                                        {{"scene: easy-scene.yaml", "scene: " + scene.string()},
                                         {"guidance: auto", "guidance: " + guidance.string() + ", steer: 0.3" +
-                                                               (mode == "stop" ? ", unsatisfied_guides: stop" : "")}});
-    const CliRun r = plan(file, "--seed 1 --time-limit 6");
+                                                               (mode == "stop" ? ", unsatisfied_guides: stop" : "")},
+                                        // A small work budget for the guide that cannot be satisfied.
+                                        {"push_sampler: push_ompl",
+                                         "push_sampler: {plugin: push_ompl, parameters: {max_propagations: 2000}}"}});
+    const CliRun r = plan(file, "--seed 1 --time-limit 300");
     const nlohmann::json j = result();
     EXPECT_EQ(j["counters"]["guides_satisfied"], 0);
     ASSERT_FALSE(j["failures"].empty());
@@ -680,7 +685,7 @@ TEST_F(Cli, ABadGuidanceFileIsBadInputWithItsLine) {
                              "  - {object: o2, centre: [2.5, 0.1], diameter: 0.1}\n";
   const fs::path file = bundled_copy(source, "bad-guided.yaml",
                                      {{"plugin: rtc_ompl", "plugin: grtc"},
-                                      {"parameters: {planner: rrt}", "parameters: {guidance: " + guidance.string() +
+                                      {"parameters: {planner: rrt, max_propagations: 20000}", "parameters: {guidance: " + guidance.string() +
                                                                          "}\nplugins: {push_sampler: push_ompl}"}});
   const CliRun r = plan(file, "--time-limit 10");
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -738,8 +743,8 @@ TEST_F(Cli, OnATableOneGraspsBlockersCanReplaceTheGraphsLongerWay) {
   const std::string text = test::read_text(with);
   ASSERT_NE(text.find("grasp_orders: 3"), std::string::npos) << text;
   std::ofstream(without) << test::replaced(text, "grasp_orders: 3", "grasp_orders: 0");
-  // A generous budget per try, so that a loaded machine does not decide the result.
-  std::ofstream(with) << test::replaced(text, "grasp_orders: 3", "grasp_orders: 3, shorten_time: 5");
+  // A generous work budget per try.
+  std::ofstream(with) << test::replaced(text, "grasp_orders: 3", "grasp_orders: 3, shorten_max_checks: 3000000");
   auto plan_of = [&](const fs::path& problem) {
     const auto [r, result] = planned(problem, problem.stem().string(), "-q");
     EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -965,4 +970,81 @@ TEST_F(Cli, BenchPushTakesTheReachTolerancesItIsGiven) {
 }
 
 }  // namespace
+// plan --repeat plans again and finds the same result; --expect finds where an earlier
+// result differs (exit code 3), and what is only timing is not a difference.
+TEST_F(Cli, RepeatAndExpectCompareResultsApartFromTimeFields) {
+  const fs::path problem = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/table6/min2.yaml";
+  const CliRun repeated = plan(problem, "--repeat 3 --load 1 -q");
+  ASSERT_EQ(repeated.exit_code, 0) << repeated.output;
+  EXPECT_NE(repeated.output.find("3 runs, 1 busy threads on its CPU: identical apart from time fields"), std::string::npos)
+      << repeated.output;
+  nlohmann::json earlier = result();
+  ASSERT_TRUE(earlier["solved"].get<bool>());
+  earlier["time"]["total"] = 1234.5;  // timing only: still the same
+  std::ofstream(dir_ / "timing.json") << earlier.dump();
+  const CliRun same = run("plan " + problem.string() + " -q -o " + (dir_ / "again").string() + " --expect " +
+                          (dir_ / "timing.json").string());
+  EXPECT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_NE(same.output.find("identical to"), std::string::npos) << same.output;
+  earlier["counters"]["collision_checks"] = earlier["counters"]["collision_checks"].get<std::uint64_t>() + 1;
+  std::ofstream(dir_ / "other.json") << earlier.dump();
+  const CliRun other = run("plan " + problem.string() + " -q -o " + (dir_ / "again").string() + " --expect " +
+                           (dir_ / "other.json").string());
+  EXPECT_EQ(other.exit_code, 3) << other.output;
+  EXPECT_NE(other.output.find("DIFFERENT from"), std::string::npos) << other.output;
+  EXPECT_NE(other.output.find("/counters/collision_checks"), std::string::npos) << other.output;
+  std::ofstream(dir_ / "not.json") << "{ not json";
+  EXPECT_EQ(run("plan " + problem.string() + " -q -o " + (dir_ / "again").string() + " --expect " +
+                (dir_ / "not.json").string())
+                .exit_code,
+            2);
+}
+
+// Budgets that were seconds are work now: the old keys are refused, naming the new one.
+TEST_F(Cli, TimeBudgetKeysAreRefusedNamingTheirWorkBudget) {
+  const fs::path source = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/default.yaml";
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases{
+      {"motion_sampler: motion_ompl", "motion_sampler: {plugin: motion_ompl, parameters: {time_limit: 1}}", "max_checks"},
+      {"motion_sampler: motion_ompl", "motion_sampler: {plugin: motion_ompl, parameters: {planner: prm}}", "rrtconnect"},
+      {"seed: 0", "seed: 0\n  parameters: {shorten_time: 0.5}", "shorten_max_checks"}};
+  for (const auto& [from, to, hint] : cases) {
+    SCOPED_TRACE(to);
+    const CliRun r = plan(bundled_copy(source, "old.yaml", {{from, to}}), "-q");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("old.yaml:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(hint), std::string::npos) << r.output;
+  }
+}
+
+// A stream whose input no :domain fact binds (PDDLStream warns and goes on) ranges over
+// every object: its optimistic instances multiply without bound. The memory limit ends
+// the run cleanly, with its reason and a result.json, wherever the machine's speed puts
+// the time.
+TEST_F(Cli, AStreamWhoseInputsNothingBindsEndsAtTheMemoryLimit) {
+  const fs::path stacked = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked8.yaml";
+  const fs::path streams = fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/pddl/clutter-streams/stream.pddl";
+  std::ofstream(dir_ / "unbound-streams.pddl")
+      << test::replaced(test::read_text(streams), ":domain (and (Grasp ?o ?g) (Region ?r))", "");
+  const fs::path file = bundled_copy(stacked, "unbound.yaml", {{"streams: ../../domains/pddl/clutter-streams/stream.pddl",
+                                                                "streams: " + (dir_ / "unbound-streams.pddl").string()}});
+  const CliRun r = plan(file, "-q --time-limit 3000 --memory-limit 1500");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  const nlohmann::json j = result();
+  EXPECT_FALSE(j["solved"].get<bool>());
+  EXPECT_EQ(j["reason"], "memory limit reached (1500 MiB)") << j.dump();
+}
+
+// The PDDL searches keep their time limit and say so; a memory limit too is a reason.
+TEST_F(Cli, PddlSearchesEndAtTheirLimitsWithTheReason) {
+  const fs::path dir = fs::path(CLUTTERTAMP_SOURCE_DIR) / "test/data/pddl/blocks";
+  const CliRun timed = run("pddl " + (dir / "domain.pddl").string() + " " + (dir / "p14-6.pddl").string() +
+                           " --search astar-blind --time-limit 0.5");
+  EXPECT_EQ(timed.exit_code, 1) << timed.output;
+  EXPECT_NE(timed.output.find("no plan: time limit"), std::string::npos) << timed.output;
+  const CliRun memory = run("pddl " + (dir / "domain.pddl").string() + " " + (dir / "p14-6.pddl").string() +
+                            " --search astar-blind --time-limit 3000 --memory-limit 300");
+  EXPECT_EQ(memory.exit_code, 1) << memory.output;
+  EXPECT_NE(memory.output.find("memory limit reached (300 MiB)"), std::string::npos) << memory.output;
+}
+
 }  // namespace cluttertamp

@@ -127,7 +127,7 @@ TEST(PushPlanning, APlannedPushPutsTheCylinderInItsRegionWhenReplayed) {
   const physics::ObjectInRegionGoal goal(world, 1, centre, 0.03);
   physics::KinodynamicSettings settings;
   settings.steer = 0.3;
-  const physics::KinodynamicOutcome out = physics::plan_pushes(world, start, goal, settings, 60.0, 7);
+  const physics::KinodynamicOutcome out = physics::plan_pushes(world, start, goal, settings, {60.0, 20000}, 7);
   ASSERT_TRUE(out.path) << out.reason;
   const physics::Replay replay = physics::replay(world, start, out.path->controls, out.path->step);
   EXPECT_TRUE(replay.valid);
@@ -135,7 +135,7 @@ TEST(PushPlanning, APlannedPushPutsTheCylinderInItsRegionWhenReplayed) {
   EXPECT_EQ(replay.end.objects[1].pose, out.path->states.back().objects[1].pose) << "the plan is its replay, bit for bit";
   EXPECT_EQ(replay.touched, std::vector<ObjectIndex>{1});
 
-  const physics::KinodynamicOutcome again = physics::plan_pushes(world, start, goal, settings, 60.0, 7);
+  const physics::KinodynamicOutcome again = physics::plan_pushes(world, start, goal, settings, {60.0, 20000}, 7);
   ASSERT_TRUE(again.path);
   EXPECT_EQ(again.propagations, out.propagations) << "same seed, same search";
   ASSERT_EQ(again.path->controls.size(), out.path->controls.size());

@@ -39,14 +39,14 @@ class SamplerScene : public ::testing::Test {
   }
 
   plugin::MotionAnswer motion(const Eigen::VectorXd& start, const Eigen::VectorXd& goal, std::uint64_t seed = 1,
-                              double time_limit = 1.0) {
+                              std::int64_t max_checks = 400000) {
     world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
     Parameters parameters;
-    parameters.set("time_limit", time_limit);
+    parameters.set("max_checks", max_checks);
     auto sampler = registry_.create<plugin::MotionSampler>("motion_ompl", parameters);
     state_ = WorldState::initial(problem_.scene);
     state_.robot_configuration = start;
-    plugin::PlanningContext context{problem_, plugin::Deadline::after(10), seed, counters_, samplers_, world_.get()};
+    plugin::PlanningContext context{problem_, plugin::Deadline::after(600), seed, counters_, samplers_, world_.get()};
     return sampler->plan(context, {start, goal, &state_});
   }
 
@@ -202,7 +202,7 @@ TEST_F(SamplerScene, TakesAFreeStraightSegmentWithoutSearching) {
     ASSERT_FALSE(after.is_valid((start + goal) / 2, *c));
     ASSERT_TRUE(after.is_valid(start, *c) && after.is_valid(goal, *c));
   }
-  const plugin::MotionAnswer around = motion(start, goal, 1, 2.0);
+  const plugin::MotionAnswer around = motion(start, goal, 1, 800000);
   ASSERT_TRUE(around.trajectory.has_value()) << around.failure->reason;
   EXPECT_GT(around.trajectory->positions.size(), 2u);
 }
@@ -225,10 +225,10 @@ TEST_F(SamplerScene, NamesTheObjectsAGoalConfigurationTouches) {
   auto c = check.make_context();
   const collision::ObjectSet touched = check.check(goal, *c).objects;
   ASSERT_FALSE(touched.empty());
-  const plugin::MotionAnswer answer = motion(problem_.robot.loaded->home(), goal, 1, 0.5);
+  const plugin::MotionAnswer answer = motion(problem_.robot.loaded->home(), goal, 1, 200000);
   ASSERT_FALSE(answer.trajectory.has_value());
   ASSERT_TRUE(answer.failure.has_value());
-  EXPECT_NE(answer.failure->reason.find("the start or goal configuration is in collision"), std::string::npos);
+  EXPECT_NE(answer.failure->reason.find("the start or goal configuration is in collision"), std::string::npos) << answer.failure->reason;
   EXPECT_EQ(answer.failure->blocking_objects, touched);
 }
 

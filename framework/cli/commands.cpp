@@ -22,6 +22,7 @@
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/viewer/plan_html.hpp"
+#include "cli/determinism.hpp"
 #include "io/text_file.hpp"
 
 #include <nlohmann/json.hpp>
@@ -118,6 +119,53 @@ class ElapsedLine {
 
 }  // namespace
 
+namespace {
+
+struct PlanRun {
+  run::RunOutcome outcome;
+  std::optional<InputError> plugin_error;
+};
+
+PlanRun plan_once(const Problem& problem, const plugin::Registry& registry, const run::RunOptions& options,
+                  const PlanArgs& args) {
+  PlanRun r;
+  try {
+    const ElapsedLine elapsed(args.verbosity != Verbosity::quiet && isatty(fileno(stderr)), problem.planner.name,
+                              options.time_limit.value_or(problem.time_limit));
+    const CpuLoad load(args.load);
+    r.outcome = run::plan(problem, registry, options);
+  } catch (const InputError& e) {
+    // A plugin the problem names is missing or rejects its parameters: bad input, but
+    // the run is still recorded so that scripts find a result.json with the reason.
+    r.plugin_error = e;
+    r.outcome.info = {problem.planner.name, options.time_limit.value_or(problem.time_limit),
+                      options.seed.value_or(problem.seed), ExitCode::bad_input, {}};
+    r.outcome.result.reason = e.diagnostics().items().empty() ? e.what() : e.diagnostics().items().front().message;
+  }
+  return r;
+}
+
+// Runs 2..N of plan --repeat against the first: the first difference, or nothing.
+std::optional<std::string> repeat_difference(const Problem& problem, const plugin::Registry& registry,
+                                             const run::RunOptions& options, const PlanArgs& args,
+                                             const std::string& first, double& fastest, double& slowest) {
+  for (int k = 2; k <= args.repeat; ++k) {
+    if (args.verbosity != Verbosity::quiet) std::cerr << "repeat    run " << k << " of " << args.repeat << "\n";
+    const PlanRun again = plan_once(problem, registry, options, args);
+    fastest = std::min(fastest, again.outcome.result.time.total);
+    slowest = std::max(slowest, again.outcome.result.time.total);
+    const std::string text = io::result_to_json(problem, again.outcome.result, again.outcome.info);
+    if (auto d = result_difference(first, text)) {
+      const fs::path file = args.output / ("result-run" + std::to_string(k) + ".json");
+      io::detail::write_text_file(file, text, "result file");
+      return "run " + std::to_string(k) + " differs from run 1 at " + *d + " (its result: " + file.string() + ")";
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 int plan(const PlanArgs& args) {
   Problem problem = io::load_problem(args.problem);
   if (args.planner && *args.planner != problem.planner.name) problem.planner = PluginChoice{*args.planner, {}, {"--planner", 0, 0}};
@@ -125,45 +173,62 @@ int plan(const PlanArgs& args) {
   if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
   options.time_limit = args.time_limit;
   options.plugin_paths = args.plugin_paths;
+  std::optional<std::string> expected;  // read first: a missing file is bad input before any planning
+  if (args.expect) expected = io::detail::read_text_file(*args.expect, "expected result file");
   const plugin::Registry registry(run::plugin_search_paths(problem, options));
   if (args.verbosity == Verbosity::verbose) std::cerr << registry.describe_search();
 
-  run::RunOutcome outcome;
-  std::optional<InputError> plugin_error;
-  try {
-    const ElapsedLine elapsed(args.verbosity != Verbosity::quiet && isatty(fileno(stderr)), problem.planner.name,
-                              options.time_limit.value_or(problem.time_limit));
-    outcome = run::plan(problem, registry, options);
-  } catch (const InputError& e) {
-    // A plugin the problem names is missing or rejects its parameters: bad input, but
-    // the run is still recorded so that scripts find a result.json with the reason.
-    plugin_error = e;
-    outcome.info = {problem.planner.name, options.time_limit.value_or(problem.time_limit),
-                    options.seed.value_or(problem.seed), ExitCode::bad_input, {}};
-    outcome.result.reason = e.diagnostics().items().empty() ? e.what() : e.diagnostics().items().front().message;
-  }
+  const PlanRun first = plan_once(problem, registry, options, args);
+  const run::RunOutcome& outcome = first.outcome;
   const fs::path result_file = args.output / "result.json";
+  const std::string result_text = io::result_to_json(problem, outcome.result, outcome.info);
   io::write_result_json(result_file, problem, outcome.result, outcome.info);
   // The planner's drawings beside it (a roadmap is tens of times the rest), never stale.
   const fs::path drawings_file = args.output / "drawings.json";
   std::error_code ec;
   if (outcome.result.drawings.empty()) fs::remove(drawings_file, ec);
   else io::detail::write_text_file(drawings_file, io::drawings_to_json(outcome.result), "drawings file");
-  if (plugin_error) std::cerr << plugin_error->diagnostics().str();
+  if (first.plugin_error) std::cerr << first.plugin_error->diagnostics().str();
   if (args.verbosity != Verbosity::quiet) print_summary(std::cout, problem, outcome, result_file);
   if (args.html) {
     // The page is a view of the run: failing to write it is reported, not the run's outcome.
     const fs::path page = args.output / "plan.html";
     try {
       viewer::write_plan_html(page, problem,
-                              {io::result_to_json(problem, outcome.result, outcome.info),
-                               io::drawings_to_json(outcome.result), result_file.string()});
+                              {result_text, io::drawings_to_json(outcome.result), result_file.string()});
       if (args.verbosity != Verbosity::quiet) std::cout << "replay: " << page.string() << " (open it in a browser)\n";
     } catch (const InputError& e) {
       std::cerr << "warning: no replay page: " << e.diagnostics().str();
     }
   }
-  return outcome.info.exit_code;
+  int exit_code = outcome.info.exit_code;
+  // Same seed, same result: the verdicts print even with --quiet, they are what was asked.
+  const std::string load = args.load > 0 ? ", " + std::to_string(args.load) + " busy threads on its CPU" : "";
+  if (args.repeat > 1 && !first.plugin_error) {
+    double fastest = outcome.result.time.total, slowest = fastest;
+    if (auto d = repeat_difference(problem, registry, options, args, result_text, fastest, slowest)) {
+      std::cout << "repeat    NOT DETERMINISTIC: " << *d << "\n";
+      exit_code = ExitCode::internal_error;
+    } else {
+      std::cout << "repeat    " << args.repeat << " runs" << load << ": identical apart from time fields (total "
+                << seconds(fastest) << " to " << seconds(slowest) << ")\n";
+    }
+  }
+  if (expected) {
+    std::optional<std::string> d;
+    try {
+      d = result_difference(*expected, result_text);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError({args.expect->string(), 0, 0}, std::string("not a result.json: ") + e.what());
+    }
+    if (d) {
+      std::cout << "expect    DIFFERENT from " << args.expect->string() << " at " << *d << "\n";
+      exit_code = ExitCode::internal_error;
+    } else {
+      std::cout << "expect    identical to " << args.expect->string() << " apart from time fields" << load << "\n";
+    }
+  }
+  return exit_code;
 }
 
 int view(const ViewArgs& args) {

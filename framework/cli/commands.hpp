@@ -20,6 +20,9 @@ struct PlanArgs {
   std::filesystem::path output = "cluttertamp-out";
   std::vector<std::filesystem::path> plugin_paths;
   bool html = false;  ///< also write OUTPUT/plan.html (the replay page)
+  int repeat = 1;     ///< plan this many times; more than one: compare the results (exit 3 when they differ)
+  int load = 0;       ///< busy threads on the planner's CPU during every run
+  std::optional<std::filesystem::path> expect;  ///< compare the result with this result.json
   Verbosity verbosity = Verbosity::normal;
 };
 int plan(const PlanArgs& args);
@@ -129,6 +132,7 @@ struct BenchArgs {
   std::filesystem::path robot;  ///< robot description file
   std::filesystem::path pddl_instances;  ///< bench pddl: <dir>/<family>/{domain*,p*}.pddl
   std::vector<std::string> searches;     ///< bench pddl
+  int parse_objects = 200000;            ///< bench pddl: objects of the generated problem it parses (0: none)
   double time_limit = 60;                ///< bench pddl, per search; bench retrieval, per run
   int instances = 5;                     ///< bench retrieval: scenes per object count
   std::vector<int> sizes;                ///< bench retrieval: object counts (default 12 16 20)

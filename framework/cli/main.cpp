@@ -6,9 +6,11 @@
 #include <cstdint>
 #include <iostream>
 #include <limits>
+#include <new>
 
 #include "cli/commands.hpp"
 #include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/core/memory_limit.hpp"
 #include "cluttertamp/physics/push_planning.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/search/planner.hpp"
@@ -26,6 +28,15 @@ void add_verbosity(CLI::App& app, cli::Verbosity& verbosity, const std::string& 
       ->excludes(quiet);
 }
 
+// --memory-limit on the commands that plan or search (0: the default).
+void add_memory_limit(CLI::App& app, std::size_t& mib) {
+  app.add_option("--memory-limit", mib,
+                 "Address space limit, MiB (default " + std::to_string(cluttertamp::default_memory_limit_mib()) +
+                     ": three quarters of this machine's memory); a search that reaches it ends with \"memory limit "
+                     "reached\" (exit code 1, result.json written)")
+      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 40));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -35,6 +46,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(cluttertamp::version()));
   app.require_subcommand(1);
 
+  std::size_t memory_limit = 0;  // MiB; 0: the default
   cli::PlanArgs plan_args;
   auto* plan = app.add_subcommand("plan", "Plan a problem file; write OUTPUT/result.json");
   plan->add_option("problem", plan_args.problem, "Problem file (YAML)")->required()->check(CLI::ExistingFile);
@@ -66,6 +78,19 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   plan->add_flag("--html", plan_args.html, "Also write OUTPUT/plan.html, a page that replays the plan (see view)");
+  plan->add_option("--repeat", plan_args.repeat,
+                   "Plan N times and check that every result equals the first apart from time fields (exit code 3 "
+                   "when one differs, naming the first difference); OUTPUT/result.json is the first run's")
+      ->check(CLI::Range(1, 1000));
+  plan->add_option("--load", plan_args.load,
+                   "Run N busy threads on the planner's CPU while it plans (the planner then gets a fraction of one "
+                   "core, as on a loaded machine): with --repeat or --expect, shows that load changes nothing")
+      ->check(CLI::Range(0, 16));
+  plan->add_option("--expect", plan_args.expect,
+                   "Compare the result with this earlier result.json apart from time fields and the problem and scene "
+                   "paths (exit code 3 when they differ, naming the first difference)")
+      ->check(CLI::ExistingFile);
+  add_memory_limit(*plan, memory_limit);
   add_verbosity(*plan, plan_args.verbosity, "Also print the plugin search (directories, plugins, failures)");
 
   cli::ObserveArgs observe_args;
@@ -118,6 +143,7 @@ int main(int argc, char** argv) {
   pddl->add_option("--max-expansions", pddl_args.max_expansions, "Stop after this many expansions");
   pddl->add_option("--weight", pddl_args.weight, "Weight of h in wastar-ff")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
   pddl->add_option("--plan", pddl_args.plan_file, "Also write the plan to this file");
+  add_memory_limit(*pddl, memory_limit);
   add_verbosity(*pddl, pddl_args.verbosity, "Same output as the default");
 
   cli::ValidatePlanArgs validate_plan_args;
@@ -163,6 +189,7 @@ int main(int argc, char** argv) {
   generate->add_option("--attempts", generate_args.max_attempts, "Scenes tried (seeds seed, seed+1, ...)")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
+  add_memory_limit(*generate, memory_limit);
   add_verbosity(*generate, generate_args.verbosity, "Also say which seeds were rejected");
 
   cli::GuideArgs guide_args;
@@ -188,6 +215,7 @@ int main(int argc, char** argv) {
   guide->add_option("--seed", guide_args.seed, "Random seed (overrides planner.seed)");
   guide->add_option("--max-guides", guide_args.max_guides, "With --auto: at most this many guides")->capture_default_str()->check(CLI::Range(0, 100));
   guide->add_option("--diameter", guide_args.diameter, "Diameter of every guide's region, m")->capture_default_str()->check(CLI::Range(0.01, 1.0));
+  add_memory_limit(*guide, memory_limit);
   add_verbosity(*guide, guide_args.verbosity, "Same output as the default");
 
   cli::SelfCollisionArgs self_args;
@@ -216,6 +244,10 @@ int main(int argc, char** argv) {
   auto* objects_option = bench->add_option("--objects", bench_args.objects, "Cylinders in the generated shelf (physics: default 10)")->capture_default_str()->check(CLI::Range(1, 60));
   bench->add_option("--json", bench_args.json, "Also write the results as JSON to this file");
   bench_args.pddl_instances = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "test/data/pddl";
+  bench->add_option("--parse-objects", bench_args.parse_objects,
+                    "pddl: also time parsing a generated Blocksworld problem with this many objects (0: not)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 10000000));
   bench->add_option("--instances", bench_args.pddl_instances, "pddl: directory of <family>/{domain,p*}.pddl")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);
@@ -281,6 +313,7 @@ int main(int argc, char** argv) {
                     "every table")
       ->capture_default_str()
       ->check(CLI::IsMember({"fig9", "random"}));
+  add_memory_limit(*bench, memory_limit);
   add_verbosity(*bench, bench_args.verbosity, "Same output as the default");
   bench_args.robot = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml";
   auto* bench_robot = bench->add_option("--robot", bench_args.robot,
@@ -306,6 +339,7 @@ int main(int argc, char** argv) {
   compare->add_option("--svg", compare_args.svg, "Also plot median time against object count (SVG) to this file");
   compare->add_option("--plugin-path", compare_args.plugin_paths, "Search this plugin directory first (repeatable)")
       ->allow_extra_args(false);
+  add_memory_limit(*compare, memory_limit);
   add_verbosity(*compare, compare_args.verbosity, "Same output as the default");
 
   try {
@@ -321,6 +355,7 @@ int main(int argc, char** argv) {
     return ExitCode::bad_input;
   }
 
+  cluttertamp::set_memory_limit(memory_limit);
   try {
     if (*plan) return cli::plan(plan_args);
     if (*validate) return cli::validate(validate_args);
@@ -361,6 +396,9 @@ int main(int argc, char** argv) {
   } catch (const cluttertamp::InputError& e) {
     std::cerr << e.diagnostics().str();
     return ExitCode::bad_input;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "cluttertamp: " << cluttertamp::run::memory_limit_reason() << "\n";
+    return ExitCode::no_plan;
   } catch (const std::exception& e) {
     std::cerr << "cluttertamp: internal error: " << e.what() << "\n";
     return ExitCode::internal_error;

@@ -1,5 +1,6 @@
 // `cluttertamp pddl` and `cluttertamp validate-plan`.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -10,6 +11,7 @@
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/search/grounding.hpp"
 #include "cluttertamp/search/planner.hpp"
+#include "cluttertamp/core/free_beside.hpp"
 
 namespace cluttertamp::cli {
 
@@ -22,13 +24,25 @@ std::string number(double v) {
 }  // namespace
 
 int pddl(const PddlArgs& args) {
+  const auto start = std::chrono::steady_clock::now();
   const pddl::Domain domain = pddl::load_domain(args.domain);
   const pddl::Problem problem = pddl::load_problem(args.problem, domain);
+  // The time limit counts from the start: parsing is part of it.
+  const double parsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (args.verbosity == Verbosity::verbose) {
+    std::cerr << "parsing: " << problem.objects.size() << " objects, " << problem.init.size() << " initial facts in "
+              << number(parsed) << " s\n";
+  }
   search::GroundingStats grounding;
   search::Task task;
   try {
-    task = search::ground(domain, problem, &grounding, args.time_limit);
+    if (parsed >= args.time_limit) throw search::TimeLimit("time limit (parsing)");
+    task = search::ground(domain, problem, &grounding, args.time_limit - parsed);
   } catch (const search::TimeLimit& e) {
+    if (args.verbosity == Verbosity::verbose) {
+      std::cerr << "stopped after " << number(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())
+                << " s\n";
+    }
     std::cerr << "no plan: " << e.what() << "\n";
     return run::ExitCode::no_plan;
   }
@@ -39,7 +53,7 @@ int pddl(const PddlArgs& args) {
   }
   search::SearchOptions options;
   options.algorithm = args.search;
-  options.time_limit = std::max(0.0, args.time_limit - grounding.seconds);
+  options.time_limit = std::max(0.0, args.time_limit - parsed - grounding.seconds);
   options.max_expansions = args.max_expansions;
   options.weight = args.weight;
   const search::SearchResult result = search::plan(task, options);
@@ -50,6 +64,7 @@ int pddl(const PddlArgs& args) {
   }
   if (!result.solved) {
     std::cerr << "no plan: " << result.reason << "\n";
+    if (result.reason == "time limit") free_beside(std::move(task));  // the limit left no time to free it
     return run::ExitCode::no_plan;
   }
   std::string text;

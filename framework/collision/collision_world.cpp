@@ -183,6 +183,7 @@ CollisionWorld::CollisionWorld(const Scene& scene, std::shared_ptr<const robot::
   w.robot = std::move(robot);
   for (const FixedBody& body : scene.fixed) {
     auto object = std::make_unique<Object>(make_geometry(body.shape), to_fcl(body.world_T_body));
+    object->setUserData(nullptr);  // FCL leaves it uninitialised; null: not a movable object
     object->computeAABB();
     w.fixed_manager.registerObject(object.get());
     w.fixed_objects.push_back(std::move(object));
@@ -302,6 +303,7 @@ std::unique_ptr<CollisionWorld::Context> CollisionWorld::make_context() const {
   std::unique_ptr<Context> context(new Context());
   for (const Impl::RobotShape& shape : impl_->robot_shapes) {
     context->state_->shapes.push_back(std::make_unique<Object>(make_geometry(shape.shape)));
+    context->state_->shapes.back()->setUserData(nullptr);  // FCL leaves it uninitialised
   }
   return context;
 }
@@ -327,6 +329,7 @@ void CollisionWorld::Impl::pose_robot(const Eigen::VectorXd& q, State& c) const 
   if (held) {
     if (!c.held || c.held_generation != held_generation) {
       c.held = std::make_unique<Object>(make_geometry(scene.objects[*held].shape, kHeldShrink));
+      c.held->setUserData(nullptr);  // the query object, not one of the managers'
       c.held_generation = held_generation;
     }
     c.held->setTransform(to_fcl(scene.world_T_robot_base * c.root_T_links[robot->tip_link()] * tool_T_held));

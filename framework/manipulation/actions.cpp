@@ -65,10 +65,11 @@ constexpr double kShortestStaging = 0.08;
 // change between its waypoints, rad (more means the IK changed branch).
 constexpr double kLineStep = 0.02;
 constexpr double kLineJump = 0.3;
-// The motion budget per grasp in pick's first, quick pass over the usable grasps, s.
-constexpr double kQuickTransfer = 0.15;
-// The motion budget of move_out's plan from the end of its straight line, s.
-constexpr double kQuickMoveOut = 0.3;
+// The motion budget per grasp in pick's first, quick pass over the usable grasps, in
+// collision checks (work, not time: the same seed picks the same grasp on any machine).
+constexpr std::uint64_t kQuickTransferChecks = 60000;
+// The motion budget of move_out's plan from the end of its straight line, collision checks.
+constexpr std::uint64_t kQuickMoveOutChecks = 120000;
 
 // Waypoints of the tool backing out of configuration `from` (tool pose world_T_tool)
 // in a straight line along `back` (unit, world frame), up to kStagingDistance: IK
@@ -182,8 +183,7 @@ std::optional<Trajectory> move_out(plugin::PlanningContext& context, const World
       }
       // A short budget: from outside the clutter the planner either finds its way at
       // once or the line led somewhere unhelpful.
-      plugin::PlanningContext quick = context;
-      quick.deadline = plugin::Deadline::after(std::min(kQuickMoveOut, context.deadline.remaining()));
+      plugin::PlanningContext quick = context.with_checks(kQuickMoveOutChecks);
       std::optional<Failure> ignored;
       if (const auto rest = move(quick, outside, goal, ignored)) {
         Trajectory out = timed(context.robot(), line);
@@ -265,17 +265,16 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
     }
     free.push_back(&grasp);
   }
-  // Two passes over the grasps: a quick one (kQuickTransfer per transfer, to a staging
+  // Two passes over the grasps: a quick one (kQuickTransferChecks per transfer, to a staging
   // pose and along a straight tool line from there), so that one hard-to-reach grasp
   // does not take the motion planner's whole budget while another is easy; then each
   // with the full budget, straight to the pre-grasp, whose failure names the objects
   // in the way.
-  plugin::PlanningContext quick = context;  // its deadline set per grasp
   for (const bool quick_pass : {true, false}) {
     for (const plugin::Grasp* grasp : free) {
       std::optional<Failure> why;
       const Eigen::VectorXd& pregrasp = grasp->motions.front().pregrasp;
-      if (quick_pass) quick.deadline = plugin::Deadline::after(std::min(kQuickTransfer, context.deadline.remaining()));
+      plugin::PlanningContext quick = context.with_checks(kQuickTransferChecks);
       const auto transfer = quick_pass ? staged_transfer(quick, state, *grasp, pregrasp, why) : move(context, state, pregrasp, why);
       if (transfer) return grasped(context, state, object, *grasp, *transfer);
       if (!quick_pass) last = why;

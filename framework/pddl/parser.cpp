@@ -4,6 +4,9 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <string_view>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "cluttertamp/pddl/sexpr.hpp"
 #include "pddl/read_atom.hpp"
@@ -57,6 +60,7 @@ class Reader {
   std::vector<TypedName> typed_list(const std::vector<SExpr>& items, std::size_t first, bool variables,
                                     const std::string& what) {
     std::vector<TypedName> out;
+    std::unordered_set<std::string_view> names;  // hashed: IPC problems list 100k objects and more
     std::size_t pending = 0;  // names waiting for a type
     for (std::size_t i = first; i < items.size(); ++i) {
       const SExpr& item = items[i];
@@ -81,9 +85,7 @@ class Reader {
                               ", not '" + item.text + "'");
         continue;
       }
-      for (const TypedName& previous : out) {
-        if (previous.name == item.text) error(item.where, "'" + item.text + "' appears twice in " + what);
-      }
+      if (!names.insert(item.text).second) error(item.where, "'" + item.text + "' appears twice in " + what);
       out.push_back({item.text, {"object"}, item.where});
       ++pending;
     }
@@ -681,10 +683,12 @@ class ProblemReader : public Reader {
     Checker checker(domain_, *this);
     checker.check_types_exist(problem_.objects);
     std::vector<TypedName> objects;
+    std::unordered_map<std::string_view, const TypedName*> constants;
+    for (const TypedName& c : domain_.constants) constants.emplace(c.name, &c);
     for (const TypedName& o : problem_.objects) {
-      const auto constant = std::find_if(domain_.constants.begin(), domain_.constants.end(),
-                                         [&](const TypedName& c) { return c.name == o.name; });
-      if (constant != domain_.constants.end()) {
+      const auto found = constants.find(o.name);
+      if (found != constants.end()) {
+        const TypedName* constant = found->second;
         // Repeating a constant with its own type is harmless (IPC files do it); another type is not.
         if (constant->types != o.types) error(o.where, "object '" + o.name + "' is a constant of the domain with another type");
         continue;

@@ -306,6 +306,9 @@ void KinodynamicSettings::read(const Parameters& p) {
   max_turn = p.get_double("max_turn", max_turn);
   goal_bias = p.get_double("goal_bias", goal_bias);
   steer = p.get_double("steer", steer);
+  const std::int64_t propagations = p.get_int("max_propagations", static_cast<std::int64_t>(max_propagations));
+  p.require(propagations >= 0, "max_propagations", "must not be negative (0: no budget but the time limit)");
+  max_propagations = static_cast<std::uint64_t>(propagations);
   p.require(planner == "rrt" || planner == "kpiece", "planner", "must be rrt or kpiece");
   p.require(step > 0, "step", "must be positive (seconds)");
   p.require(max_steps >= 1, "max_steps", "must be at least 1");
@@ -433,7 +436,7 @@ bool valid_outcome(const PushWorld& world, const PushOutcome& out) {
 }
 
 KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, const PushGoal& goal,
-                               const KinodynamicSettings& settings, double seconds, std::uint64_t seed) {
+                               const KinodynamicSettings& settings, const PushBudget& budget, std::uint64_t seed) {
   if (start.objects.size() != world.scene().objects.size()) {
     throw std::invalid_argument("plan_pushes: the start state needs one body per scene object");
   }
@@ -443,7 +446,7 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
     outcome.reason = "the start is not valid: " + *why;
     return outcome;
   }
-  seconds = std::clamp(seconds, 0.0, 1e7);  // no limit (Deadline::never) overflows OMPL's clock
+  const double seconds = std::clamp(budget.seconds, 0.0, 1e7);  // no limit (Deadline::never) overflows OMPL's clock
   const Layout layout(start.objects.size());
   const Eigen::AlignedBox2d region = world.gripper_region();
 
@@ -502,11 +505,17 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
   }
   planner->setProblemDefinition(pdef);
   planner->setup();
-  const auto started = std::chrono::steady_clock::now();
-  const ob::PlannerStatus status = planner->solve(seconds);
+  const auto end = std::chrono::steady_clock::now() +
+                   std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+  const ob::PlannerStatus status = planner->solve(ob::PlannerTerminationCondition([&] {
+    return outcome.propagations >= budget.propagations || std::chrono::steady_clock::now() >= end;
+  }));
   if (status != ob::PlannerStatus::EXACT_SOLUTION) {
-    outcome.time_limit_reached = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >= seconds;
-    outcome.reason = outcome.time_limit_reached ? "time limit reached" : "no solution: " + status.asString();
+    outcome.budget_reached = outcome.propagations >= budget.propagations;
+    outcome.time_limit_reached = !outcome.budget_reached && std::chrono::steady_clock::now() >= end;
+    outcome.reason = outcome.budget_reached      ? "propagation budget (" + std::to_string(budget.propagations) + ") used up"
+                     : outcome.time_limit_reached ? "time limit reached"
+                                                  : "no solution: " + status.asString();
     return outcome;
   }
   const auto& path = *pdef->getSolutionPath()->as<oc::PathControl>();

@@ -16,7 +16,9 @@ namespace {
 constexpr int kSpots = 3;          // pushes tried per object
 constexpr double kGap = 0.01;      // m between a spot's object and the others, or the way out
 constexpr double kRadius = 0.03;   // m: a push ends with the object's centre this near its spot
-constexpr double kPushSeconds = 2.0;  // at most, per push query: a push is an improvement
+// At most, per push query, physics propagations (about 2 s on our machine): a push is an
+// improvement, not worth a long search.
+constexpr std::uint64_t kPushPropagations = 2500;
 
 // Spots 8-16 cm from `object` (every 30 degrees), nearest first: on its support, clear
 // of every other present object and of the target's way out to x_s.
@@ -56,7 +58,7 @@ PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, Removal
                                        std::span<const ObjectIndex> order,
                                        const std::string& placement_region, std::uint64_t salt, Result& result) {
   PushReplacement done;
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = std::chrono::steady_clock::now();  // for done.seconds only
   const Scene& scene = context.scene();
   const Eigen::Vector3d from_exit = physics::gripper_at_exit(scene);
   std::vector<std::unique_ptr<RemovalChecker>> owned;
@@ -72,9 +74,8 @@ PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, Removal
       for (const Eigen::Vector2d& spot : push_spots(context, before, object)) {
         if (tries++ == kSpots || context.deadline.expired()) break;
         ++done.pushes_tried;
-        plugin::PlanningContext limited = context.within(kPushSeconds);
         const plugin::PushAnswer answer =
-            context.samplers.push->push(limited, {object, spot, kRadius, &before, from_exit});
+            context.samplers.push->push(context, {object, spot, kRadius, &before, from_exit, kPushPropagations});
         if (!answer.step || answer.step->objects != std::vector<ObjectIndex>{object}) continue;
         auto next = std::make_unique<RemovalChecker>(context, *answer.resulting_state, placement_region);
         if (!next->retrieve(rest, salt).ok) continue;

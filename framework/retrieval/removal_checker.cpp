@@ -35,14 +35,18 @@ PlanStep plan_step(const std::string& action, ObjectIndex object, const manipula
   return step;
 }
 
+// Why a check stopped before its next action: the run's time, or its work budget.
+Failure out_of_budget(const plugin::PlanningContext& context) {
+  return {"plan", context.deadline.expired() ? "time limit reached" : "work budget (collision checks) used up", {}};
+}
+
 }  // namespace
 
 RemovalChecker::RemovalChecker(plugin::PlanningContext& context, const WorldState& initial, std::string placement_region)
     : context_(context), initial_(initial), region_(std::move(placement_region)) {}
 
 plugin::PlanningContext RemovalChecker::attempt(std::uint64_t salt) const {
-  return {context_.problem, context_.deadline, context_.seed + 0x9e3779b97f4a7c15ull * salt, context_.counters,
-          context_.samplers, context_.world};
+  return context_.with_seed(context_.seed + 0x9e3779b97f4a7c15ull * salt);
 }
 
 const RemovalChecker::Step& RemovalChecker::step(std::span<const ObjectIndex> prefix, ObjectIndex object,
@@ -93,9 +97,9 @@ RemovalCheck RemovalChecker::remove(std::span<const ObjectIndex> order, std::uin
   RemovalCheck check;
   check.state = initial_;
   for (std::size_t i = 0; i < order.size(); ++i) {
-    if (context_.deadline.expired()) {
+    if (context_.stopped()) {
       check.failed_object = order[i];
-      check.failure = Failure{"plan", "time limit reached", {}};
+      check.failure = out_of_budget(context_);
       return check;
     }
     const Step& s = step(order.first(i), order[i], salt);
@@ -116,9 +120,9 @@ RemovalCheck RemovalChecker::retrieve(std::span<const ObjectIndex> order, std::u
   if (!check.ok) return check;
   check.ok = false;
   const ObjectIndex target = context_.scene().target;
-  if (context_.deadline.expired()) {
+  if (context_.stopped()) {
     check.failed_object = target;
-    check.failure = Failure{"plan", "time limit reached", {}};
+    check.failure = out_of_budget(context_);
     return check;
   }
   const Step& s = step(order, target, salt);

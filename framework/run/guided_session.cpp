@@ -161,7 +161,8 @@ GuidedSession::Outcome GuidedSession::finish() {
   const physics::PushWorld world(scene, s.state);
   const physics::ReachGoal goal(world, scene.target, s.reach);
   const physics::KinodynamicOutcome out = physics::plan_pushes(world, world.state_of(s.state, s.gripper), goal, s.search,
-                                                               s.time_left(), s.problem.seed + s.record.inputs.size() + 1);
+                                                               physics::PushBudget::of(s.search, s.time_left()),
+                                                               s.problem.seed + s.record.inputs.size() + 1);
   const double reach_time = seconds_since(t0);
   s.planning += reach_time;
   s.finished = true;

@@ -1,6 +1,9 @@
 #include "cluttertamp/run/runner.hpp"
 
 #include <chrono>
+#include <new>
+
+#include "cluttertamp/core/memory_limit.hpp"
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/core/world_state.hpp"
@@ -46,6 +49,11 @@ plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem
 
 }  // namespace
 
+std::string memory_limit_reason() {
+  const std::size_t mib = memory_limit_mib();
+  return mib ? "memory limit reached (" + std::to_string(mib) + " MiB)" : std::string("memory limit reached (out of memory)");
+}
+
 Plugins create_plugins(const Problem& problem, const plugin::Registry& registry) {
   Plugins plugins;
   plugins.samplers = create_samplers(registry, problem);
@@ -78,6 +86,11 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
     outcome.info.exit_code = outcome.result.solved ? ExitCode::solved : ExitCode::no_plan;
   } catch (const InputError&) {
     throw;
+  } catch (const std::bad_alloc&) {
+    // The search grew past the memory limit: a limit reached, like the time limit.
+    outcome.result = Result{};
+    outcome.result.reason = memory_limit_reason();
+    outcome.info.exit_code = ExitCode::no_plan;
   } catch (const std::exception& e) {
     outcome.result = Result{};
     outcome.result.reason = "internal error in task_planner '" + problem.planner.name + "': " + e.what();

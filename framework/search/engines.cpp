@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "cluttertamp/search/planner.hpp"
+#include "cluttertamp/core/free_beside.hpp"
 #include "search/heuristics.hpp"
 #include "search/state_space.hpp"
 
@@ -159,7 +160,11 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
     Node& node = registry.node(id);
     if (node.closed || w_g * node.g + w_h * node.h < key - 1e-9) continue;  // stale entry
     if (space.is_goal(registry.state(id))) return finish(space, registry, id, result);
-    if (limits.exceeded(result.statistics, result.reason)) return result;
+    if (limits.exceeded(result.statistics, result.reason)) {
+      free_beside(std::move(registry));
+      free_beside(std::move(open));
+      return result;
+    }
     node.closed = true;
     ++result.statistics.expanded;
     const State state = registry.state(id);
@@ -238,7 +243,11 @@ SearchResult lazy(const StateSpace& space, Evaluator& h, const Limits& limits) {
     return result;
   }
   while (!open.empty()) {
-    if (limits.exceeded(result.statistics, result.reason)) return result;
+    if (limits.exceeded(result.statistics, result.reason)) {
+      free_beside(std::move(registry));
+      free_beside(std::move(open));
+      return result;
+    }
     const auto [parent_h, unused, parent, op] = open.pop();
     (void)parent_h;
     (void)unused;

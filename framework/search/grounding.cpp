@@ -5,11 +5,13 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <unordered_map>
 
 #include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/core/free_beside.hpp"
 
 namespace cluttertamp::search {
 
@@ -917,6 +919,7 @@ Task Grounder::run(GroundingStats* stats) {
   for (std::size_t i = 0; i < schemas_.size(); ++i) {
     const Schema& s = schemas_[i];
     for (const std::vector<int>& parameters : instances_[i]) {
+      check_deadline();  // millions of operators are made here too
       std::vector<int> b(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
       for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
       Dnf pre;
@@ -1004,7 +1007,13 @@ Task Grounder::run(GroundingStats* stats) {
 }  // namespace
 
 Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats, double time_limit) {
-  return Grounder(domain, problem, time_limit).run(stats);
+  auto grounder = std::make_unique<Grounder>(domain, problem, time_limit);
+  try {
+    return grounder->run(stats);
+  } catch (const TimeLimit&) {
+    free_beside(std::move(grounder));
+    throw;
+  }
 }
 
 }  // namespace cluttertamp::search

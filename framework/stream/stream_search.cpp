@@ -1,5 +1,7 @@
 #include "cluttertamp/stream/stream_search.hpp"
 
+#include "cluttertamp/core/free_beside.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <deque>
@@ -359,11 +361,13 @@ class StreamSearch {
     ++out_.statistics.searches;
     std::optional<std::vector<Step>> steps;
     try {
-      const search::Task task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
+      search::GroundingStats grounding;
+      const search::Task task = search::ground(domain_, p, &grounding, context_.deadline.remaining());
       search::SearchOptions so;
       so.algorithm = options_.search;
       so.time_limit = context_.deadline.remaining();
       const search::SearchResult r = search::plan(task, so);
+      last_search_work_ = grounding.operators + r.statistics.generated;
       if (r.solved) {
         steps.emplace();
         for (search::OperatorId op : r.plan) steps->push_back(step_of(task.operators[static_cast<std::size_t>(op)].name));
@@ -564,6 +568,13 @@ class StreamSearch {
 
   // Optimistic facts for every enabled instance within `level`; returns whether an
   // instance was left out for its complexity.
+  // Throws TimeLimit once the run's time is up, looking at the clock every 256th call:
+  // a stream whose inputs nothing binds ranges over every object, and each new
+  // optimistic value multiplies its instances.
+  void keep_time_limit() {
+    if ((++ticks_ & 255) == 0 && context_.deadline.expired()) throw search::TimeLimit("time limit (optimistic instantiation)");
+  }
+
   bool instantiate_optimistic(int level) {
     base_.clear_optimistic();
     bool pruned = false;
@@ -583,9 +594,12 @@ class StreamSearch {
         for (const pddl::Atom& a : d.domain) facts += base_.fact_count(a.predicate);
         if (std::exchange(seen[static_cast<std::size_t>(s)], facts) == facts) continue;
         std::vector<std::pair<std::vector<ObjectId>, int>> found;
-        base_.bindings(d.inputs, d.domain, true,
-                       [&](const std::vector<ObjectId>& inputs, int c) { found.emplace_back(inputs, c); });
+        base_.bindings(d.inputs, d.domain, true, [&](const std::vector<ObjectId>& inputs, int c) {
+          keep_time_limit();
+          found.emplace_back(inputs, c);
+        });
         for (const auto& [inputs, domain_complexity] : found) {
+          keep_time_limit();
           const int id = base_.instance(s, inputs);
           Instance& inst = base_.instance_at(id);
           if (inst.real && (inst.exhausted || inst.disabled)) continue;
@@ -779,15 +793,15 @@ class StreamSearch {
     return std::nullopt;
   }
 
-  // Works through the skeleton queue for `budget` seconds, shortest plan first: a
-  // skeleton is worked on until all its bindings wait. Returns a plan, if one comes
-  // out; `progress` tells whether a stream was called.
-  std::optional<std::vector<Step>> refine(double budget, bool& progress) {
-    const auto start = Clock::now();
+  // Works through the skeleton queue for at most `calls` stream calls, shortest plan
+  // first: a skeleton is worked on until all its bindings wait. Returns a plan, if one
+  // comes out; `progress` tells whether a stream was called.
+  std::optional<std::vector<Step>> refine(std::uint64_t calls, bool& progress) {
     progress = false;
     for (Skeleton& sk : queue_) sk.waiting = false;
     std::size_t waits = 0;  // bindings in a row of the current skeleton that wait
-    while (since(start) < budget && !context_.deadline.expired()) {
+    std::uint64_t called = 0;
+    while (called < calls && !context_.deadline.expired()) {
       const auto it = std::min_element(queue_.begin(), queue_.end(), [](const Skeleton& a, const Skeleton& b) {
         return std::make_pair(a.waiting, a.actions.size()) < std::make_pair(b.waiting, b.actions.size());
       });
@@ -795,6 +809,7 @@ class StreamSearch {
       Move move = Move::moved;
       if (auto steps = advance(*it, move)) return steps;
       progress |= move == Move::called;
+      called += move == Move::called;
       if (it->stack.empty()) {
         queue_.erase(it);
         waits = 0;
@@ -852,8 +867,9 @@ class StreamSearch {
         options_.trace(line.str());
       }
       bool progress = false;
-      const double budget = std::max(options_.min_sampling, last_search_seconds_ * options_.sampling_ratio);
-      if (auto done = refine(budget, progress)) return solved(*done);
+      const double share = options_.sampling_ratio * static_cast<double>(last_search_work_) / options_.call_cost;
+      const std::uint64_t calls = std::max(options_.min_calls, static_cast<std::uint64_t>(std::min(share, 1e12)));
+      if (auto done = refine(calls, progress)) return solved(*done);
       if (!steps || too_long || (!fresh && !progress)) {
         bool any_disabled = false;
         for (std::size_t i = 0; i < base_.instance_count(); ++i) {
@@ -880,6 +896,8 @@ class StreamSearch {
   std::set<std::string> negated_tests_;
   std::deque<Skeleton> queue_;
   double last_search_seconds_ = 0;
+  std::uint64_t last_search_work_ = 0;
+  std::uint64_t ticks_ = 0;  // keep_time_limit's calls  // grounded operators + generated states of the last search
   std::optional<std::pair<std::size_t, int>> shortest_;  // adaptive: shortest plan, its level
   int level_ = 0;  // adaptive: the complexity bound of optimistic instances and calls
   int generated_ = 0;
@@ -892,7 +910,11 @@ StreamSolution solve(const StreamProblem& problem, plugin::PlanningContext& cont
   if (!problem.domain || !problem.problem || !problem.streams) {
     throw std::invalid_argument("stream::solve: domain, problem and streams are required");
   }
-  return StreamSearch(problem, context, options).run();
+  auto search = std::make_unique<StreamSearch>(problem, context, options);
+  StreamSolution solution = search->run();
+  // Ended by the time limit, it may hold millions of instances: freed beside the caller.
+  if (!solution.solved && context.deadline.expired()) free_beside(std::move(search));
+  return solution;
 }
 
 pddl::Problem with_certified_facts(const pddl::Domain& domain, const pddl::Problem& problem,

@@ -118,7 +118,7 @@ std::uint64_t pose_hash(const Eigen::Isometry3d& p) {
 
 struct Settings {
   double resolution = 0.02;  // rad between collision checks along a trajectory
-  double call_time = 2.0;    // s a generator's call may plan at most
+  std::int64_t call_max_checks = 1500000;  // collision checks a generator's call may make at most
 };
 
 /// What every generator needs: the scene objects by name, the empty world, home.
@@ -164,11 +164,13 @@ class Streams {
     return s;
   }
 
-  /// A context for one call: its own seed and samplers, a deadline of at most call_time.
+  /// A context for one call: its own seed and samplers, a work budget of at most
+  /// call_max_checks collision checks (work, not time: a call's values do not depend on
+  /// the machine).
   plugin::PlanningContext call_context(plugin::PlanningContext& context, plugin::Samplers& samplers, std::uint64_t seed) const {
-    plugin::PlanningContext c{context.problem, plugin::Deadline::after(std::min(settings_.call_time, context.deadline.remaining())),
-                              seed, context.counters, samplers, context.world};
-    return c;
+    plugin::PlanningContext c{context.problem, context.deadline, seed, context.counters, samplers, context.world,
+                              context.checks_until};
+    return c.with_checks(static_cast<std::uint64_t>(settings_.call_max_checks));
   }
 
   /// Plans from the end of `outcome` back home, appending a "return" segment. A pick
@@ -226,14 +228,14 @@ class PlanPick final : public plugin::StreamGenerator {
     // at last among the fixed geometry alone.
     manipulation::ActionOutcome picked;
     std::set<ObjectIndex> ignored;
-    for (int attempt = 0; attempt < 4 && !c.deadline.expired(); ++attempt) {
+    for (int attempt = 0; attempt < 4 && !c.stopped(); ++attempt) {
       picked = manipulation::pick(c, streams_->among(context.scene(), object_, pose_, ignored), object_);
       if (picked.ok) break;
       const std::size_t before = ignored.size();
       if (picked.failure) ignored.insert(picked.failure->blocking_objects.begin(), picked.failure->blocking_objects.end());
       if (ignored.size() == before) break;
     }
-    if (!picked.ok && !c.deadline.expired()) picked = manipulation::pick(c, streams_->alone(object_, pose_), object_);
+    if (!picked.ok && !c.stopped()) picked = manipulation::pick(c, streams_->alone(object_, pose_), object_);
     std::optional<Failure> why;
     if (!picked.ok || !picked.grasp || !streams_->return_home(c, picked, why)) {
       batch.failure = picked.ok ? why : failure_of(picked, "no pick");
@@ -361,9 +363,12 @@ class ClutterStreams final : public plugin::StreamSampler {
  public:
   void configure(const Parameters& p) override {
     settings_.resolution = p.get_double("resolution", settings_.resolution);
-    settings_.call_time = p.get_double("call_time", settings_.call_time);
+    p.require(!p.contains("call_time"), "call_time",
+              "is no longer read: a call's budget is work, so that a seed gives the same values on any machine; "
+              "set call_max_checks (collision checks per call, default 1500000)");
+    settings_.call_max_checks = p.get_int("call_max_checks", settings_.call_max_checks);
     p.require(settings_.resolution > 0 && settings_.resolution < 1, "resolution", "must be in (0, 1) rad");
-    p.require(settings_.call_time > 0, "call_time", "must be positive (seconds)");
+    p.require(settings_.call_max_checks > 0, "call_max_checks", "must be positive (collision checks)");
   }
 
   std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext& context, std::string_view stream,

@@ -79,7 +79,8 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     const physics::PushWorld world(scene, state);
     const physics::ReachGoal goal(world, scene.target, reach_);
     const physics::KinodynamicOutcome out =
-        physics::plan_pushes(world, world.state_of(state, gripper), goal, search_, context.deadline.remaining(),
+        physics::plan_pushes(world, world.state_of(state, gripper), goal, search_,
+                             physics::PushBudget::of(search_, context.deadline.remaining()),
                              context.seed + guidance.size() + 1);
     context.count("propagations", out.propagations);
     if (!out.path) {
@@ -107,9 +108,9 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     return base.parent_path() / path;
   }
 
-  // Pushes each guide's object into its region in turn, each in its share of the time
-  // left (the reach counts as one more, so that one hard push does not starve the
-  // rest); `state` and `gripper` follow. A guide not satisfied is kept as a failure
+  // Pushes each guide's object into its region in turn, each within the push sampler's
+  // own work budget (propagations: a guide's outcome does not depend on the machine);
+  // `state` and `gripper` follow. A guide not satisfied is kept as a failure
   // and, with `skip`, passed over (the world as the last satisfied guide left it);
   // otherwise false, with the reason.
   static bool satisfy(const physics::Guidance& guidance, bool skip, plugin::PlanningContext& context, WorldState& state,
@@ -117,8 +118,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     const Scene& scene = context.scene();
     for (std::size_t k = 0; k < guidance.size(); ++k) {
       const physics::Guide& g = guidance[k];
-      plugin::PlanningContext guide_context = context.within(context.deadline.remaining() / double(guidance.size() - k + 1));
-      plugin::PushAnswer answer = context.samplers.push->push(guide_context, {g.object, g.centre, g.diameter / 2, &state, gripper});
+      plugin::PushAnswer answer = context.samplers.push->push(context, {g.object, g.centre, g.diameter / 2, &state, gripper});
       if (!answer.step) {
         Failure f = answer.failure.value_or(Failure{"push", "the push sampler gave no push and no reason", {}});
         f.reason = "guide " + std::to_string(k + 1) + " (" + describe(scene, g) + ") not satisfied: " + f.reason;

@@ -2,9 +2,9 @@
 // by default), FCL validity from the shared collision world (the held object
 // included), deterministic shortcutting and a time parameterization within the joint
 // velocity limits. When no path exists, it plans again with the movable objects
-// ignored and names the objects that path passes through.
+// ignored and names the objects that path passes through. Each query's budget is
+// collision checks, not seconds: the same query gives the same answer on any machine.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -17,7 +17,6 @@
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/datastructures/NearestNeighborsLinear.h>
 #include <ompl/geometric/PathGeometric.h>
-#include <ompl/geometric/planners/prm/PRM.h>
 #include <ompl/geometric/planners/rrt/RRT.h>
 #include <ompl/geometric/planners/rrt/RRTConnect.h>
 #include <ompl/geometric/planners/rrt/RRTstar.h>
@@ -74,16 +73,22 @@ class OmplMotion final : public plugin::MotionSampler {
   OmplMotion() { ompl::msg::setLogLevel(ompl::msg::LOG_NONE); }
 
   void configure(const Parameters& p) override {
+    p.require(!p.contains("time_limit"), "time_limit",
+              "is no longer read: a query's budget is work, so that a seed gives the same motion on any machine; "
+              "set max_checks (collision checks per query, default " + std::to_string(kDefaultMaxChecks) + ")");
     planner_ = p.get_string("planner", planner_);
-    time_limit_ = p.get_double("time_limit", time_limit_);
+    p.require(planner_ != "prm", "planner",
+              "prm is no longer offered: OMPL's PRM looks for its solution in a second thread, so its paths depend "
+              "on timing; use rrtconnect, rrt or rrtstar");
+    max_checks_ = p.get_int("max_checks", max_checks_);
     resolution_ = p.get_double("resolution", resolution_);
     shortcuts_ = p.get_int("shortcuts", shortcuts_);
     velocity_scale_ = p.get_double("velocity_scale", velocity_scale_);
     relaxed_share_ = p.get_double("relaxed_share", relaxed_share_);
     p.require(relaxed_share_ > 0 && relaxed_share_ < 1, "relaxed_share", "must be in (0, 1)");
-    p.require(planner_ == "rrtconnect" || planner_ == "rrt" || planner_ == "rrtstar" || planner_ == "prm", "planner",
-              "must be rrtconnect, rrt, rrtstar or prm");
-    p.require(time_limit_ > 0, "time_limit", "must be positive (seconds)");
+    p.require(planner_ == "rrtconnect" || planner_ == "rrt" || planner_ == "rrtstar", "planner",
+              "must be rrtconnect, rrt or rrtstar");
+    p.require(max_checks_ >= 100, "max_checks", "must be at least 100 (collision checks per query)");
     p.require(resolution_ > 0 && resolution_ < 1, "resolution", "must be in (0, 1) rad");
     p.require(shortcuts_ >= 0, "shortcuts", "must not be negative");
     p.require(velocity_scale_ > 0 && velocity_scale_ <= 1, "velocity_scale", "must be in (0, 1]");
@@ -103,13 +108,13 @@ class OmplMotion final : public plugin::MotionSampler {
     auto checker = world.make_context();
 
     std::vector<Eigen::VectorXd> path;
-    // One budget for the whole query: the search, and the search through movable objects.
-    const double budget = std::min(time_limit_, context.deadline.remaining());
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                            std::chrono::duration<double>(budget));
-    auto left = [&] { return std::chrono::duration<double>(end - std::chrono::steady_clock::now()).count(); };
+    // One budget for the whole query, the search and the search through movable
+    // objects: collision checks, and never more than the caller's own budget.
+    const std::uint64_t budget = std::min<std::uint64_t>(static_cast<std::uint64_t>(max_checks_), context.checks_left());
+    std::uint64_t checks = 0;
     const collision::ObjectSet none;
     auto valid = [&](const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
+      ++checks;
       context.count(counter::collision_checks);
       return world.is_valid(q, *checker, ignored);
     };
@@ -140,7 +145,8 @@ class OmplMotion final : public plugin::MotionSampler {
     std::vector<Eigen::VectorXd> relaxed;
     std::vector<ObjectIndex> through;
     bool relaxed_found = false, other_contact = false;  // fixed geometry or the arm itself
-    if (budget > 0 && solve(context, robot, joints, query, relaxed_share_ * budget, all, valid, relaxed)) {
+    const auto relaxed_budget = static_cast<std::uint64_t>(relaxed_share_ * static_cast<double>(budget));
+    if (budget > 0 && solve(context, robot, joints, query, [&] { return checks >= relaxed_budget; }, all, valid, relaxed)) {
       relaxed_found = true;
       for (std::size_t k = 0; k + 1 < relaxed.size(); ++k) {
         const int steps = std::max(1, static_cast<int>(std::ceil((relaxed[k + 1] - relaxed[k]).cwiseAbs().maxCoeff() / resolution_)));
@@ -158,20 +164,21 @@ class OmplMotion final : public plugin::MotionSampler {
       }
     }
     // The strict search keeps the rest of the budget even after a path through objects:
-    // capping it at 0.5 s (most detours are found within 0.2 s) made the default
+    // capping it at half the budget (when budgets were seconds) made the default
     // problem move four objects instead of two in a quarter of the runs.
-    if (left() > 1e-3 && solve(context, robot, joints, query, left(), {}, valid, path)) {
+    if (checks < budget && solve(context, robot, joints, query, [&] { return checks >= budget; }, {}, valid, path)) {
       answer.trajectory = manipulation::timed(robot, path, velocity_scale_);
       return answer;
     }
-    char searched[32];
-    std::snprintf(searched, sizeof searched, "%.2f", budget - std::max(0.0, left()));
-    Failure failure{"motion", std::string("no collision-free path found in ") + searched + " s", std::move(through)};
+    Failure failure{"motion",
+                    context.deadline.expired() ? std::string("time limit reached before a collision-free path was found")
+                                               : "no collision-free path found in " + std::to_string(checks) + " collision checks",
+                    std::move(through)};
     if (relaxed_found) {
       failure.reason += "; ignoring movable objects a path exists, through " +
                         std::to_string(failure.blocking_objects.size()) + " of them";
     } else {
-      failure.reason += "; no path even through movable objects (fixed geometry, limits or time)";
+      failure.reason += "; no path even through movable objects (fixed geometry, limits or the budget)";
     }
     answer.failure = failure;
     return answer;
@@ -207,8 +214,10 @@ class OmplMotion final : public plugin::MotionSampler {
 
   using Validity = std::function<bool(const Eigen::VectorXd&, std::span<const ObjectIndex>)>;
 
+  // Searches until a path is found, `spent()` says the budget is used up or the run's
+  // time is up.
   bool solve(plugin::PlanningContext& context, const robot::RobotDescription& robot, const std::vector<int>& joints,
-             const plugin::MotionQuery& query, double seconds, std::span<const ObjectIndex> ignored,
+             const plugin::MotionQuery& query, const std::function<bool()>& spent, std::span<const ObjectIndex> ignored,
              const Validity& valid, std::vector<Eigen::VectorXd>& path) const {
     const robot::RobotModel& model = *robot.model();
     const unsigned dim = static_cast<unsigned>(joints.size());
@@ -237,26 +246,26 @@ class OmplMotion final : public plugin::MotionSampler {
       start[i] = query.start[joints[i]];
       goal[i] = query.goal[joints[i]];
     }
+    // An endpoint the search sees in collision (the arm's joints at the goal, the other
+    // joints at the start's values) has no path, and OMPL would wait for a valid goal
+    // state until its termination condition, sleeping, without doing any work.
+    if (!si->isValid(start.get()) || !si->isValid(goal.get())) return false;
     pdef->setStartAndGoalStates(start, goal);
+    // Linear nearest neighbours: GNAT draws its own random numbers. The planners' own
+    // generators (goal bias, ...) are seeded from the query too.
     ob::PlannerPtr planner;
     if (planner_ == "rrtconnect") {
-      auto p = std::make_shared<og::RRTConnect>(si);
-      p->setNearestNeighbors<ompl::NearestNeighborsLinear>();  // GNAT draws its own random numbers
-      planner = p;
+      planner = seeded<og::RRTConnect>(si, seed);
     } else if (planner_ == "rrt") {
-      auto p = std::make_shared<og::RRT>(si);
-      p->setNearestNeighbors<ompl::NearestNeighborsLinear>();
-      planner = p;
-    } else if (planner_ == "rrtstar") {
-      auto p = std::make_shared<og::RRTstar>(si);
-      p->setNearestNeighbors<ompl::NearestNeighborsLinear>();
-      planner = p;
+      planner = seeded<og::RRT>(si, seed);
     } else {
-      planner = std::make_shared<og::PRM>(si);
+      planner = seeded<og::RRTstar>(si, seed);
     }
     planner->setProblemDefinition(pdef);
     planner->setup();
-    const ob::PlannerStatus status = planner->solve(ob::timedPlannerTerminationCondition(seconds));
+    const plugin::Deadline& deadline = context.deadline;
+    const ob::PlannerStatus status =
+        planner->solve(ob::PlannerTerminationCondition([&] { return spent() || deadline.expired(); }));
     if (status != ob::PlannerStatus::EXACT_SOLUTION) return false;
     auto* solution = pdef->getSolutionPath()->as<og::PathGeometric>();
     path.clear();
@@ -298,9 +307,23 @@ class OmplMotion final : public plugin::MotionSampler {
     }
   }
 
+  // A planner of OMPL whose generators are seeded from the query.
+  template <class Planner>
+  static ob::PlannerPtr seeded(const ob::SpaceInformationPtr& si, std::uint64_t seed) {
+    struct Seeded final : Planner {
+      Seeded(const ob::SpaceInformationPtr& s, std::uint64_t q) : Planner(s) {
+        this->rng_.setLocalSeed(static_cast<std::uint_fast32_t>(q ^ (q >> 32)));
+      }
+    };
+    auto p = std::make_shared<Seeded>(si, seed);
+    p->template setNearestNeighbors<ompl::NearestNeighborsLinear>();
+    return p;
+  }
+
+  static constexpr std::int64_t kDefaultMaxChecks = 400000;
   std::string planner_ = "rrtconnect";
-  double time_limit_ = 1.0;
-  double relaxed_share_ = 0.25;  // of time_limit for the search through movable objects
+  std::int64_t max_checks_ = kDefaultMaxChecks;  // collision checks per query, both searches
+  double relaxed_share_ = 0.25;  // of max_checks for the search through movable objects
   double resolution_ = 0.02;
   std::int64_t shortcuts_ = 50;
   double velocity_scale_ = 0.5;

@@ -32,8 +32,8 @@ std::string xy(const Eigen::Vector2d& v) {
   return out.str();
 }
 
-// The run's seed mixed with the query: the same query gives the same push when its
-// searches end within their time (a search cut short is repeatable as far as it got).
+// The run's seed mixed with the query: the same query gives the same push (its budget
+// is propagations; only the run's time limit, when it ends a search, can cut one short).
 std::uint64_t query_seed(std::uint64_t seed, const plugin::PushQuery& q) {
   std::uint64_t h = seed ^ 0x9e3779b97f4a7c15ull;
   for (double v : {double(q.object), q.goal_xy.x(), q.goal_xy.y(), q.goal_radius, q.gripper.x(), q.gripper.y(), q.gripper.z()}) {
@@ -44,7 +44,10 @@ std::uint64_t query_seed(std::uint64_t seed, const plugin::PushQuery& q) {
 
 class PushOmpl final : public plugin::PushSampler {
  public:
-  PushOmpl() { search_.steer = 0.3; }
+  PushOmpl() {
+    search_.steer = 0.3;
+    search_.max_propagations = 10000;  // per query, both searches (about 8 s on our machine)
+  }
 
   void configure(const Parameters& p) override {
     search_.read(p);
@@ -90,16 +93,26 @@ class PushOmpl final : public plugin::PushSampler {
       }
     }
     const std::uint64_t seed = query_seed(context.seed, q);
+    // The query's budget: the sampler's own, at most the query's; the approach gets its
+    // share, the push the rest.
+    const physics::PushBudget budget = physics::PushBudget::of(
+        search_, context.deadline.remaining(), q.max_propagations > 0 ? q.max_propagations : ~std::uint64_t{0});
+    physics::PushBudget approach_budget = budget;
+    if (budget.propagations != ~std::uint64_t{0}) {
+      approach_budget.propagations = static_cast<std::uint64_t>(approach_share_ * static_cast<double>(budget.propagations));
+    }
     const physics::GripperPoseGoal approach(approach_states(world, start, q), approach_position_, approach_heading_);
-    const auto approached = physics::plan_pushes(world, start, approach, search_,
-                                                 approach_share_ * context.deadline.remaining(), seed);
+    const auto approached = physics::plan_pushes(world, start, approach, search_, approach_budget, seed);
     context.count("propagations", approached.propagations);
     if (!approached.path) {
       return fail("no approach to '" + id + "' (face or side towards " + xy(q.goal_xy) + "): " + approached.reason +
                   quick_note(quick_failure));
     }
-    const auto pushed = physics::plan_pushes(world, approached.path->states.back(), in_region, search_,
-                                             context.deadline.remaining(), seed + 1);
+    physics::PushBudget push_budget = physics::PushBudget::of(search_, context.deadline.remaining());
+    push_budget.propagations = budget.propagations == ~std::uint64_t{0} ? budget.propagations
+                               : budget.propagations - std::min(budget.propagations, approached.propagations);
+    const auto pushed =
+        physics::plan_pushes(world, approached.path->states.back(), in_region, search_, push_budget, seed + 1);
     context.count("propagations", pushed.propagations);
     if (!pushed.path) {
       return fail("approached '" + id + "' but could not push it within " + metres(q.goal_radius) + " of " +
@@ -246,7 +259,7 @@ class PushOmpl final : public plugin::PushSampler {
   double gap_ = 0.01;                // m between the object's enclosing circle and the gripper at the approach
   double approach_position_ = 0.02;  // m: approach reached within this of an approach state
   double approach_heading_ = 0.2;    // rad
-  double approach_share_ = 0.5;      // of the time left, at most, for the approach
+  double approach_share_ = 0.5;      // of the query's propagations, at most, for the approach
   int quick_rounds_ = 6;             // of the quick pass; 0: none
   double quick_stroke_ = 0.08;       // m: the quick pass pushes at most this far per round
 };

@@ -35,7 +35,7 @@ struct Settings {
   std::string region = "buffer";
   int max_feedback = 200;
   bool shorten = true;  // drop objects the found order does not need
-  double shorten_time = 0.5;  // s per object tried
+  std::int64_t shorten_max_checks = 300000;  // collision checks per shorter order tried
   bool restart = true;  // after every limit failed: forget the feedback, draw afresh
   bool push = false;    // Section VI-G: push instead of pick-and-place where a push works
   double area_margin = 0.0;  // m beyond the objects and x_s where the roadmap samples (Section V-B: all around)
@@ -47,7 +47,10 @@ struct Settings {
     initial_limit = p.get_string("initial_L", initial_limit);
     region = p.get_string("region", region);
     shorten = p.get_bool("shorten", shorten);
-    shorten_time = p.get_double("shorten_time", shorten_time);
+    p.require(!p.contains("shorten_time"), "shorten_time",
+              "is no longer read: shortening's budget is work, so that a seed gives the same plan on any machine; "
+              "set shorten_max_checks (collision checks per shorter order tried, default 300000)");
+    shorten_max_checks = p.get_int("shorten_max_checks", shorten_max_checks);
     restart = p.get_bool("restart", restart);
     area_margin = p.get_double("area_margin", area_margin);
     const std::int64_t branches = p.get_int("goal_branches", goal_branches);
@@ -57,7 +60,7 @@ struct Settings {
     p.require(orders >= 0 && orders <= 100, "grasp_orders", "must be 0 to 100");
     grasp_orders = static_cast<int>(orders);
     p.require(area_margin >= 0 && area_margin <= 5, "area_margin", "must be 0 to 5 m");
-    p.require(shorten_time > 0, "shorten_time", "must be positive (seconds)");
+    p.require(shorten_max_checks > 0, "shorten_max_checks", "must be positive (collision checks)");
     p.require(initial_limit == "one" || initial_limit == "nodecol" || initial_limit == "objects", "initial_L",
               "must be one, nodecol or objects");
   }
@@ -243,7 +246,7 @@ class Search {
     std::uint64_t sequences_at_restart = 0;
     int explored_limit = 0;  // the roadmap has been expanded for every L up to this
     for (;;) {
-      if (context_.deadline.expired()) break;
+      if (context_.stopped()) break;
       const bool exhausted = limit > objects && !(stuck && ++rounds_at_full_limit < kRoundsAtFullLimit);
       const bool cut_off = settings_.restart && limits_without_path >= kLimitsWithoutPath &&
                            result.counters["planning_sequences"] > sequences_at_restart;
@@ -267,7 +270,7 @@ class Search {
       if (result.counters["restarts"] == 0 || limit > explored_limit) roadmap_->expand(limit, settings_.roadmap);
       explored_limit = std::max(explored_limit, limit);
       result.counters["iterations"] = ++iterations;
-      for (int attempt = 0; attempt < settings_.max_feedback && !context_.deadline.expired(); ++attempt) {
+      for (int attempt = 0; attempt < settings_.max_feedback && !context_.stopped(); ++attempt) {
         retrieval::RetrievalGraph g = graph();
         auto removal = g.removal_sequence();
         if (!removal) {
@@ -299,6 +302,7 @@ class Search {
       result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
     }
     result.reason = context_.deadline.expired() ? "time limit reached before the target was retrieved"
+                    : context_.stopped()        ? "work budget (collision checks) used up before the target was retrieved"
                                                 : "no removal sequence works within the exploration limit";
     finish(result, start);
     return result;
@@ -308,28 +312,29 @@ class Search {
   // A working removal order with every object dropped that the target comes out
   // without (last first; each try reuses the checked prefix): the graph's sequence
   // can hold objects only an earlier, failed way needed. Each try gets at most
-  // `shorten_time` seconds: dropping is an improvement, not worth a long motion search.
+  // `shorten_max_checks` collision checks: dropping is an improvement, not worth a long
+  // motion search.
   // When that dropped something, the order mixed two ways out, and what is left of one
   // may work only in another order: a second pass tries each drop with the rest
   // ordered nearest the exit first (on Table VI's min4 shelf a run moved o5 and o15 of
   // one way out and then o1, o9, o10 of the other, which works only front first).
   // Then, with `grasp_orders`, grasp_order.
   ObjectSet shortened(ObjectSet order, Result& result) {
-    const plugin::Deadline run_deadline = context_.deadline;
-    struct Restore {
+    struct Restore {  // the run's own budget back, however this returns
       plugin::PlanningContext& context;
-      plugin::Deadline deadline;
-      ~Restore() { context.deadline = deadline; }
-    } restore{context_, run_deadline};
+      std::uint64_t checks_until;
+      ~Restore() { context.checks_until = checks_until; }
+    } restore{context_, context_.checks_until};
+    const plugin::PlanningContext run = context_;
     std::uint64_t dropped = 0;
     std::set<ObjectSet> tried;
     auto drop_pass = [&](bool exit_first) {
-      for (std::size_t i = order.size(); i-- > 0 && !run_deadline.expired();) {
+      for (std::size_t i = order.size(); i-- > 0 && !run.stopped();) {
         ObjectSet shorter = order;
         shorter.erase(shorter.begin() + static_cast<std::ptrdiff_t>(i));
         if (exit_first) nearest_exit_first(shorter);
         if (!tried.insert(shorter).second) continue;
-        context_.deadline = plugin::Deadline::after(std::min(settings_.shorten_time, run_deadline.remaining()));
+        context_.checks_until = run.with_checks(checks(settings_.shorten_max_checks)).checks_until;
         if (checker_.retrieve(shorter, reseeds_).ok) {
           order = std::move(shorter);
           ++dropped;
@@ -341,11 +346,12 @@ class Search {
     if (dropped > 0) drop_pass(true);
     result.counters["removals_dropped"] = dropped;
     if (settings_.grasp_orders > 0) {
-      context_.deadline = run_deadline;
-      result.counters["grasp_orders_taken"] = grasp_order(order, tried, run_deadline) ? 1 : 0;
+      result.counters["grasp_orders_taken"] = grasp_order(order, tried, run) ? 1 : 0;
     }
     return order;
   }
+
+  static std::uint64_t checks(std::int64_t n) { return static_cast<std::uint64_t>(std::max<std::int64_t>(n, 0)); }
 
   // Replaces `order` by the blockers of one of the target's own freeable grasps in the
   // initial state when they alone let the target out: true when it did. The graph's
@@ -354,19 +360,18 @@ class Search {
   // mobile tables, one object where the way had two). At most `grasp_orders` distinct
   // sets not `tried` yet, each smaller than `order`, fewest objects first (the
   // sampler's order among equals), each set nearest x_s first, each within
-  // `shorten_time` per object plus one. Off by default: in shelves the carry cannot
-  // lift the target over anything, and the failed tries cost Table I's shelf20 a
-  // median of 1.3 s instead of 0.2 s.
-  bool grasp_order(ObjectSet& order, std::set<ObjectSet>& tried, const plugin::Deadline& run_deadline) {
-    if (order.size() < 2 || run_deadline.expired()) return false;  // no smaller set would remove anything
+  // `shorten_max_checks` per object plus one. Off by default: in shelves the carry
+  // cannot lift the target over anything, and the failed tries cost Table I's shelf20
+  // a median of 1.3 s instead of 0.2 s. `run`: the run's context, with its own budget.
+  bool grasp_order(ObjectSet& order, std::set<ObjectSet>& tried, const plugin::PlanningContext& run) {
+    if (order.size() < 2 || run.stopped()) return false;  // no smaller set would remove anything
     int tries = 0;
     for (ObjectSet set : grasp_blocker_sets(context_.scene().target, initial_, false)) {
-      if (set.size() >= order.size() || tries >= settings_.grasp_orders || run_deadline.expired()) break;
+      if (set.size() >= order.size() || tries >= settings_.grasp_orders || run.stopped()) break;
       nearest_exit_first(set);
       if (!tried.insert(set).second) continue;
       ++tries;
-      context_.deadline =
-          plugin::Deadline::after(std::min(settings_.shorten_time * double(set.size() + 1), run_deadline.remaining()));
+      context_.checks_until = run.with_checks(checks(settings_.shorten_max_checks) * (set.size() + 1)).checks_until;
       if (checker_.retrieve(set, reseeds_).ok) {
         order = std::move(set);
         return true;
@@ -634,7 +639,7 @@ class Search {
       }
       return Attempt::solved;
     }
-    if (context_.deadline.expired()) return Attempt::retry;
+    if (context_.stopped()) return Attempt::retry;
     return feed_back(g, removal, *check.failed_object, *check.failure, check.state, result) ? Attempt::retry
                                                                                           : Attempt::stuck;
   }
@@ -688,7 +693,8 @@ class RetrievalGraphPlanner final : public plugin::TaskPlanner {
 
 // The same planner as an object pruner, so that a symbolic search moves only the
 // objects of its candidate removal sequences: with `checked` (default), first the
-// objects a full run with robot feedback moved (within `checked_time` seconds), then
+// objects a full run with robot feedback moved (within `checked_max_checks` collision
+// checks), then
 // every other order that run checked, then the best sequence of the task level alone
 // (no robot checks), which is all there is without `checked`.
 class RetrievalGraphPruner final : public plugin::ObjectPruner {
@@ -696,8 +702,11 @@ class RetrievalGraphPruner final : public plugin::ObjectPruner {
   void configure(const Parameters& p) override {
     settings_.read(p);
     checked_ = p.get_bool("checked", checked_);
-    checked_time_ = p.get_double("checked_time", checked_time_);
-    p.require(checked_time_ > 0, "checked_time", "must be positive (seconds)");
+    p.require(!p.contains("checked_time"), "checked_time",
+              "is no longer read: the checked run's budget is work, so that a seed gives the same removal sequences "
+              "on any machine; set checked_max_checks (collision checks, default 4000000)");
+    checked_max_checks_ = p.get_int("checked_max_checks", checked_max_checks_);
+    p.require(checked_max_checks_ > 0, "checked_max_checks", "must be positive (collision checks)");
   }
 
   plugin::PruneAnswer prune(plugin::PlanningContext& context, const WorldState& state) override {
@@ -707,8 +716,7 @@ class RetrievalGraphPruner final : public plugin::ObjectPruner {
       return answer;
     }
     if (checked_) {
-      plugin::PlanningContext run = context;
-      run.deadline = plugin::Deadline::after(std::min(checked_time_, context.deadline.remaining()));
+      plugin::PlanningContext run = context.with_checks(static_cast<std::uint64_t>(checked_max_checks_));
       Search search(run, settings_, state);
       const Result r = search.run();
       if (r.solved) answer.removal_sequences.push_back(r.moved_objects);
@@ -730,7 +738,7 @@ class RetrievalGraphPruner final : public plugin::ObjectPruner {
  private:
   Settings settings_;
   bool checked_ = true;
-  double checked_time_ = 5.0;
+  std::int64_t checked_max_checks_ = 4000000;
 };
 
 }  // namespace

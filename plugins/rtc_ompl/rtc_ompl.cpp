@@ -33,7 +33,8 @@ class RtcPlanner final : public plugin::TaskPlanner {
     const physics::PushState start = world.state_of(initial, physics::gripper_at_exit(scene));
     const physics::ReachGoal goal(world, scene.target, reach_);
     const physics::KinodynamicOutcome out =
-        physics::plan_pushes(world, start, goal, search_, context.deadline.remaining(), context.seed);
+        physics::plan_pushes(world, start, goal, search_, physics::PushBudget::of(search_, context.deadline.remaining()),
+                             context.seed);
     result.counters["propagations"] = out.propagations;
     result.counters[counter::samples] = out.propagations;
     if (!out.path) {

@@ -46,7 +46,9 @@ class StreamPlanner final : public plugin::TaskPlanner {
     if (a) options_.algorithm = *a;
     options_.search = p.get_string("search", options_.search);
     options_.sampling_ratio = p.get_double("sampling_ratio", options_.sampling_ratio);
+    options_.call_cost = p.get_double("call_cost", options_.call_cost);
     p.require(options_.sampling_ratio > 0, "sampling_ratio", "must be positive");
+    p.require(options_.call_cost > 0, "call_cost", "must be positive (search work units per stream call)");
     const std::int64_t growth = p.get_int("plan_growth", options_.plan_growth);
     p.require(growth >= 1 && growth <= 1000, "plan_growth", "must be in [1, 1000] (actions per level)");
     options_.plan_growth = static_cast<int>(growth);

@@ -7,6 +7,7 @@
 // the gripper is inside its region and has not entered fixed geometry.
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <random>
 #include <string>
@@ -34,6 +35,9 @@ struct KinodynamicSettings {
   /// state they extend (the seed's Section V-A steers its approaches); 0 for the plain
   /// planners of Section IV.
   double steer = 0.0;
+  /// Physics propagations one search may make (0: no budget, only the run's time
+  /// limit). Work, not time: a search stopped by it ends the same on any machine.
+  std::uint64_t max_propagations = 0;
 
   /// Reads the keys named like the members (`planner`, `step`, ...); throws InputError
   /// naming the value for a bad one.
@@ -144,16 +148,34 @@ struct KinodynamicOutcome {
   std::optional<PushPath> path;      ///< set when the goal was reached
   std::string reason;                ///< why not, otherwise
   std::uint64_t propagations = 0;    ///< physics propagations of `step` seconds
-  bool time_limit_reached = false;
+  bool time_limit_reached = false;   ///< stopped by `PushBudget::seconds`
+  bool budget_reached = false;       ///< stopped by `PushBudget::propagations`
 };
 
-/// Plans from `start` until `goal` holds, for at most `seconds` of wall-clock time (a
-/// start that is not valid is refused with a reason).
-/// The same seed and the same number of propagations give the same tree: a search cut
-/// short by its time limit is repeatable only as far as it got.
-/// Throws std::invalid_argument when `start` does not fit the world.
+/// How long one kinodynamic search may go on, whichever ends first: `propagations`
+/// physics propagations (work: the same seed and budget end the same way on any
+/// machine) and `seconds` of wall-clock time (the run's outer limit, the one stop
+/// whose outcome depends on the machine's speed).
+struct PushBudget {
+  double seconds = 1e7;
+  std::uint64_t propagations = std::numeric_limits<std::uint64_t>::max();
+
+  /// The run's `seconds` left and the settings' max_propagations (0: none), at most `cap`.
+  static PushBudget of(const KinodynamicSettings& settings, double seconds,
+                       std::uint64_t cap = std::numeric_limits<std::uint64_t>::max()) {
+    const std::uint64_t own = settings.max_propagations == 0 ? cap : std::min(settings.max_propagations, cap);
+    return {seconds, own};
+  }
+};
+
+/// Plans from `start` until `goal` holds or the budget ends (a start that is not valid
+/// is refused with a reason). The same seed and settings give the same tree: a search
+/// stopped by its propagation budget ends the same way everywhere, one stopped by its
+/// time is repeatable only as far as it got. Throws std::invalid_argument when `start`
+/// does not fit the world.
 CLUTTERTAMP_API KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, const PushGoal& goal,
-                                               const KinodynamicSettings& settings, double seconds, std::uint64_t seed);
+                                               const KinodynamicSettings& settings, const PushBudget& budget,
+                                               std::uint64_t seed);
 
 /// Controls that move the gripper from `from` to `to` (x, y m, yaw rad) along a straight
 /// line, turning evenly, as fast as the settings' speed bounds allow, in whole

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
 
 #include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/core/result.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/export.hpp"
 
@@ -56,9 +58,18 @@ struct Samplers {
   std::map<std::string, std::shared_ptr<StreamSampler>> streams;  ///< by stream name
 };
 
-/// What every plugin call sees: the problem, the time it has, the run's seed, where
-/// to count work, the other plugins it may call and the geometry of the scene and
-/// robot. Owned by the caller; valid for the duration of the call.
+/// What every plugin call sees: the problem, the run's wall-clock limit, the work a
+/// sub-task may still do, the run's seed, where to count work, the other plugins it may
+/// call and the geometry of the scene and robot. Owned by the caller; valid for the
+/// duration of the call.
+///
+/// Two limits, on purpose of different kinds. `deadline` is the run's outer limit: when
+/// it passes, a planner stops and reports "time limit reached", the one outcome that may
+/// depend on the machine's speed. Every budget inside a run (one motion query, one try
+/// of a shorter removal order, one pass of quick transfers) is work: collision checks,
+/// counted on `counters[counter::collision_checks]`, so that the same seed gives the
+/// same plan on any machine under any load. `checks_until` is the counter's value at
+/// which the current sub-task's work budget ends (with_checks() sets it).
 struct PlanningContext {
   const Problem& problem;
   Deadline deadline;
@@ -69,14 +80,39 @@ struct PlanningContext {
   /// it to its query's WorldState before checking (CollisionWorld::sync) and may leave
   /// it in any state. Null when the problem has no robot (e.g. pure PDDL tasks).
   collision::CollisionWorld* world = nullptr;
+  /// The value of counters[counter::collision_checks] at which this sub-task's work
+  /// budget ends; no budget by default.
+  std::uint64_t checks_until = std::numeric_limits<std::uint64_t>::max();
 
   const Scene& scene() const { return problem.scene; }
   /// The problem's robot; precondition: problem.robot.loaded is set.
   const robot::RobotDescription& robot() const { return *problem.robot.loaded; }
   void count(const std::string& name, std::uint64_t n = 1) { counters[name] += n; }
-  /// This context with its deadline at most `seconds` from now (a sub-task's budget).
-  PlanningContext within(double seconds) const {
-    return {problem, Deadline::after(std::min(seconds, deadline.remaining())), seed, counters, samplers, world};
+
+  /// Collision checks counted so far in this run.
+  std::uint64_t checks_done() const {
+    const auto it = counters.find(counter::collision_checks);
+    return it == counters.end() ? 0 : it->second;
+  }
+  /// Collision checks this sub-task may still make (a very large number without a budget).
+  std::uint64_t checks_left() const {
+    const std::uint64_t done = checks_done();
+    return done >= checks_until ? 0 : checks_until - done;
+  }
+  /// The work budget is spent, or the run's time is up: stop and report.
+  bool stopped() const { return deadline.expired() || checks_left() == 0; }
+  /// This context with at most `checks` more collision checks (a sub-task's budget,
+  /// never more than this context's own).
+  PlanningContext with_checks(std::uint64_t checks) const {
+    PlanningContext c = *this;
+    c.checks_until = std::min(checks_until, checks_left() < checks ? checks_until : checks_done() + checks);
+    return c;
+  }
+  /// This context with another seed (the same limits and budget).
+  PlanningContext with_seed(std::uint64_t other) const {
+    PlanningContext c = *this;
+    c.seed = other;
+    return c;
   }
 };
 

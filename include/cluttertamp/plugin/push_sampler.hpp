@@ -20,6 +20,9 @@ struct PushQuery {
   double goal_radius = 0.0;
   const WorldState* state = nullptr;  ///< not null
   Eigen::Vector3d gripper = Eigen::Vector3d::Zero();
+  /// At most this many physics propagations for the whole query (0: the sampler's own
+  /// budget). Work, not time, so that a push's outcome is the same on any machine.
+  std::uint64_t max_propagations = 0;
 };
 
 /// Either a push that was executed in simulation, or why none was found.

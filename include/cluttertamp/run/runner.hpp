@@ -22,6 +22,10 @@ namespace cluttertamp::run {
 /// Process exit codes of `cluttertamp` (README, "Exit codes").
 enum ExitCode : int { solved = 0, no_plan = 1, bad_input = 2, internal_error = 3 };
 
+/// "memory limit reached (N MiB)": the reason of a run an allocation beyond the memory
+/// limit (core/memory_limit.hpp) ended.
+CLUTTERTAMP_API std::string memory_limit_reason();
+
 /// Overrides of what a problem file says, e.g. from the command line.
 struct RunOptions {
   std::optional<std::uint64_t> seed;
