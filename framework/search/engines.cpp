@@ -6,6 +6,7 @@
 
 #include "cluttertamp/search/planner.hpp"
 #include "cluttertamp/core/free_beside.hpp"
+#include "cluttertamp/search/grounding.hpp"  // TimeLimit
 #include "search/heuristics.hpp"
 #include "search/state_space.hpp"
 
@@ -56,7 +57,10 @@ class Registry {
 
 class Evaluator {
  public:
-  Evaluator(Heuristic kind, const Task& task, const StateSpace& space) : kind_(kind), relaxed_(task), space_(space) {}
+  Evaluator(Heuristic kind, const Task& task, const StateSpace& space, Clock::time_point deadline)
+      : kind_(kind), relaxed_(task), space_(space) {
+    relaxed_.set_deadline(deadline);
+  }
   double operator()(const State& s, std::vector<OperatorId>* preferred) {
     switch (kind_) {
       case Heuristic::blind: return space_.is_goal(s) ? 0.0 : min_cost_;
@@ -89,6 +93,11 @@ struct Limits {
       return true;
     }
     return false;
+  }
+  bool time_up(std::string& reason) const {
+    if (Clock::now() < deadline) return false;
+    reason = "time limit";
+    return true;
   }
 };
 
@@ -134,6 +143,14 @@ SearchResult finish(const StateSpace& space, Registry& registry, int goal, Searc
   return result;
 }
 
+// A search stopped by a limit: what it built is freed beside the caller, whose time is up.
+template <class Open>
+SearchResult stopped(Registry&& registry, Open&& open, SearchResult& result) {
+  free_beside(std::move(registry));
+  free_beside(std::move(open));
+  return result;
+}
+
 // Eager best-first search on key (w_g * g + w_h * h, h).
 SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h, bool use_preferred, bool reopen,
                    const Limits& limits) {
@@ -160,11 +177,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
     Node& node = registry.node(id);
     if (node.closed || w_g * node.g + w_h * node.h < key - 1e-9) continue;  // stale entry
     if (space.is_goal(registry.state(id))) return finish(space, registry, id, result);
-    if (limits.exceeded(result.statistics, result.reason)) {
-      free_beside(std::move(registry));
-      free_beside(std::move(open));
-      return result;
-    }
+    if (limits.exceeded(result.statistics, result.reason)) return stopped(std::move(registry), std::move(open), result);
     node.closed = true;
     ++result.statistics.expanded;
     const State state = registry.state(id);
@@ -180,6 +193,9 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
       Node& c = registry.node(child);
       if (!is_new && (child_g >= c.g || (c.closed && !reopen) || c.h == kInfinity)) continue;  // dead ends stay closed
       if (is_new) {
+        // Evaluating every successor of one state can take seconds (LM-cut on hundreds
+        // of blocks): the time limit is looked at before each evaluation.
+        if (limits.time_up(result.reason)) return stopped(std::move(registry), std::move(open), result);
         c.h = h(registry.state(child), nullptr);
         ++result.statistics.evaluated;
         if (c.h == kInfinity) {
@@ -243,11 +259,7 @@ SearchResult lazy(const StateSpace& space, Evaluator& h, const Limits& limits) {
     return result;
   }
   while (!open.empty()) {
-    if (limits.exceeded(result.statistics, result.reason)) {
-      free_beside(std::move(registry));
-      free_beside(std::move(open));
-      return result;
-    }
+    if (limits.exceeded(result.statistics, result.reason)) return stopped(std::move(registry), std::move(open), result);
     const auto [parent_h, unused, parent, op] = open.pop();
     (void)parent_h;
     (void)unused;
@@ -265,6 +277,27 @@ SearchResult lazy(const StateSpace& space, Evaluator& h, const Limits& limits) {
   return result;
 }
 
+SearchResult run_search(const Task& task, const StateSpace& space, const std::string& a, double weight,
+                        const Limits& limits) {
+  auto evaluator = [&](Heuristic kind) { return std::make_unique<Evaluator>(kind, task, space, limits.deadline); };
+  if (task.goal.empty()) {
+    SearchResult result;
+    result.reason = "no plan exists (the goal is unsatisfiable in every reachable state)";
+    return result;
+  }
+  if (a == "lazy-gbfs-ff") return lazy(space, *evaluator(Heuristic::hff), limits);
+  if (a == "eager-gbfs-ff") return eager(space, *evaluator(Heuristic::hff), 0.0, 1.0, true, false, limits);
+  if (a == "gbfs-add") return eager(space, *evaluator(Heuristic::hadd), 0.0, 1.0, false, false, limits);
+  if (a == "wastar-ff") return eager(space, *evaluator(Heuristic::hff), 1.0, weight, false, true, limits);
+  if (a == "astar-hmax" || a == "astar-lmcut" || a == "astar-blind") {
+    const Heuristic kind = a == "astar-hmax" ? Heuristic::hmax : a == "astar-lmcut" ? Heuristic::lmcut : Heuristic::blind;
+    return eager(space, *evaluator(kind), 1.0, 1.0, false, true, limits);
+  }
+  std::string known;
+  for (const auto& n : search_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown search '" + a + "'; known: " + known);
+}
+
 }  // namespace
 
 const std::vector<std::string>& search_names() {
@@ -279,29 +312,12 @@ SearchResult plan(const Task& task, const SearchOptions& options) {
   const Limits limits{start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                                   std::min(options.time_limit, 1e9))),
                       options.max_expansions};
-  const std::string& a = options.algorithm;
   SearchResult result;
-  if (task.goal.empty()) {
-    result.reason = "no plan exists (the goal is unsatisfiable in every reachable state)";
-  } else if (a == "lazy-gbfs-ff") {
-    Evaluator h(Heuristic::hff, task, space);
-    result = lazy(space, h, limits);
-  } else if (a == "eager-gbfs-ff") {
-    Evaluator h(Heuristic::hff, task, space);
-    result = eager(space, h, 0.0, 1.0, true, false, limits);
-  } else if (a == "gbfs-add") {
-    Evaluator h(Heuristic::hadd, task, space);
-    result = eager(space, h, 0.0, 1.0, false, false, limits);
-  } else if (a == "wastar-ff") {
-    Evaluator h(Heuristic::hff, task, space);
-    result = eager(space, h, 1.0, options.weight, false, true, limits);
-  } else if (a == "astar-hmax" || a == "astar-lmcut" || a == "astar-blind") {
-    Evaluator h(a == "astar-hmax" ? Heuristic::hmax : a == "astar-lmcut" ? Heuristic::lmcut : Heuristic::blind, task, space);
-    result = eager(space, h, 1.0, 1.0, false, true, limits);
-  } else {
-    std::string known;
-    for (const auto& n : search_names()) known += (known.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown search '" + a + "'; known: " + known);
+  try {
+    result = run_search(task, space, options.algorithm, options.weight, limits);
+  } catch (const TimeLimit&) {  // inside one evaluation (LM-cut)
+    result = SearchResult{};
+    result.reason = "time limit";
   }
   result.statistics.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <queue>
 
+#include "cluttertamp/search/grounding.hpp"  // TimeLimit
+
 namespace cluttertamp::search::detail {
 
 RelaxedTask::RelaxedTask(const Task& task)
@@ -129,6 +131,7 @@ double RelaxedTask::lmcut(const State& s) {
   double h = 0.0;
   constexpr FactId none = -1;
   for (int round = 0; round < 100000; ++round) {
+    if (std::chrono::steady_clock::now() >= deadline_) throw TimeLimit("time limit");
     exploration(s, true, cost, false);  // the cut needs every operator's h_max
     if (fact_cost_[goal_] == kInfinity) return kInfinity;
     if (fact_cost_[goal_] <= 0.0) return h;

@@ -1,6 +1,7 @@
 #pragma once
 // Internal: delete-relaxation heuristics over a grounded task.
 
+#include <chrono>
 #include <limits>
 #include <vector>
 
@@ -16,6 +17,9 @@ inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 class RelaxedTask {
  public:
   explicit RelaxedTask(const Task& task);
+  /// LM-cut looks at the clock between its rounds and throws TimeLimit after `at`: one
+  /// evaluation on hundreds of blocks takes seconds.
+  void set_deadline(std::chrono::steady_clock::time_point at) { deadline_ = at; }
 
   struct Op {
     std::vector<FactId> pre;
@@ -32,6 +36,7 @@ class RelaxedTask {
   double lmcut(const State& s);
 
  private:
+  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
   void exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
 
   std::size_t facts_;

@@ -367,7 +367,7 @@ class StreamSearch {
       so.algorithm = options_.search;
       so.time_limit = context_.deadline.remaining();
       const search::SearchResult r = search::plan(task, so);
-      last_search_work_ = grounding.operators + r.statistics.generated;
+      last_search_work_ = options_.search_cost + 10.0 * static_cast<double>(grounding.operators + r.statistics.generated);
       if (r.solved) {
         steps.emplace();
         for (search::OperatorId op : r.plan) steps->push_back(step_of(task.operators[static_cast<std::size_t>(op)].name));
@@ -793,15 +793,16 @@ class StreamSearch {
     return std::nullopt;
   }
 
-  // Works through the skeleton queue for at most `calls` stream calls, shortest plan
-  // first: a skeleton is worked on until all its bindings wait. Returns a plan, if one
-  // comes out; `progress` tells whether a stream was called.
-  std::optional<std::vector<Step>> refine(std::uint64_t calls, bool& progress) {
+  // Works through the skeleton queue for `budget` units of work (StreamSearchOptions),
+  // shortest plan first: a skeleton is worked on until all its bindings wait. Returns a
+  // plan, if one comes out; `progress` tells whether a stream was called.
+  std::optional<std::vector<Step>> refine(double budget, bool& progress) {
     progress = false;
     for (Skeleton& sk : queue_) sk.waiting = false;
     std::size_t waits = 0;  // bindings in a row of the current skeleton that wait
-    std::uint64_t called = 0;
-    while (called < calls && !context_.deadline.expired()) {
+    double spent = 0;
+    while (spent < budget && !context_.deadline.expired()) {
+      const std::uint64_t checks_before = context_.checks_done();
       const auto it = std::min_element(queue_.begin(), queue_.end(), [](const Skeleton& a, const Skeleton& b) {
         return std::make_pair(a.waiting, a.actions.size()) < std::make_pair(b.waiting, b.actions.size());
       });
@@ -809,7 +810,8 @@ class StreamSearch {
       Move move = Move::moved;
       if (auto steps = advance(*it, move)) return steps;
       progress |= move == Move::called;
-      called += move == Move::called;
+      spent += 1.0 + (move == Move::called ? options_.call_cost : 0.0) +
+               static_cast<double>(context_.checks_done() - checks_before);
       if (it->stack.empty()) {
         queue_.erase(it);
         waits = 0;
@@ -867,9 +869,8 @@ class StreamSearch {
         options_.trace(line.str());
       }
       bool progress = false;
-      const double share = options_.sampling_ratio * static_cast<double>(last_search_work_) / options_.call_cost;
-      const std::uint64_t calls = std::max(options_.min_calls, static_cast<std::uint64_t>(std::min(share, 1e12)));
-      if (auto done = refine(calls, progress)) return solved(*done);
+      const double budget = std::max(options_.min_sampling, last_search_work_ * options_.sampling_ratio);
+      if (auto done = refine(budget, progress)) return solved(*done);
       if (!steps || too_long || (!fresh && !progress)) {
         bool any_disabled = false;
         for (std::size_t i = 0; i < base_.instance_count(); ++i) {
@@ -896,7 +897,7 @@ class StreamSearch {
   std::set<std::string> negated_tests_;
   std::deque<Skeleton> queue_;
   double last_search_seconds_ = 0;
-  std::uint64_t last_search_work_ = 0;
+  double last_search_work_ = 0;  // of the last search, in StreamSearchOptions' units
   std::uint64_t ticks_ = 0;  // keep_time_limit's calls  // grounded operators + generated states of the last search
   std::optional<std::pair<std::size_t, int>> shortest_;  // adaptive: shortest plan, its level
   int level_ = 0;  // adaptive: the complexity bound of optimistic instances and calls

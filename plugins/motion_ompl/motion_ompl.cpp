@@ -320,7 +320,7 @@ class OmplMotion final : public plugin::MotionSampler {
     return p;
   }
 
-  static constexpr std::int64_t kDefaultMaxChecks = 400000;
+  static constexpr std::int64_t kDefaultMaxChecks = 800000;
   std::string planner_ = "rrtconnect";
   std::int64_t max_checks_ = kDefaultMaxChecks;  // collision checks per query, both searches
   double relaxed_share_ = 0.25;  // of max_checks for the search through movable objects

@@ -47,8 +47,12 @@ class StreamPlanner final : public plugin::TaskPlanner {
     options_.search = p.get_string("search", options_.search);
     options_.sampling_ratio = p.get_double("sampling_ratio", options_.sampling_ratio);
     options_.call_cost = p.get_double("call_cost", options_.call_cost);
+    options_.search_cost = p.get_double("search_cost", options_.search_cost);
+    options_.min_sampling = p.get_double("min_sampling", options_.min_sampling);
     p.require(options_.sampling_ratio > 0, "sampling_ratio", "must be positive");
-    p.require(options_.call_cost > 0, "call_cost", "must be positive (search work units per stream call)");
+    p.require(options_.call_cost >= 0, "call_cost", "must not be negative (work units per stream call)");
+    p.require(options_.search_cost >= 0, "search_cost", "must not be negative (work units per search)");
+    p.require(options_.min_sampling > 0, "min_sampling", "must be positive (work units per sampling pass)");
     const std::int64_t growth = p.get_int("plan_growth", options_.plan_growth);
     p.require(growth >= 1 && growth <= 1000, "plan_growth", "must be in [1, 1000] (actions per level)");
     options_.plan_growth = static_cast<int>(growth);

@@ -35,14 +35,16 @@ struct StreamSearchOptions {
   Algorithm algorithm = Algorithm::adaptive;
   /// The symbolic search (search::search_names()).
   std::string search = "lazy-gbfs-ff";
-  /// adaptive: stream evaluation allowed per unit of symbolic search before searching
-  /// again, both counted as work, never time (so a seed gives the same plan on any
-  /// machine): the last search's work is its grounded operators plus the states it
-  /// generated, and each stream call counts `call_cost` of those; at least `min_calls`
-  /// calls each time.
+  /// adaptive: work of stream evaluation allowed per unit of work of symbolic search
+  /// before searching again, at least `min_sampling` each time. Both are counted, never
+  /// timed, so a seed gives the same plan on any machine, in units of about a
+  /// microsecond on our machine: a stream call is `call_cost` units plus the collision
+  /// checks it makes; a search is `search_cost` units plus 10 per grounded operator and
+  /// per generated state. (The defaults match the earlier 0.01 s in seconds.)
   double sampling_ratio = 1.0;
-  double call_cost = 1000.0;
-  std::uint64_t min_calls = 1;
+  double call_cost = 200.0;
+  double search_cost = 200.0;
+  double min_sampling = 10000.0;
   /// adaptive: actions an optimistic plan may have beyond the shortest plan found, per
   /// level above that plan's. Longer plans wait, so that short skeletons are sampled
   /// again first. 2 lets a pick-and-place domain add one removal (a pick and a place)
