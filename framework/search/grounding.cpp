@@ -534,6 +534,7 @@ void Grounder::explore() {
     reached_by_predicate_[atoms_[a].first].push_back(atoms_[a].second);
   };
   for (const pddl::Atom& a : problem_.init) {
+    check_deadline();  // a stream search's optimistic problem has millions of facts
     std::vector<int> args;
     for (const pddl::Term& t : a.args) args.push_back(object_index(t.name));
     const int id = atom_id(predicate_ids_.at(a.predicate), args);
@@ -586,6 +587,7 @@ void Grounder::explore() {
         }
       });
       for (int a : added) {
+        check_deadline();
         if (!reached_[a]) {
           reach(a);
           changed = true;
@@ -973,6 +975,7 @@ Task Grounder::run(GroundingStats* stats) {
                      [](const Axiom& a, const Axiom& b) { return a.stratum < b.stratum; });
   }
   for (const pddl::Atom& a : problem_.init) {
+    check_deadline();  // a stream search's optimistic problem has millions of facts
     std::vector<int> args;
     for (const pddl::Term& t : a.args) args.push_back(object_index(t.name));
     const int id = atom_id(predicate_ids_.at(a.predicate), args);

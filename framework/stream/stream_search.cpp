@@ -352,6 +352,7 @@ class StreamSearch {
     }
     for (const FactKey& f : initial_state_) p.init.push_back(atom_of(f));
     for (const auto& [fact, info] : base_.facts()) {
+      keep_time_limit();
       // Predicates the domain does not declare are the streams' own: not for the search.
       if ((!info.optimistic || optimistic) && domain_.predicates.count(base_.predicate_name(fact[0]))) {
         p.init.push_back(atom_of(fact));
@@ -375,6 +376,7 @@ class StreamSearch {
     } catch (const search::TimeLimit&) {
       last_search_seconds_ = since(start);
       out_.statistics.search_seconds += last_search_seconds_;
+      free_beside(std::move(p));  // millions of optimistic facts, maybe
       throw;
     }
     last_search_seconds_ = since(start);
@@ -593,13 +595,21 @@ class StreamSearch {
         std::size_t facts = 0;
         for (const pddl::Atom& a : d.domain) facts += base_.fact_count(a.predicate);
         if (std::exchange(seen[static_cast<std::size_t>(s)], facts) == facts) continue;
-        std::vector<std::pair<std::vector<ObjectId>, int>> found;
+        // The bindings in one flat array (an input tuple per stride): millions of them
+        // must not be millions of allocations to free when the time limit ends the pass.
+        const std::size_t stride = d.inputs.size();
+        std::vector<ObjectId> found;
+        std::vector<int> found_complexity;
         base_.bindings(d.inputs, d.domain, true, [&](const std::vector<ObjectId>& inputs, int c) {
           keep_time_limit();
-          found.emplace_back(inputs, c);
+          found.insert(found.end(), inputs.begin(), inputs.end());
+          found_complexity.push_back(c);
         });
-        for (const auto& [inputs, domain_complexity] : found) {
+        std::vector<ObjectId> inputs(stride);
+        for (std::size_t k = 0; k < found_complexity.size(); ++k) {
           keep_time_limit();
+          std::copy_n(found.begin() + static_cast<std::ptrdiff_t>(k * stride), stride, inputs.begin());
+          const int domain_complexity = found_complexity[k];
           const int id = base_.instance(s, inputs);
           Instance& inst = base_.instance_at(id);
           if (inst.real && (inst.exhausted || inst.disabled)) continue;
