@@ -117,7 +117,8 @@ int bench_pddl(const BenchArgs& args) {
         }
         search::SearchOptions options;
         options.algorithm = algorithm;
-        options.time_limit = std::max(0.0, args.time_limit - stats.seconds);
+        options.time_limit =
+            std::max(0.0, args.time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         last = search::plan(task, options);
         ground_s.push_back(stats.seconds);
         search_s.push_back(last.statistics.seconds);

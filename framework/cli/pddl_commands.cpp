@@ -53,7 +53,9 @@ int pddl(const PddlArgs& args) {
   }
   search::SearchOptions options;
   options.algorithm = args.search;
-  options.time_limit = std::max(0.0, args.time_limit - parsed - grounding.seconds);
+  // What is left from the start (the grounder's own teardown counts too).
+  options.time_limit =
+      std::max(0.0, args.time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   options.max_expansions = args.max_expansions;
   options.weight = args.weight;
   const search::SearchResult result = search::plan(task, options);

@@ -279,23 +279,39 @@ SearchResult lazy(const StateSpace& space, Evaluator& h, const Limits& limits) {
 
 SearchResult run_search(const Task& task, const StateSpace& space, const std::string& a, double weight,
                         const Limits& limits) {
-  auto evaluator = [&](Heuristic kind) { return std::make_unique<Evaluator>(kind, task, space, limits.deadline); };
+  SearchResult result;
   if (task.goal.empty()) {
-    SearchResult result;
     result.reason = "no plan exists (the goal is unsatisfiable in every reachable state)";
     return result;
   }
-  if (a == "lazy-gbfs-ff") return lazy(space, *evaluator(Heuristic::hff), limits);
-  if (a == "eager-gbfs-ff") return eager(space, *evaluator(Heuristic::hff), 0.0, 1.0, true, false, limits);
-  if (a == "gbfs-add") return eager(space, *evaluator(Heuristic::hadd), 0.0, 1.0, false, false, limits);
-  if (a == "wastar-ff") return eager(space, *evaluator(Heuristic::hff), 1.0, weight, false, true, limits);
-  if (a == "astar-hmax" || a == "astar-lmcut" || a == "astar-blind") {
-    const Heuristic kind = a == "astar-hmax" ? Heuristic::hmax : a == "astar-lmcut" ? Heuristic::lmcut : Heuristic::blind;
-    return eager(space, *evaluator(kind), 1.0, 1.0, false, true, limits);
+  std::unique_ptr<Evaluator> h;
+  auto with = [&](Heuristic kind) -> Evaluator& {
+    h = std::make_unique<Evaluator>(kind, task, space, limits.deadline);
+    return *h;
+  };
+  try {
+    if (a == "lazy-gbfs-ff") {
+      result = lazy(space, with(Heuristic::hff), limits);
+    } else if (a == "eager-gbfs-ff") {
+      result = eager(space, with(Heuristic::hff), 0.0, 1.0, true, false, limits);
+    } else if (a == "gbfs-add") {
+      result = eager(space, with(Heuristic::hadd), 0.0, 1.0, false, false, limits);
+    } else if (a == "wastar-ff") {
+      result = eager(space, with(Heuristic::hff), 1.0, weight, false, true, limits);
+    } else if (a == "astar-hmax" || a == "astar-lmcut" || a == "astar-blind") {
+      const Heuristic kind = a == "astar-hmax" ? Heuristic::hmax : a == "astar-lmcut" ? Heuristic::lmcut : Heuristic::blind;
+      result = eager(space, with(kind), 1.0, 1.0, false, true, limits);
+    } else {
+      std::string known;
+      for (const auto& n : search_names()) known += (known.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("unknown search '" + a + "'; known: " + known);
+    }
+  } catch (const TimeLimit&) {  // inside one evaluation (LM-cut)
+    result = SearchResult{};
+    result.reason = "time limit";
   }
-  std::string known;
-  for (const auto& n : search_names()) known += (known.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown search '" + a + "'; known: " + known);
+  if (result.reason == "time limit") free_beside(std::move(h));  // a relaxed task of every operator
+  return result;
 }
 
 }  // namespace
@@ -308,17 +324,12 @@ const std::vector<std::string>& search_names() {
 
 SearchResult plan(const Task& task, const SearchOptions& options) {
   const auto start = Clock::now();
-  const StateSpace space(task);
+  auto space = std::make_unique<const StateSpace>(task);
   const Limits limits{start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                                   std::min(options.time_limit, 1e9))),
                       options.max_expansions};
-  SearchResult result;
-  try {
-    result = run_search(task, space, options.algorithm, options.weight, limits);
-  } catch (const TimeLimit&) {  // inside one evaluation (LM-cut)
-    result = SearchResult{};
-    result.reason = "time limit";
-  }
+  SearchResult result = run_search(task, *space, options.algorithm, options.weight, limits);
+  if (result.reason == "time limit") free_beside(std::move(space));
   result.statistics.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }
