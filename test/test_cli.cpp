@@ -969,7 +969,6 @@ TEST_F(Cli, BenchPushTakesTheReachTolerancesItIsGiven) {
   EXPECT_EQ(run("bench push --steer 1.5 --push-scenes " + scenes.string()).exit_code, 2);
 }
 
-}  // namespace
 // plan --repeat plans again and finds the same result; --expect finds where an earlier
 // result differs (exit code 3), and what is only timing is not a difference.
 TEST_F(Cli, RepeatAndExpectCompareResultsApartFromTimeFields) {
@@ -1046,5 +1045,7 @@ TEST_F(Cli, PddlSearchesEndAtTheirLimitsWithTheReason) {
   EXPECT_EQ(memory.exit_code, 1) << memory.output;
   EXPECT_NE(memory.output.find("memory limit reached (300 MiB)"), std::string::npos) << memory.output;
 }
+
+}  // namespace
 
 }  // namespace cluttertamp

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "cluttertamp/plugin/context.hpp"
+
 #include "cluttertamp/core/parameters.hpp"
 #include "test_support.hpp"
 
@@ -31,6 +33,28 @@ TEST(Parameters, UnreadKeysAreReported) {
   p.set("typo", 1.0);
   p.get_double("used", 0);
   EXPECT_EQ(p.unused(), std::vector<std::string>{"typo"});
+}
+
+// A sub-task's work budget counts the run's collision checks and is never more than
+// its parent's; a context is stopped when its budget is spent.
+TEST(PlanningContextTest, WorkBudgetsNestAndNeverGrow) {
+  Problem problem;
+  std::map<std::string, std::uint64_t> counters{{counter::collision_checks, 100}};
+  plugin::Samplers samplers;
+  const plugin::PlanningContext run{problem, plugin::Deadline::never(), 0, counters, samplers};
+  EXPECT_FALSE(run.stopped());
+  const plugin::PlanningContext task = run.with_checks(50);
+  EXPECT_EQ(task.checks_left(), 50u);
+  counters[counter::collision_checks] += 30;
+  EXPECT_EQ(task.checks_left(), 20u);
+  const plugin::PlanningContext sub = task.with_checks(100);
+  EXPECT_EQ(sub.checks_left(), 20u) << "never more than the parent's budget";
+  counters[counter::collision_checks] += 20;
+  EXPECT_TRUE(sub.stopped());
+  EXPECT_TRUE(task.stopped());
+  EXPECT_FALSE(run.stopped());
+  EXPECT_EQ(run.with_seed(7).checks_until, run.checks_until);
+  EXPECT_EQ(sub.with_seed(7).checks_until, sub.checks_until) << "a new seed keeps the budget";
 }
 
 }  // namespace

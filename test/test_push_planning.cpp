@@ -145,6 +145,26 @@ TEST(PushPlanning, APlannedPushPutsTheCylinderInItsRegionWhenReplayed) {
   }
 }
 
+// A search stopped by its propagation budget ends the same way every time: no path, the
+// budget named as the reason, and at most one extension's steps beyond it.
+TEST(PushPlanning, APropagationBudgetEndsTheSearchTheSameWayEveryTime) {
+  const Scene scene = board_scene({{0.95, 0.3}, {0.78, 0.0}});
+  const WorldState initial = WorldState::initial(scene);
+  const PushWorld world(scene, initial);
+  const physics::PushState start = world.state_of(initial, {0.62, 0.0, 0.0});
+  const physics::ObjectInRegionGoal goal(world, 1, Eigen::Vector2d(0.88, 0.06), 0.03);
+  physics::KinodynamicSettings settings;
+  const physics::KinodynamicOutcome out = physics::plan_pushes(world, start, goal, settings, {600.0, 5}, 7);
+  ASSERT_FALSE(out.path);
+  EXPECT_TRUE(out.budget_reached);
+  EXPECT_FALSE(out.time_limit_reached);
+  EXPECT_EQ(out.reason, "propagation budget (5) used up");
+  EXPECT_GE(out.propagations, 5u);
+  EXPECT_LE(out.propagations, 5u + static_cast<std::uint64_t>(settings.max_steps));
+  const physics::KinodynamicOutcome again = physics::plan_pushes(world, start, goal, settings, {600.0, 5}, 7);
+  EXPECT_EQ(again.propagations, out.propagations);
+}
+
 class PushSamplerTest : public ::testing::Test {
  protected:
   plugin::PushAnswer push(const Scene& scene, const plugin::PushQuery& query, const Parameters& parameters) {

@@ -173,8 +173,12 @@ int plan(const PlanArgs& args) {
   if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
   options.time_limit = args.time_limit;
   options.plugin_paths = args.plugin_paths;
-  std::optional<std::string> expected;  // read first: a missing file is bad input before any planning
-  if (args.expect) expected = io::detail::read_text_file(*args.expect, "expected result file");
+  // The expected result is read and parsed first: a bad file is bad input before any planning.
+  std::optional<std::string> expected;
+  if (args.expect) {
+    expected = io::detail::read_text_file(*args.expect, "expected result file");
+    if (!nlohmann::json::accept(*expected)) throw InputError({args.expect->string(), 0, 0}, "not a result.json: not JSON");
+  }
   const plugin::Registry registry(run::plugin_search_paths(problem, options));
   if (args.verbosity == Verbosity::verbose) std::cerr << registry.describe_search();
 
@@ -214,13 +218,8 @@ int plan(const PlanArgs& args) {
                 << seconds(fastest) << " to " << seconds(slowest) << ")\n";
     }
   }
-  if (expected) {
-    std::optional<std::string> d;
-    try {
-      d = result_difference(*expected, result_text);
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError({args.expect->string(), 0, 0}, std::string("not a result.json: ") + e.what());
-    }
+  if (expected && !first.plugin_error) {
+    const std::optional<std::string> d = result_difference(*expected, result_text);
     if (d) {
       std::cout << "expect    DIFFERENT from " << args.expect->string() << " at " << *d << "\n";
       exit_code = ExitCode::internal_error;

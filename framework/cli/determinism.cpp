@@ -1,6 +1,8 @@
 #include "cli/determinism.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -14,10 +16,12 @@ namespace {
 
 using Json = nlohmann::json;
 
-bool ignored(const std::string& key) {
-  if (key == "time_limit") return false;
-  return key == "time" || key == "problem" || key == "scene" ||
-         (key.size() > 5 && key.compare(key.size() - 5, 5, "_time") == 0);
+// Time fields anywhere (`time`, `..._time`), and the file paths a result names: the
+// problem and scene at the top, a PDDL task's domain, problem and streams.
+bool ignored(const std::string& at, const std::string& key) {
+  if (key == "time" || (key.size() > 5 && key.compare(key.size() - 5, 5, "_time") == 0)) return true;
+  if (at.empty()) return key == "problem" || key == "scene";
+  return at == "/task" && (key == "domain" || key == "problem" || key == "streams");
 }
 
 std::string shown(const Json& v) {
@@ -29,12 +33,12 @@ std::optional<std::string> difference(const Json& a, const Json& b, const std::s
   if (a.type() != b.type()) return at + ": " + shown(a) + " against " + shown(b);
   if (a.is_object()) {
     for (const auto& [key, value] : a.items()) {
-      if (ignored(key)) continue;
+      if (ignored(at, key)) continue;
       if (!b.contains(key)) return at + "/" + key + ": only in the first";
       if (auto d = difference(value, b.at(key), at + "/" + key)) return d;
     }
     for (const auto& [key, value] : b.items()) {
-      if (!ignored(key) && !a.contains(key)) return at + "/" + key + ": only in the second";
+      if (!ignored(at, key) && !a.contains(key)) return at + "/" + key + ": only in the second";
     }
     return std::nullopt;
   }
@@ -65,26 +69,37 @@ struct CpuLoad::Impl {
 
 CpuLoad::CpuLoad(int threads) : impl_(std::make_unique<Impl>()) {
   if (threads <= 0) return;
-  impl_->cpu = sched_getcpu();
-  if (impl_->cpu < 0) impl_->cpu = 0;
-  sched_getaffinity(0, sizeof impl_->before, &impl_->before);
+  const int cpu = std::max(0, sched_getcpu());
   cpu_set_t one;
   CPU_ZERO(&one);
-  CPU_SET(impl_->cpu, &one);
-  sched_setaffinity(0, sizeof one, &one);  // this thread; the burners inherit it
-  for (int k = 0; k < threads; ++k) {
-    impl_->burners.emplace_back([stop = &impl_->stop] {
-      volatile std::uint64_t spin = 0;
-      while (!stop->load(std::memory_order_relaxed)) spin = spin + 1;
-    });
+  CPU_SET(cpu, &one);
+  // This thread; the burners inherit it. Without it the load would prove nothing.
+  if (sched_getaffinity(0, sizeof impl_->before, &impl_->before) != 0 || sched_setaffinity(0, sizeof one, &one) != 0) {
+    throw std::runtime_error("--load: cannot hold the planner to one CPU (sched_setaffinity failed)");
+  }
+  impl_->cpu = cpu;
+  try {
+    for (int k = 0; k < threads; ++k) {
+      impl_->burners.emplace_back([stop = &impl_->stop] {
+        volatile std::uint64_t spin = 0;
+        while (!stop->load(std::memory_order_relaxed)) spin = spin + 1;
+      });
+    }
+  } catch (...) {
+    stop();
+    throw;
   }
 }
 
-CpuLoad::~CpuLoad() {
+void CpuLoad::stop() {
   impl_->stop = true;
   for (std::thread& t : impl_->burners) t.join();
+  impl_->burners.clear();
   if (impl_->cpu >= 0) sched_setaffinity(0, sizeof impl_->before, &impl_->before);
+  impl_->cpu = -1;
 }
+
+CpuLoad::~CpuLoad() { stop(); }
 
 int CpuLoad::cpu() const { return impl_->cpu; }
 

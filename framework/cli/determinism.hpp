@@ -9,8 +9,8 @@
 namespace cluttertamp::cli {
 
 /// The first place where two result.json texts differ, ignoring their time fields
-/// (`time`, and every key ending in `_time` but `time_limit`) and the `problem` and
-/// `scene` paths: "/counters/collision_checks: 627544 against 627545". Nothing when
+/// (`time` and every key ending in `_time`) and the file paths they name (`problem`,
+/// `scene`; a PDDL task's `domain`, `problem`, `streams`): "/counters/collision_checks: 627544 against 627545". Nothing when
 /// they agree. Throws nlohmann::json::parse_error for a text that is not JSON.
 std::optional<std::string> result_difference(const std::string& a, const std::string& b);
 
@@ -27,6 +27,7 @@ class CpuLoad {
   int cpu() const;  ///< the CPU shared, -1 without load
 
  private:
+  void stop();
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

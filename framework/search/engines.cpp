@@ -171,49 +171,55 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
   registry.node(start) = {-1, -1, 0.0, best_h, false};
   open.push({w_h * best_h, best_h, order++, start}, false);
   std::vector<OperatorId> successors;
-  while (!open.empty()) {
-    const auto [key, h_value, unused, id] = open.pop();
-    (void)unused;
-    Node& node = registry.node(id);
-    if (node.closed || w_g * node.g + w_h * node.h < key - 1e-9) continue;  // stale entry
-    if (space.is_goal(registry.state(id))) return finish(space, registry, id, result);
-    if (limits.exceeded(result.statistics, result.reason)) return stopped(std::move(registry), std::move(open), result);
-    node.closed = true;
-    ++result.statistics.expanded;
-    const State state = registry.state(id);
-    const double g = node.g;
-    preferred.clear();
-    if (use_preferred) h(state, &preferred);
-    successors.clear();
-    space.applicable_operators(state, [&](OperatorId op) { successors.push_back(op); });
-    for (OperatorId op : successors) {
-      ++result.statistics.generated;
-      const double child_g = g + space.task().operators[op].cost;
-      const auto [child, is_new] = registry.insert(space.apply(state, op));
-      Node& c = registry.node(child);
-      if (!is_new && (child_g >= c.g || (c.closed && !reopen) || c.h == kInfinity)) continue;  // dead ends stay closed
-      if (is_new) {
-        // Evaluating every successor of one state can take seconds (LM-cut on hundreds
-        // of blocks): the time limit is looked at before each evaluation.
-        if (limits.time_up(result.reason)) return stopped(std::move(registry), std::move(open), result);
-        c.h = h(registry.state(child), nullptr);
-        ++result.statistics.evaluated;
-        if (c.h == kInfinity) {
-          c.closed = true;
-          continue;
+  // A time limit inside one evaluation (LM-cut between its rounds) stops it like any other.
+  try {
+    while (!open.empty()) {
+      const auto [key, h_value, unused, id] = open.pop();
+      (void)unused;
+      Node& node = registry.node(id);
+      if (node.closed || w_g * node.g + w_h * node.h < key - 1e-9) continue;  // stale entry
+      if (space.is_goal(registry.state(id))) return finish(space, registry, id, result);
+      if (limits.exceeded(result.statistics, result.reason)) return stopped(std::move(registry), std::move(open), result);
+      node.closed = true;
+      ++result.statistics.expanded;
+      const State state = registry.state(id);
+      const double g = node.g;
+      preferred.clear();
+      if (use_preferred) h(state, &preferred);
+      successors.clear();
+      space.applicable_operators(state, [&](OperatorId op) { successors.push_back(op); });
+      for (OperatorId op : successors) {
+        ++result.statistics.generated;
+        const double child_g = g + space.task().operators[op].cost;
+        const auto [child, is_new] = registry.insert(space.apply(state, op));
+        Node& c = registry.node(child);
+        if (!is_new && (child_g >= c.g || (c.closed && !reopen) || c.h == kInfinity)) continue;  // dead ends stay closed
+        if (is_new) {
+          // Evaluating every successor of one state can take seconds (LM-cut on hundreds
+          // of blocks): the time limit is looked at before each evaluation.
+          if (limits.time_up(result.reason)) return stopped(std::move(registry), std::move(open), result);
+          c.h = h(registry.state(child), nullptr);
+          ++result.statistics.evaluated;
+          if (c.h == kInfinity) {
+            c.closed = true;
+            continue;
+          }
         }
+        c.parent = id;
+        c.op = op;
+        c.g = child_g;
+        c.closed = false;
+        const bool is_preferred = std::find(preferred.begin(), preferred.end(), op) != preferred.end();
+        if (c.h < best_h) {
+          best_h = c.h;
+          if (use_preferred) open.boost();
+        }
+        open.push({w_g * child_g + w_h * c.h, c.h, order++, child}, is_preferred);
       }
-      c.parent = id;
-      c.op = op;
-      c.g = child_g;
-      c.closed = false;
-      const bool is_preferred = std::find(preferred.begin(), preferred.end(), op) != preferred.end();
-      if (c.h < best_h) {
-        best_h = c.h;
-        if (use_preferred) open.boost();
-      }
-      open.push({w_g * child_g + w_h * c.h, c.h, order++, child}, is_preferred);
     }
+  } catch (const TimeLimit&) {
+    result.reason = "time limit";
+    return stopped(std::move(registry), std::move(open), result);
   }
   result.reason = "no plan exists (every reachable state was expanded)";
   return result;

@@ -124,6 +124,11 @@ class StreamSearch {
     negated_tests_ = negated;
   }
 
+  /// Destroys every generator (plugin code, which must not outlive its sampler).
+  void release_generators() {
+    for (std::size_t i = 0; i < base_.instance_count(); ++i) base_.instance_at(static_cast<int>(i)).generator.reset();
+  }
+
   StreamSolution run() {
     try {
       if (options_.algorithm == Algorithm::incremental) incremental();
@@ -350,20 +355,22 @@ class StreamSearch {
       if ((o.optimistic && !optimistic) || constants.count(o.name)) continue;
       p.objects.push_back({o.name, o.types, {}});
     }
-    for (const FactKey& f : initial_state_) p.init.push_back(atom_of(f));
-    for (const auto& [fact, info] : base_.facts()) {
-      keep_time_limit();
-      // Predicates the domain does not declare are the streams' own: not for the search.
-      if ((!info.optimistic || optimistic) && domain_.predicates.count(base_.predicate_name(fact[0]))) {
-        p.init.push_back(atom_of(fact));
-      }
-    }
-    add_function_values(p, optimistic);
-    ++out_.statistics.searches;
     std::optional<std::vector<Step>> steps;
+    // The optimistic problem may hold millions of facts: a time limit reached while it
+    // is built or searched leaves it (and the grounded task) to be freed beside.
     try {
+      for (const FactKey& f : initial_state_) p.init.push_back(atom_of(f));
+      for (const auto& [fact, info] : base_.facts()) {
+        keep_time_limit();
+        // Predicates the domain does not declare are the streams' own: not for the search.
+        if ((!info.optimistic || optimistic) && domain_.predicates.count(base_.predicate_name(fact[0]))) {
+          p.init.push_back(atom_of(fact));
+        }
+      }
+      add_function_values(p, optimistic);
+      ++out_.statistics.searches;
       search::GroundingStats grounding;
-      const search::Task task = search::ground(domain_, p, &grounding, context_.deadline.remaining());
+      search::Task task = search::ground(domain_, p, &grounding, context_.deadline.remaining());
       search::SearchOptions so;
       so.algorithm = options_.search;
       so.time_limit = context_.deadline.remaining();
@@ -372,11 +379,14 @@ class StreamSearch {
       if (r.solved) {
         steps.emplace();
         for (search::OperatorId op : r.plan) steps->push_back(step_of(task.operators[static_cast<std::size_t>(op)].name));
+      } else if (r.reason == "time limit") {
+        free_beside(std::move(task));
+        throw search::TimeLimit("time limit (search)");
       }
     } catch (const search::TimeLimit&) {
       last_search_seconds_ = since(start);
       out_.statistics.search_seconds += last_search_seconds_;
-      free_beside(std::move(p));  // millions of optimistic facts, maybe
+      free_beside(std::move(p));
       throw;
     }
     last_search_seconds_ = since(start);
@@ -568,8 +578,6 @@ class StreamSearch {
 
   // ---- adaptive -------------------------------------------------------------------
 
-  // Optimistic facts for every enabled instance within `level`; returns whether an
-  // instance was left out for its complexity.
   // Throws TimeLimit once the run's time is up, looking at the clock every 256th call:
   // a stream whose inputs nothing binds ranges over every object, and each new
   // optimistic value multiplies its instances.
@@ -577,6 +585,8 @@ class StreamSearch {
     if ((++ticks_ & 255) == 0 && context_.deadline.expired()) throw search::TimeLimit("time limit (optimistic instantiation)");
   }
 
+  // Optimistic facts for every enabled instance within `level`; returns whether an
+  // instance was left out for its complexity.
   bool instantiate_optimistic(int level) {
     base_.clear_optimistic();
     bool pruned = false;
@@ -908,7 +918,7 @@ class StreamSearch {
   std::deque<Skeleton> queue_;
   double last_search_seconds_ = 0;
   double last_search_work_ = 0;  // of the last search, in StreamSearchOptions' units
-  std::uint64_t ticks_ = 0;  // keep_time_limit's calls  // grounded operators + generated states of the last search
+  std::uint64_t ticks_ = 0;  // keep_time_limit's calls
   std::optional<std::pair<std::size_t, int>> shortest_;  // adaptive: shortest plan, its level
   int level_ = 0;  // adaptive: the complexity bound of optimistic instances and calls
   int generated_ = 0;
@@ -923,8 +933,12 @@ StreamSolution solve(const StreamProblem& problem, plugin::PlanningContext& cont
   }
   auto search = std::make_unique<StreamSearch>(problem, context, options);
   StreamSolution solution = search->run();
-  // Ended by the time limit, it may hold millions of instances: freed beside the caller.
-  if (!solution.solved && context.deadline.expired()) free_beside(std::move(search));
+  // Ended by the time limit, it may hold millions of instances: freed beside the caller,
+  // but the generators first, here: they are the plugins' code.
+  if (!solution.solved && context.deadline.expired()) {
+    search->release_generators();
+    free_beside(std::move(search));
+  }
   return solution;
 }
 

@@ -371,7 +371,9 @@ class Search {
       nearest_exit_first(set);
       if (!tried.insert(set).second) continue;
       ++tries;
-      context_.checks_until = run.with_checks(checks(settings_.shorten_max_checks) * (set.size() + 1)).checks_until;
+      const std::uint64_t per_object = checks(settings_.shorten_max_checks), objects = set.size() + 1;
+      const std::uint64_t budget = per_object > ~std::uint64_t{0} / objects ? ~std::uint64_t{0} : per_object * objects;
+      context_.checks_until = run.with_checks(budget).checks_until;
       if (checker_.retrieve(set, reseeds_).ok) {
         order = std::move(set);
         return true;

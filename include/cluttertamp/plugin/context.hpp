@@ -105,7 +105,7 @@ struct PlanningContext {
   /// never more than this context's own).
   PlanningContext with_checks(std::uint64_t checks) const {
     PlanningContext c = *this;
-    c.checks_until = std::min(checks_until, checks_left() < checks ? checks_until : checks_done() + checks);
+    c.checks_until = checks_done() + std::min(checks, checks_left());
     return c;
   }
   /// This context with another seed (the same limits and budget).
