@@ -96,23 +96,16 @@ class PushOmpl final : public plugin::PushSampler {
     // The query's budget: the sampler's own, at most the query's; the approach gets its
     // share, the push the rest.
     const physics::PushBudget budget = physics::PushBudget::of(
-        search_, context.deadline.remaining(), q.max_propagations > 0 ? q.max_propagations : ~std::uint64_t{0});
-    physics::PushBudget approach_budget = budget;
-    if (budget.propagations != ~std::uint64_t{0}) {
-      approach_budget.propagations = static_cast<std::uint64_t>(approach_share_ * static_cast<double>(budget.propagations));
-    }
+        search_, context.deadline.remaining(), q.max_propagations > 0 ? q.max_propagations : physics::PushBudget::kNone);
     const physics::GripperPoseGoal approach(approach_states(world, start, q), approach_position_, approach_heading_);
-    const auto approached = physics::plan_pushes(world, start, approach, search_, approach_budget, seed);
+    const auto approached = physics::plan_pushes(world, start, approach, search_, budget.share(approach_share_), seed);
     context.count("propagations", approached.propagations);
     if (!approached.path) {
       return fail("no approach to '" + id + "' (face or side towards " + xy(q.goal_xy) + "): " + approached.reason +
                   quick_note(quick_failure));
     }
-    physics::PushBudget push_budget = physics::PushBudget::of(search_, context.deadline.remaining());
-    push_budget.propagations = budget.propagations == ~std::uint64_t{0} ? budget.propagations
-                               : budget.propagations - std::min(budget.propagations, approached.propagations);
-    const auto pushed =
-        physics::plan_pushes(world, approached.path->states.back(), in_region, search_, push_budget, seed + 1);
+    const auto pushed = physics::plan_pushes(world, approached.path->states.back(), in_region, search_,
+                                             budget.after(approached.propagations, context.deadline.remaining()), seed + 1);
     context.count("propagations", pushed.propagations);
     if (!pushed.path) {
       return fail("approached '" + id + "' but could not push it within " + metres(q.goal_radius) + " of " +

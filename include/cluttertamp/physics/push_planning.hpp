@@ -157,14 +157,22 @@ struct KinodynamicOutcome {
 /// machine) and `seconds` of wall-clock time (the run's outer limit, the one stop
 /// whose outcome depends on the machine's speed).
 struct PushBudget {
+  static constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();  ///< no propagation budget
   double seconds = 1e7;
-  std::uint64_t propagations = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t propagations = kNone;
 
   /// The run's `seconds` left and the settings' max_propagations (0: none), at most `cap`.
-  static PushBudget of(const KinodynamicSettings& settings, double seconds,
-                       std::uint64_t cap = std::numeric_limits<std::uint64_t>::max()) {
+  static PushBudget of(const KinodynamicSettings& settings, double seconds, std::uint64_t cap = kNone) {
     const std::uint64_t own = settings.max_propagations == 0 ? cap : std::min(settings.max_propagations, cap);
     return {seconds, own};
+  }
+  /// `fraction` of the propagations (none stays none).
+  PushBudget share(double fraction) const {
+    return {seconds, propagations == kNone ? kNone : static_cast<std::uint64_t>(fraction * static_cast<double>(propagations))};
+  }
+  /// What is left after `used` propagations, with `seconds_left` of the run's time.
+  PushBudget after(std::uint64_t used, double seconds_left) const {
+    return {seconds_left, propagations == kNone ? kNone : propagations - std::min(propagations, used)};
   }
 };
 
