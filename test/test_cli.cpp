@@ -18,6 +18,7 @@
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/perception/visibility.hpp"
 #include "cluttertamp/physics/push_planning.hpp"
 #include "test_support.hpp"
@@ -400,6 +401,48 @@ TEST_F(Cli, GeneratedShelfProblemIsSolved) {
   EXPECT_GE(json["moved_objects"].size(), 2u);  // something had to move first
 }
 
+// The bench's 90th percentile: linear between the closest ranks, as NumPy's default.
+TEST(BenchStatistics, PercentileInterpolatesBetweenRanks) {
+  EXPECT_DOUBLE_EQ(cli::percentile({}, 90), 0.0);
+  EXPECT_DOUBLE_EQ(cli::percentile({3.0}, 90), 3.0);
+  EXPECT_DOUBLE_EQ(cli::percentile({4.0, 1.0, 3.0, 2.0}, 0), 1.0);
+  EXPECT_DOUBLE_EQ(cli::percentile({4.0, 1.0, 3.0, 2.0}, 100), 4.0);
+  EXPECT_DOUBLE_EQ(cli::percentile({4.0, 1.0, 3.0, 2.0}, 50), 2.5);
+  EXPECT_NEAR(cli::percentile({1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 90), 9.1, 1e-12);
+}
+
+// generate --min-gap: the least distance between cylinders (default 0, the paper's
+// recipe); out of range is bad input. result.json says where the work went, by phase.
+TEST_F(Cli, GenerateTakesAMinimumGapAndResultsSayWhereTheWorkWent) {
+  const fs::path scene = dir_ / "gap.yaml", problem_file = dir_ / "gap_problem.yaml";
+  EXPECT_EQ(run("generate --objects 12 --min-gap -0.01 --output " + scene.string()).exit_code, 2);
+  EXPECT_EQ(run("generate --objects 12 --min-gap 0.5 --output " + scene.string()).exit_code, 2);
+  const CliRun g = run("generate --objects 12 --min-gap 0.03 --seed 3 --output " + scene.string() + " --problem " +
+                       problem_file.string());
+  ASSERT_EQ(g.exit_code, 0) << g.output;
+  const Scene s = io::load_scene(scene);
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      const double gap = (s.objects[i].world_T_object.translation() - s.objects[j].world_T_object.translation()).head<2>().norm() -
+                         std::get<Cylinder>(s.objects[i].shape).radius - std::get<Cylinder>(s.objects[j].shape).radius;
+      EXPECT_GE(gap, 0.03 - 1e-6);
+    }
+  }
+  const CliRun r = plan(problem_file, "--time-limit 60");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto json = result();
+  ASSERT_TRUE(json["phases"].is_object());
+  ASSERT_TRUE(json["phases"].contains("check.retrieve"));
+  std::uint64_t motion_checks = 0;
+  for (const auto& [name, phase] : json["phases"].items()) {
+    EXPECT_GE(phase["calls"].get<std::uint64_t>(), 1u) << name;
+    EXPECT_GE(phase["time"].get<double>(), 0.0) << name;
+    EXPECT_LE(phase["collision_checks"].get<std::uint64_t>(), json["counters"]["collision_checks"].get<std::uint64_t>()) << name;
+    if (name.rfind("motion.", 0) == 0) motion_checks += phase["collision_checks"].get<std::uint64_t>();
+  }
+  EXPECT_LE(motion_checks, json["counters"]["collision_checks"].get<std::uint64_t>());
+}
+
 // --min-removals keeps a scene whose optimum the exhaustive planner proved; plan
 // --planner runs the baselines on it: none moves fewer objects than that optimum.
 TEST_F(Cli, GeneratedSceneWithAKnownMinimumAndThePlannersOnIt) {
@@ -460,7 +503,7 @@ TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
 // `paired` figures are the means over the runs both solved, as the CSV gives them.
 TEST_F(Cli, BenchRetrievalPairsTableFiveWithItsBaseline) {
   const fs::path csv = dir_ / "v.csv", json_file = dir_ / "v.json";
-  const CliRun r = run("bench retrieval -q --table V --table5-width 4.5 --scenes 2 --runs 1 --csv " + csv.string() +
+  const CliRun r = run("bench retrieval -q --table V --table5-width 4.5 --min-gap 0.01 --scenes 2 --runs 1 --csv " + csv.string() +
                        " --json " + json_file.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("paired with traversability_graph on the"), std::string::npos) << r.output;

@@ -355,6 +355,11 @@ TEST_F(Footprints, FixedGeometryBlocksSweeps) {
   const CollisionWorld world(scene, nullptr);
   EXPECT_TRUE(world.sweep_hits_fixed({0, 0}, {1, 0}, {0.04, 0.0, 0.3}));
   EXPECT_FALSE(world.sweep_hits_fixed({0, 0}, {0.4, 0}, {0.04, 0.0, 0.3}));  // the floor is below the band
+  // A band reaching into the floor by less than scene files accept as resting contact
+  // (an object standing 10 um into its board) stands on it; 2 mm into it does not.
+  EXPECT_FALSE(world.sweep_hits_fixed({0, 0}, {0.4, 0}, {0.04, -1e-5, 0.3}));
+  EXPECT_FALSE(world.sweep_hits_fixed({0, 0}, {0.4, 0}, {0.04, -0.9 * kContactTolerance, 0.3}));
+  EXPECT_TRUE(world.sweep_hits_fixed({0, 0}, {0.4, 0}, {0.04, -0.002, 0.3}));
 }
 
 }  // namespace

@@ -53,6 +53,34 @@ TEST(ShelfGenerator, ScenesPassValidationAndRoundTrip) {
   std::filesystem::remove_all(dir);
 }
 
+// The paper's recipe keeps no gap: any collision-free placement, so that over a few
+// 20-object shelves some neighbours stand closer than the 1 cm --min-gap 0.01 keeps;
+// none overlaps, none reaches into a wall.
+TEST(ShelfGenerator, WithoutAMinimumGapNeighboursMayStandCloseButNeverOverlap) {
+  double closest = 1.0;
+  for (std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+    scenes::ShelfSpec spec;
+    spec.objects = 20;
+    ASSERT_EQ(spec.min_gap, 0.0);
+    const Scene scene = scenes::generate_shelf_scene(spec, seed);
+    const Eigen::Vector3d size = scenes::cabinet_size(spec);
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+      const Eigen::Vector2d a = scene.objects[i].world_T_object.translation().head<2>();
+      const double ra = std::get<Cylinder>(scene.objects[i].shape).radius;
+      EXPECT_LE(std::abs(a.y()) + ra, size.y() / 2 + 1e-9);
+      EXPECT_GE(a.x() - ra, spec.front - 1e-9);
+      EXPECT_LE(a.x() + ra, spec.front + size.x() + 1e-9);
+      for (std::size_t j = 0; j < i; ++j) {
+        const double gap = (a - scene.objects[j].world_T_object.translation().head<2>()).norm() - ra -
+                           std::get<Cylinder>(scene.objects[j].shape).radius;
+        EXPECT_GE(gap, 0.0);
+        closest = std::min(closest, gap);
+      }
+    }
+  }
+  EXPECT_LT(closest, 0.01);
+}
+
 TEST(ShelfGenerator, SameSeedSameSceneOtherSeedOtherScene) {
   scenes::ShelfSpec spec;
   spec.objects = 16;

@@ -53,6 +53,9 @@ struct Row {
 
 struct Measured {
   std::vector<double> removed, total, task, motion, iterations, sequences;
+  std::vector<double> checks;  // collision checks of every run, solved or not
+  std::map<std::string, PhaseTotals> phases;  // summed over every run
+  std::map<std::string, int> failures;  // the reasons of the runs that failed, with their counts
   int solved = 0, runs = 0;
   std::map<std::pair<std::size_t, int>, double> removed_by_run;  // (instance, run) -> |O_r|, solved runs
 };
@@ -147,6 +150,7 @@ std::vector<Scene> generated(int objects, const BenchArgs& args, const std::shar
   scenes::ShelfSpec spec;
   spec.objects = objects;
   spec.width = width;
+  spec.min_gap = args.min_gap;
   std::vector<Scene> out;
   for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < args.seed + 1000; ++seed) {
     Scene scene = scenes::generate_shelf_scene(spec, seed);  // throws runtime_error: too crowded
@@ -177,10 +181,10 @@ class Bench {
   static void header() {
     std::cout << std::left << std::setw(6) << "table" << std::setw(14) << "scenes" << std::setw(27) << "planner (L init)"
               << std::setw(13) << "|O_r|" << std::setw(13) << "paper" << std::setw(15) << "total s" << std::setw(8)
-              << "median" << std::setw(14) << "paper" << std::setw(14) << "task s" << std::setw(13) << "paper"
+              << "median" << std::setw(8) << "p90" << std::setw(14) << "paper" << std::setw(14) << "task s" << std::setw(13) << "paper"
               << std::setw(14) << "motion s" << std::setw(14) << "paper" << std::setw(7) << "iter" << std::setw(6)
               << "paper" << std::setw(7) << "seqs" << std::setw(12) << "paper" << std::setw(8) << "success"
-              << "paper\n";
+              << std::setw(7) << "paper" << "checks (median)\n";
   }
 
   void run(const Row& row) {
@@ -207,6 +211,14 @@ class Bench {
     const Result r = plan_scene(scene, robot_, *planner, samplers_, seed, args_.time_limit);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++m.runs;
+    m.checks.push_back(double(counter(r, counter::collision_checks)));
+    for (const auto& [name, totals] : r.phases) {
+      PhaseTotals& sum = m.phases[name];
+      sum.calls += totals.calls;
+      sum.collision_checks += totals.collision_checks;
+      sum.seconds += totals.seconds;
+    }
+    if (!r.solved) ++m.failures[r.reason];
     if (r.solved) {
       ++m.solved;
       m.removed.push_back(double(r.moved_objects.size()));
@@ -243,12 +255,16 @@ class Bench {
     const Figure iterations = of(m.iterations);
     std::cout << std::left << std::setw(6) << row.table << std::setw(14) << row.scenes << std::setw(27) << name
               << std::setw(13) << text(of(m.removed)) << std::setw(13) << text(row.paper.removed) << std::setw(15)
-              << text(of(m.total)) << std::setw(8) << number(m.total.empty() ? kNone : median(m.total), 2) << std::setw(14)
+              << text(of(m.total)) << std::setw(8) << number(m.total.empty() ? kNone : median(m.total), 2) << std::setw(8)
+              << number(m.total.empty() ? kNone : percentile(m.total, 90), 2) << std::setw(14)
               << text(row.paper.total) << std::setw(14) << text(of(m.task)) << std::setw(13) << text(row.paper.task)
               << std::setw(14) << text(of(m.motion)) << std::setw(14) << text(row.paper.motion) << std::setw(7)
               << number(iterations.mean, 2) << std::setw(6) << number(row.paper.iterations.mean, 2) << std::setw(7)
               << number(of(m.sequences).mean, 2) << std::setw(12) << text(row.paper.sequences) << std::setw(8)
-              << number(success, 0) << number(row.paper.success, 0) << std::endl;
+              << number(success, 0) << std::setw(7) << number(row.paper.success, 0)
+              << number(m.checks.empty() ? kNone : median(m.checks), 0) << std::endl;
+    print_phases(m);
+    for (const auto& [reason, count] : m.failures) std::cout << "      failed " << count << "x: " << reason << "\n";
     auto figure = [&](const std::vector<double>& v) {
       nlohmann::ordered_json f = {{"mean", mean(v)}, {"std", stddev(v)}, {"median", median(v)}};
       return v.empty() ? nlohmann::ordered_json(nullptr) : f;
@@ -284,6 +300,10 @@ class Bench {
                      {"success_rate", success},
                      {"removed", figure(m.removed)},
                      {"time_s", figure(m.total)},
+                     {"time_p90_s", m.total.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(percentile(m.total, 90))},
+                     {"collision_checks", figure(m.checks)},
+                     {"phases", phases_json(m)},
+                     {"failures", m.failures},
                      {"task_time_s", figure(m.task)},
                      {"motion_time_s", figure(m.motion)},
                      {"iterations", figure(m.iterations)},
@@ -297,6 +317,34 @@ class Bench {
                        {"iterations", paper(row.paper.iterations)},
                        {"planning_sequences", paper(row.paper.sequences)},
                        {"success", std::isnan(row.paper.success) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(row.paper.success)}}}});
+  }
+
+  // Per run, every phase's time and collision checks (the motion planner's by how each
+  // query ended), most checks first: where the time went, without a profiler.
+  void print_phases(const Measured& m) const {
+    if (m.runs == 0 || m.phases.empty()) return;
+    std::vector<std::pair<std::string, PhaseTotals>> sorted(m.phases.begin(), m.phases.end());
+    std::stable_sort(sorted.begin(), sorted.end(),
+                     [](const auto& a, const auto& b) { return a.second.collision_checks > b.second.collision_checks; });
+    std::cout << "      per run:";
+    for (const auto& [name, t] : sorted) {
+      char out[128];
+      std::snprintf(out, sizeof out, " %s %.1fx %.3fs %.0fk;", name.c_str(), double(t.calls) / m.runs, t.seconds / m.runs,
+                    double(t.collision_checks) / m.runs / 1000.0);
+      std::cout << out;
+    }
+    std::cout << "\n";
+  }
+
+  static nlohmann::ordered_json phases_json(const Measured& m) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::object();
+    for (const auto& [name, t] : m.phases) {
+      const double runs = std::max(1, m.runs);
+      out[name] = {{"calls_per_run", double(t.calls) / runs},
+                   {"collision_checks_per_run", double(t.collision_checks) / runs},
+                   {"time_per_run_s", t.seconds / runs}};
+    }
+    return out;
   }
 
   const BenchArgs& args_;

@@ -78,6 +78,8 @@ struct GenerateArgs {
   int min_removals = 0;           ///< keep only scenes whose optimal |O_r| (target included) is this; 0: any
   double check_time = 300;        ///< seconds for the exhaustive check of one scene
   double width = 0, depth = 0;    ///< cabinet interior, m; 0: from the object count
+  /// m between cylinders and to the walls; unset: ShelfSpec's (0, the paper's recipe) or TableSpec's
+  std::optional<double> min_gap;
   int max_attempts = 100;
   bool occlusion = false;  ///< an occlusion shelf (columns of 4 hidden behind a front row)
   bool table = false;      ///< a table for a mobile manipulator, reachable from every side
@@ -145,6 +147,7 @@ struct BenchArgs {
   std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
   std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
   std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml
+  double min_gap = 0.0;                  ///< bench retrieval: m between generated cylinders (0: the paper's)
   double table_v_width = 0.0;            ///< bench retrieval: Table V cabinet width, m; 0: ShelfSpec's
   std::string mobile_tables = "fig9";    ///< bench mobile: "fig9" (Tian et al.'s Fig. 9 tables) or "random"
   Verbosity verbosity = Verbosity::normal;

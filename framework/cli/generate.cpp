@@ -38,9 +38,15 @@ Result plan_scene(const Scene& scene, const std::shared_ptr<const robot::RobotDe
   collision::CollisionWorld world(scene, robot);
   std::map<std::string, std::uint64_t> counters;
   plugin::PlanningContext context{problem, plugin::Deadline::after(seconds), seed, counters, samplers, &world};
+  std::map<std::string, PhaseTotals> phases;
+  context.phases = &phases;
   WorldState state = WorldState::initial(scene);
   state.robot_configuration = robot->home();
-  return planner.solve(context, state);
+  Result result = planner.solve(context, state);
+  // As the runner does: the work counted on the context is the run's.
+  for (const auto& [key, value] : counters) result.counters[key] += value;
+  result.phases = std::move(phases);
+  return result;
 }
 
 bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
@@ -97,6 +103,7 @@ int generate(const GenerateArgs& args) {
   spec.objects = args.objects;
   spec.width = args.width;
   spec.depth = args.depth;
+  if (args.min_gap) spec.min_gap = *args.min_gap;
   if (args.occlusion && (args.width > 0 || args.depth > 0 || args.min_removals > 0)) {
     throw InputError({"--occlusion", 0, 0}, "an occlusion shelf is sized by its columns: --width, --depth and --min-removals do not apply");
   }
@@ -111,6 +118,7 @@ int generate(const GenerateArgs& args) {
         scenes::TableSpec table;
         table.objects = args.objects;
         if (args.width > 0) table.size = args.width;
+        if (args.min_gap) table.min_gap = *args.min_gap;
         scene = scenes::generate_table_scene(table, seed);
       } else if (args.occlusion) {
         if (args.objects % 4 != 0) throw std::runtime_error("an occlusion shelf holds columns of 4: a multiple of 4 objects");

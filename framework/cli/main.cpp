@@ -163,6 +163,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 10.0));
   generate->add_option("--depth", generate_args.depth, "Cabinet interior depth, m (default: 0.6 for 12 objects to 0.7 for 20 and beyond)")
       ->check(CLI::Range(0.1, 2.0));
+  generate->add_option("--min-gap", generate_args.min_gap,
+                       "Least distance between cylinders and to the walls, m (default 0, the paper's recipe: any "
+                       "collision-free placement, so neighbours may touch; with --table 0.01)")
+      ->check(CLI::Range(0.0, 0.2));
   generate->add_option("--min-removals", generate_args.min_removals,
                        "Keep only scenes whose fewest objects to move, target included, is this (Table VI: 2, 3, 4); "
                        "proved with the exhaustive planner")
@@ -303,6 +307,10 @@ int main(int argc, char** argv) {
   bench->add_option("--table6-scenes", bench_args.table_vi_scenes, "retrieval: directory of shelf16-min{2,3,4}.yaml")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);
+  bench->add_option("--min-gap", bench_args.min_gap,
+                    "retrieval: least distance between generated cylinders and to the walls, m (0: the paper's recipe)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.2));
   bench->add_option("--table5-width", bench_args.table_v_width,
                     "retrieval: interior width of Table V's 100-object cabinets, m (default: 3.0, the generator's; "
                     "wider is sparser)")

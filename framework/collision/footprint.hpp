@@ -33,7 +33,9 @@ bool maybe_within(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Outl
 
 /// True when the height bands overlap by more than a touch.
 inline bool bands_overlap(const Outline& outline, double z_min, double z_max) {
-  constexpr double touch = 1e-9;
+  // Bands overlapping less than scene validation accepts as resting contact do not
+  // count (a target standing 10 um into its shelf board is standing on it).
+  constexpr double touch = kContactTolerance;
   return outline.z_min < z_max - touch && outline.z_max > z_min + touch;
 }
 

@@ -70,6 +70,11 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
   for (const char* key : {counter::samples, counter::collision_checks, counter::motion_planning_calls}) counters[key] = 0;
   for (const auto& [key, value] : result.counters) counters[key] = value;
   out["counters"] = counters;
+  Json phases = Json::object();
+  for (const auto& [name, totals] : result.phases) {
+    phases[name] = {{"calls", totals.calls}, {"collision_checks", totals.collision_checks}, {"time", totals.seconds}};
+  }
+  out["phases"] = phases;
   out["failures"] = failures;
   if (run.human_guidance) {
     const HumanGuidance& h = *run.human_guidance;

@@ -19,7 +19,7 @@ using detail::kMaxSize;
 using detail::kMinSize;
 
 // Overlaps deeper than this are interpenetration; shallower ones are resting contact.
-constexpr double kPenetrationTolerance = 1e-3;  // m
+constexpr double kPenetrationTolerance = kContactTolerance;  // m
 // How far a stacked object's bottom may be from its supports' tops.
 constexpr double kRestingTolerance = 5e-3;  // m
 // How far a shape may reach past the workspace box (rounding of rotated poses).

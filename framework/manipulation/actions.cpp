@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
 
 #include "cluttertamp/collision/collision_world.hpp"
@@ -239,7 +240,10 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
   }
   if (state.held) return failed("pick", "the hand already holds an object");
   const robot::RobotDescription& robot = context.robot();
-  const plugin::GraspAnswer grasps = context.samplers.grasp->sample(context, {object, &state});
+  const plugin::GraspAnswer grasps = [&] {
+    plugin::Phase phase(context, "pick.grasps");
+    return context.samplers.grasp->sample(context, {object, &state});
+  }();
   if (grasps.usable.empty()) {
     return failed("grasp", grasps.failure ? grasps.failure->reason : "no usable grasp",
                   grasps.failure ? grasps.failure->blocking_objects : std::vector<ObjectIndex>{});
@@ -248,6 +252,7 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
   const ObjectIndex self[] = {object};
   // Whatever the grasp sampler checked, the straight segments are checked densely here.
   std::vector<const plugin::Grasp*> free;
+  std::optional<plugin::Phase> dense_phase(std::in_place, context, "pick.dense_check");
   for (const plugin::Grasp& grasp : grasps.usable) {
     const plugin::GraspMotion& m = grasp.motions.front();
     Eigen::VectorXd closed_check = m.grasp;
@@ -259,12 +264,15 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
     if (contacts.valid()) contacts = straight_contacts(context, lifted, closed_check, m.lift, {});
     if (!contacts.valid()) {
       // The sampler's coarser check missed a contact: say what it is, so it can be removed.
-      last = Failure{"grasp", "the approach or lift of a usable grasp is not free when checked densely",
+      last = Failure{"grasp",
+                     std::string("the approach or lift of a usable grasp is not free when checked densely") +
+                         (contacts.fixed ? " (fixed geometry)" : contacts.self ? " (the arm itself)" : ""),
                      contacts.self || contacts.fixed ? std::vector<ObjectIndex>{} : contacts.objects};
       continue;
     }
     free.push_back(&grasp);
   }
+  dense_phase.reset();
   // Two passes over the grasps: a quick one (kQuickTransferChecks per transfer, to a staging
   // pose and along a straight tool line from there), so that one hard-to-reach grasp
   // does not take the motion planner's whole budget while another is easy; then each
@@ -275,8 +283,12 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
       std::optional<Failure> why;
       const Eigen::VectorXd& pregrasp = grasp->motions.front().pregrasp;
       plugin::PlanningContext quick = context.with_checks(kQuickTransferChecks);
+      plugin::Phase phase(context, quick_pass ? "pick.transfer_staged" : "pick.transfer");
       const auto transfer = quick_pass ? staged_transfer(quick, state, *grasp, pregrasp, why) : move(context, state, pregrasp, why);
-      if (transfer) return grasped(context, state, object, *grasp, *transfer);
+      if (transfer) {
+        plugin::Phase retreat(context, "pick.retreat");
+        return grasped(context, state, object, *grasp, *transfer);
+      }
       if (!quick_pass) last = why;
     }
   }
@@ -297,7 +309,10 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
   const Eigen::Isometry3d gripper_T_object =
       context.world->tool_pose(state.robot_configuration, *checker).inverse() * state.world_T_objects[object];
   plugin::PlacementQuery query{object, region, &state, 8, gripper_T_object};
-  const plugin::PlacementAnswer placements = context.samplers.placement->sample(context, query);
+  const plugin::PlacementAnswer placements = [&] {
+    plugin::Phase phase(context, "place.placements");
+    return context.samplers.placement->sample(context, query);
+  }();
   if (placements.world_T_object.empty()) {
     return failed("placement", placements.failure ? placements.failure->reason : "no placement",
                   placements.failure ? placements.failure->blocking_objects : std::vector<ObjectIndex>{});
@@ -311,7 +326,10 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
     const auto pre = robot.ik().solve(base_T_world * above, q_place);
     if (pre.empty() || (pre[0] - q_place).cwiseAbs().maxCoeff() > 0.8 || !straight_free(context, state, pre[0], q_place, {})) continue;
     std::optional<Failure> why;
-    const auto transfer = move_out(context, state, pre[0], why);
+    const auto transfer = [&] {
+      plugin::Phase phase(context, "place.transfer");
+      return move_out(context, state, pre[0], why);
+    }();
     if (!transfer) {
       last = why;
       continue;
@@ -414,7 +432,10 @@ ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state
     return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
   }
   std::optional<Failure> why;
-  const auto carry = move_out(context, picked.after, held_at_exit->first, why);
+  const auto carry = [&] {
+    plugin::Phase phase(context, "retrieve.carry");
+    return move_out(context, picked.after, held_at_exit->first, why);
+  }();
   if (!carry) {
     return failed("carry", "no motion carries the target to x_s" + (why ? ": " + why->reason : std::string()),
                   why ? why->blocking_objects : std::vector<ObjectIndex>{});

@@ -69,6 +69,23 @@ double Deadline::remaining() const {
   return std::max(0.0, std::chrono::duration<double>(at_ - Clock::now()).count());
 }
 
+Phase::Phase(const PlanningContext& context, std::string name)
+    : context_(context), name_(std::move(name)), checks_at_start_(context.checks_done()), started_(Deadline::Clock::now()) {}
+
+void add_phase(const PlanningContext& context, const std::string& name, std::uint64_t checks, double seconds) {
+  if (!context.phases) return;
+  PhaseTotals& totals = (*context.phases)[name];
+  ++totals.calls;
+  totals.collision_checks += checks;
+  totals.seconds += seconds;
+}
+
+Phase::~Phase() {
+  if (!context_.phases) return;
+  add_phase(context_, name_, context_.checks_done() - checks_at_start_,
+            std::chrono::duration<double>(Deadline::Clock::now() - started_).count());
+}
+
 const BlockedGrasp* GraspAnswer::least_blocked() const {
   const BlockedGrasp* best = nullptr;
   for (const BlockedGrasp& b : blocked) {

@@ -61,6 +61,7 @@ const RemovalChecker::Step& RemovalChecker::step(std::span<const ObjectIndex> pr
   const auto t0 = std::chrono::steady_clock::now();
   Step s;
   if (object == context_.scene().target) {
+    plugin::Phase phase(context, "check.retrieve");
     const manipulation::ActionOutcome out = manipulation::retrieve(context, before);
     s.ok = out.ok;
     s.failure = out.failure;
@@ -69,13 +70,17 @@ const RemovalChecker::Step& RemovalChecker::step(std::span<const ObjectIndex> pr
       s.steps.push_back(plan_step("retrieve", object, out));
     }
   } else {
+    std::optional<plugin::Phase> phase(std::in_place, context, "check.pick");
     const manipulation::ActionOutcome picked = manipulation::pick(context, before, object);
+    phase.reset();
     s.ok = picked.ok;
     s.failure = picked.failure;
     if (picked.ok) {
       s.steps.push_back(plan_step("pick", object, picked));
       s.after = picked.after;
+      phase.emplace(context, "check.place");
       const manipulation::ActionOutcome placed = manipulation::place(context, picked.after, region_);
+      phase.reset();
       if (placed.ok) {
         s.steps.push_back(plan_step("place", object, placed));
         s.after = placed.after;

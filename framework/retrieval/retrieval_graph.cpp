@@ -50,6 +50,15 @@ void RetrievalGraph::add_to_node_col(int node, const ObjectSet& objects) {
   n.node_col = unite(n.node_col, objects);
 }
 
+void RetrievalGraph::remove_from_node_col(int node, const ObjectSet& objects) {
+  ObjectSet sorted = objects;
+  std::sort(sorted.begin(), sorted.end());
+  GraphNode& n = graph_[static_cast<std::size_t>(node)];
+  ObjectSet kept;
+  std::set_difference(n.node_col.begin(), n.node_col.end(), sorted.begin(), sorted.end(), std::back_inserter(kept));
+  n.node_col = std::move(kept);
+}
+
 std::vector<int> RetrievalGraph::guard_object(ObjectIndex object, const ObjectSet& blockers, const Eigen::Vector2d& position) {
   auto holds = [&](std::size_t v) {
     const ObjectSet& col = graph_[v].node_col;

@@ -79,6 +79,8 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   if (problem.robot.loaded) world = std::make_unique<collision::CollisionWorld>(problem.scene, problem.robot.loaded);
   plugin::PlanningContext context{problem, plugin::Deadline::after(outcome.info.time_limit), outcome.info.seed,
                                   counters, samplers, world.get()};
+  std::map<std::string, PhaseTotals> phases;
+  context.phases = &phases;
   WorldState initial = WorldState::initial(problem.scene);
   initial.robot_configuration = problem.robot.initial_configuration();
   try {
@@ -101,6 +103,12 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
     outcome.info.exit_code = ExitCode::internal_error;
   }
   for (const auto& [key, value] : counters) outcome.result.counters[key] += value;
+  for (const auto& [name, totals] : phases) {
+    PhaseTotals& sum = outcome.result.phases[name];
+    sum.calls += totals.calls;
+    sum.collision_checks += totals.collision_checks;
+    sum.seconds += totals.seconds;
+  }
   outcome.result.time.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!outcome.result.solved && outcome.result.reason.empty()) {
     outcome.result.reason = "the planner returned no plan and gave no reason";

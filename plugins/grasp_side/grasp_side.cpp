@@ -24,6 +24,8 @@ using plugin::GraspAnswer;
 using plugin::GraspMotion;
 
 constexpr double kPi = M_PI;
+// rad between the checks of a usable grasp's approach and lift: pick's dense check.
+constexpr double kDenseResolution = 0.01;
 
 class SideGrasps final : public plugin::GraspSampler {
  public:
@@ -35,6 +37,7 @@ class SideGrasps final : public plugin::GraspSampler {
     approach_ = p.get_double("approach", approach_);
     lift_ = p.get_double("lift", lift_);
     clearance_ = p.get_double("clearance", clearance_);
+    tight_clearance_ = p.get_double("tight_clearance", tight_clearance_);
     steps_ = p.get_int("approach_steps", steps_);
     resolution_ = p.get_double("resolution", resolution_);
     max_usable_ = p.get_int("max_usable", max_usable_);
@@ -48,6 +51,7 @@ class SideGrasps final : public plugin::GraspSampler {
     p.require(approach_ > 0 && approach_ < 1, "approach", "must be in (0, 1) m");
     p.require(lift_ >= 0 && lift_ < 1, "lift", "must be in [0, 1) m");
     p.require(clearance_ >= 0 && clearance_ < 0.05, "clearance", "must be in [0, 0.05) m");
+    p.require(tight_clearance_ >= 0 && tight_clearance_ <= clearance_, "tight_clearance", "must be in [0, clearance] m");
     p.require(steps_ >= 1 && steps_ <= 100, "approach_steps", "must be 1 to 100");
     p.require(resolution_ > 0 && resolution_ < 1, "resolution", "must be in (0, 1) rad");
     p.require(max_usable_ >= 1, "max_usable", "must be at least 1");
@@ -89,6 +93,20 @@ class SideGrasps final : public plugin::GraspSampler {
       Grasp grasp = make_grasp(c, *half_width, object_height(object), world_T_object, gripper);
       const std::size_t blocked_before = answer.blocked.size();
       evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, answer);
+      if (answer.blocked.size() > blocked_before && answer.blocked.back().freeable && tight_clearance_ < clearance_) {
+        // Objects may stand closer than the fingers' usual clearance (the paper's shelves
+        // keep no gap): the same grasp with the fingers opened just enough.
+        grasp.finger_open = std::min(gripper.stroke / 2, *half_width + tight_clearance_);
+        GraspAnswer tight;
+        evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, tight);
+        if (!tight.usable.empty()) {
+          answer.blocked.pop_back();
+          answer.usable.push_back(std::move(tight.usable.front()));
+        } else if (tight.blocked.back().freeable &&
+                   tight.blocked.back().blocking_objects.size() < answer.blocked.back().blocking_objects.size()) {
+          answer.blocked.back() = std::move(tight.blocked.back());
+        }
+      }
       previous_unreachable = answer.blocked.size() > blocked_before && !answer.blocked.back().freeable &&
                              answer.blocked.back().reason.rfind("unreachable", 0) == 0;
       if (static_cast<std::int64_t>(answer.usable.size()) >= max_usable_) break;
@@ -271,24 +289,34 @@ class SideGrasps final : public plugin::GraspSampler {
       };
       // Straight joint-space segments, checked every `resolution_` radians; a blocked
       // segment reports the objects at a few of its colliding steps.
-      auto segment = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored) {
+      auto segment = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored,
+                         double resolution) {
         const int n = std::max<int>(static_cast<int>(steps_),
-                                    static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / resolution_)));
-        bool blocked = false;
-        for (int s = 0; s <= n && !blocked; ++s) {
+                                    static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / resolution)));
+        int blocked_at = -1;
+        for (int s = 0; s <= n && blocked_at < 0; ++s) {
           context.count(counter::collision_checks);
-          blocked = !world.is_valid(a + (b - a) * (double(s) / n), checker, ignored);
+          if (!world.is_valid(a + (b - a) * (double(s) / n), checker, ignored)) blocked_at = s;
         }
-        if (!blocked) return;
-        // What is in the way: the full collision sets at both ends and the middle.
+        if (blocked_at < 0) return;
+        // What is in the way: the full collision sets where it was met (so that a blocked
+        // segment never reads as free), at both ends and in the middle.
+        check(a + (b - a) * (double(blocked_at) / n), ignored);
         for (int r = 0; r <= 2; ++r) check(a + (b - a) * (r / 2.0), ignored);
       };
-      segment(motion.pregrasp, motion.grasp, ignore_target);
-      world.attach(object, grasp.gripper_T_object);
       Eigen::VectorXd closed = motion.grasp;
       if (finger) closed[*finger] = grasp.finger_closed;
-      segment(closed, motion.lift, {});
-      world.detach(world_T_object);
+      auto both = [&](double resolution) {
+        segment(motion.pregrasp, motion.grasp, ignore_target, resolution);
+        world.attach(object, grasp.gripper_T_object);
+        segment(closed, motion.lift, {}, resolution);
+        world.detach(world_T_object);
+      };
+      both(resolution_);
+      // A grasp free at the coarse resolution is checked as densely as pick checks it
+      // (kDenseResolution): else it would be offered as usable and then fail there, with
+      // nothing to blame, while a truly free grasp was never sampled.
+      if (objects.empty() && !hits_fixed && !self && resolution_ > kDenseResolution) both(kDenseResolution);
       std::sort(objects.begin(), objects.end());
       objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
       if (objects.empty() && !hits_fixed && !self) {
@@ -316,6 +344,7 @@ class SideGrasps final : public plugin::GraspSampler {
   double approach_ = 0.10;
   double lift_ = 0.03;
   double clearance_ = 0.008;
+  double tight_clearance_ = 0.002;  // m, the fingers' opening tried where clearance_ is blocked
   std::int64_t steps_ = 5;
   double resolution_ = 0.02;  // rad between checks along straight segments
   std::int64_t max_usable_ = 3;

@@ -5,6 +5,7 @@
 // ignored and names the objects that path passes through. Each query's budget is
 // collision checks, not seconds: the same query gives the same answer on any machine.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -108,6 +109,14 @@ class OmplMotion final : public plugin::MotionSampler {
     auto checker = world.make_context();
 
     std::vector<Eigen::VectorXd> path;
+    // Where the query's work went, by how it ended (motion.straight, motion.relaxed,
+    // motion.strict: solved that way; motion.failed).
+    const std::uint64_t checks_at_start = context.checks_done();
+    const auto started = std::chrono::steady_clock::now();
+    auto ended = [&](const char* how) {
+      plugin::add_phase(context, std::string("motion.") + how, context.checks_done() - checks_at_start,
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    };
     // One budget for the whole query, the search and the search through movable
     // objects: collision checks, and never more than the caller's own budget.
     const std::uint64_t budget = std::min<std::uint64_t>(static_cast<std::uint64_t>(max_checks_), context.checks_left());
@@ -128,12 +137,14 @@ class OmplMotion final : public plugin::MotionSampler {
       }
       normalize(failure.blocking_objects);
       answer.failure = failure;
+      ended("failed");
       return answer;
     }
     // A free straight segment needs no search (moves in the open: out of a shelf home,
     // home to a staging pose).
     if (segment_valid(query.start, query.goal, {}, valid)) {
       answer.trajectory = manipulation::timed(robot, {query.start, query.goal}, velocity_scale_);
+      ended("straight");
       return answer;
     }
     // First the search through movable objects: in clutter it finds its way where the
@@ -160,6 +171,7 @@ class OmplMotion final : public plugin::MotionSampler {
       normalize(through);
       if (through.empty() && !other_contact) {
         answer.trajectory = manipulation::timed(robot, relaxed, velocity_scale_);
+        ended("relaxed");
         return answer;
       }
     }
@@ -168,6 +180,7 @@ class OmplMotion final : public plugin::MotionSampler {
     // problem move four objects instead of two in a quarter of the runs.
     if (checks < budget && solve(context, robot, joints, query, [&] { return checks >= budget; }, {}, valid, path)) {
       answer.trajectory = manipulation::timed(robot, path, velocity_scale_);
+      ended("strict");
       return answer;
     }
     Failure failure{"motion",
@@ -181,6 +194,7 @@ class OmplMotion final : public plugin::MotionSampler {
       failure.reason += "; no path even through movable objects (fixed geometry, limits or the budget)";
     }
     answer.failure = failure;
+    ended("failed");
     return answer;
   }
 

@@ -156,6 +156,11 @@ class Search {
       feedback_node.push_back(n);
     }
     feedback_nodes_ = feedback_node;
+    // Objects that can leave only after the target (every grasp of theirs is blocked by
+    // it: cylinders touching) stand next to it, where no way out can go around them:
+    // the graph lets the target's way pass them, and the robot's check says whether it
+    // can. Blocking them cut every way out at once, and each restart found the same.
+    for (std::size_t v = 0; v < g.size(); ++v) g.remove_from_node_col(static_cast<int>(v), stays_);
     for (ObjectIndex o : blocked_) g.block_object(o);
     g.update();
     return g;
@@ -245,6 +250,10 @@ class Search {
     bool stuck = false;
     std::uint64_t sequences_at_restart = 0;
     int explored_limit = 0;  // the roadmap has been expanded for every L up to this
+    // Rounds (restart to restart) whose feedback ended the same; at kSameRounds, stop.
+    constexpr int kSameRounds = 2;
+    std::map<std::vector<std::vector<std::uint64_t>>, int> rounds_seen;
+    bool repeated = false;
     for (;;) {
       if (context_.stopped()) break;
       const bool exhausted = limit > objects && !(stuck && ++rounds_at_full_limit < kRoundsAtFullLimit);
@@ -258,6 +267,12 @@ class Search {
         // the next would do the same).
         if (!settings_.restart || result.counters["planning_sequences"] == sequences_at_restart) break;
         sequences_at_restart = result.counters["planning_sequences"];
+        // The same feedback as after an earlier round: the draws did not matter (grasps
+        // blocked whatever the seed), and another round would learn it again.
+        if (++rounds_seen[round_signature()] >= kSameRounds) {
+          repeated = true;
+          break;
+        }
         forget_feedback();
         ++result.counters["restarts"];
         limit = initial_limit();
@@ -303,6 +318,7 @@ class Search {
     }
     result.reason = context_.deadline.expired() ? "time limit reached before the target was retrieved"
                     : context_.stopped()        ? "work budget (collision checks) used up before the target was retrieved"
+                    : repeated                  ? stuck_reason(result.counters["restarts"] + 1)
                                                 : "no removal sequence works within the exploration limit";
     finish(result, start);
     return result;
@@ -502,7 +518,8 @@ class Search {
     // A grasp the target or an avoided object blocks cannot be freed: blame another.
     if (!freeable_for(object, failure.blocking_objects)) {
       const auto other = other_grasp_blockers(object, failure, at_failure);
-      if (!other) return branch ? kill_branch(*branch) : avoid(object);
+      if (!other && !branch && object != target_ && blocked_by_target(failure)) return stay(object, failure);
+      if (!other) return branch ? kill_branch(*branch) : avoid(object, failure);
       blocking = *other;
     }
     std::size_t fail = removal.nodes.size() - 1;
@@ -517,14 +534,14 @@ class Search {
     // such failure, after a fresh draw, keeps the graph away from the object.
     if (blocking.empty()) {
       if (branch) return ++unexplained_branch_[*branch] >= 2 && kill_branch(*branch);
-      return ++unexplained_[object] >= 2 && avoid(object);
+      return ++unexplained_[object] >= 2 && avoid(object, failure);
     }
     if (!seen_failures_[object].insert(blocking).second) {
       // The same object blocked by the same objects again: removing them first did not
       // help (objects blocking each other's least blocked grasps). Feed back the next
       // least blocked grasp instead; avoid the object once every grasp has been tried.
       const auto other = other_grasp_blockers(object, failure, at_failure);
-      if (!other) return avoid(object);
+      if (!other) return avoid(object, failure);
       blocking = *other;
       seen_failures_[object].insert(blocking);
     }
@@ -573,16 +590,64 @@ class Search {
     guard_of_.clear();
     unexplained_.clear();
     blocked_.clear();
+    stays_.clear();
     seen_failures_.clear();
   }
 
   bool kill_branch(int branch) { return dead_branches_.insert(branch).second; }
 
   // Keeps the retrieval graph away from `object`; the target cannot be avoided.
-  bool avoid(ObjectIndex object) {
-    if (object == target_ || std::find(blocked_.begin(), blocked_.end(), object) != blocked_.end()) return false;
+  bool avoid(ObjectIndex object, const Failure& why) {
+    if (object == target_) {
+      why_stuck_[object] = why;
+      return false;
+    }
+    if (std::find(blocked_.begin(), blocked_.end(), object) != blocked_.end()) return false;
     blocked_.push_back(object);
+    why_stuck_[object] = why;
     return true;
+  }
+
+  bool blocked_by_target(const Failure& failure) const {
+    return std::find(failure.blocking_objects.begin(), failure.blocking_objects.end(), target_) !=
+           failure.blocking_objects.end();
+  }
+
+  // Lets the graph's ways pass `object`, which can leave only after the target.
+  bool stay(ObjectIndex object, const Failure& why) {
+    if (std::find(stays_.begin(), stays_.end(), object) != stays_.end()) return avoid(object, why);
+    stays_.push_back(object);
+    std::sort(stays_.begin(), stays_.end());
+    why_stuck_[object] = why;
+    return true;
+  }
+
+  // What the feedback of this round holds, to tell a round after a restart that learnt
+  // exactly what an earlier one did: then fresh draws change nothing.
+  std::vector<std::vector<std::uint64_t>> round_signature() const {
+    std::vector<std::vector<std::uint64_t>> out;
+    for (const Feedback& f : feedback_) {
+      std::vector<std::uint64_t> row{static_cast<std::uint64_t>(f.where), f.object};
+      row.insert(row.end(), f.objects.begin(), f.objects.end());
+      out.push_back(std::move(row));
+    }
+    out.emplace_back(blocked_.begin(), blocked_.end());
+    out.emplace_back(stays_.begin(), stays_.end());
+    return out;
+  }
+
+  // Why no sequence works once rounds repeat: the objects the feedback could not get
+  // out of the way, each with its last failure.
+  std::string stuck_reason(std::uint64_t restarts) const {
+    std::string out = "no removal sequence works: " + std::to_string(restarts) +
+                      " fresh draws of the samplers met the same failures";
+    const Scene& scene = context_.scene();
+    for (const auto& [object, failure] : why_stuck_) {
+      out += "; '" + scene.objects[object].id + "' " +
+             (object == target_ ? "cannot be retrieved" : "cannot be moved out of the way") + " (" + failure.stage + ": " +
+             failure.reason + ")";
+    }
+    return out;
   }
 
   // The distinct sets of removable objects blocking `object`'s freeable grasps in
@@ -663,6 +728,8 @@ class Search {
   std::size_t clustered_size_ = 0;  // roadmap nodes when clustered_ was made
   std::vector<int> node_of_;
   std::vector<ObjectIndex> blocked_;
+  ObjectSet stays_;  // objects only the target's leaving frees: the graph's ways may pass them
+  std::map<ObjectIndex, Failure> why_stuck_;  // avoided objects (and the target), with why
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;
   std::vector<ObjectSet> tried_;  // every removal order checked, in order
   retrieval::RemovalChecker checker_;

@@ -7,6 +7,11 @@
 
 namespace cluttertamp {
 
+/// Overlaps of two bodies up to this depth are resting contact, deeper ones
+/// interpenetration, m: what a scene file may hold (an object standing a rounding error
+/// into its shelf board) and what the planners' planar tests therefore ignore.
+inline constexpr double kContactTolerance = 1e-3;
+
 /// A box centred at its frame's origin. `size` holds the full edge lengths along the
 /// frame's x, y and z axes, in metres.
 struct Box {

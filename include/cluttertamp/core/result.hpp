@@ -57,6 +57,14 @@ struct Timing {
   double total = 0.0;
 };
 
+/// The work and time of one phase of planning (a kind of motion, the task search, ...),
+/// summed over its calls: where a run's effort went, without a profiler.
+struct PhaseTotals {
+  std::uint64_t calls = 0;
+  std::uint64_t collision_checks = 0;  ///< counted inside the phase, nested phases included
+  double seconds = 0.0;                ///< wall-clock, nested phases included
+};
+
 /// Names of the counters every planner is expected to fill (others may be added).
 namespace counter {
 inline constexpr const char* samples = "samples";
@@ -73,6 +81,9 @@ struct Result {
   std::vector<ObjectIndex> moved_objects;  ///< in the order they were moved
   Timing time;
   std::map<std::string, std::uint64_t> counters;
+  /// By phase name ("pick.transfer", "retrieve.carry", ...): what each phase of the run
+  /// cost (plugin::Phase fills it). Phases may nest; the names say which.
+  std::map<std::string, PhaseTotals> phases;
   std::vector<Failure> failures;  ///< what went wrong along the way, solved or not
   std::vector<PlaneDrawing> drawings;  ///< optional: what the planner built, for the viewer
 };

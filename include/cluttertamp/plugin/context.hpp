@@ -83,6 +83,8 @@ struct PlanningContext {
   /// The value of counters[counter::collision_checks] at which this sub-task's work
   /// budget ends; no budget by default.
   std::uint64_t checks_until = std::numeric_limits<std::uint64_t>::max();
+  /// Where Phase adds what each phase of the run cost; null: not recorded.
+  std::map<std::string, PhaseTotals>* phases = nullptr;
 
   const Scene& scene() const { return problem.scene; }
   /// The problem's robot; precondition: problem.robot.loaded is set.
@@ -114,6 +116,28 @@ struct PlanningContext {
     c.seed = other;
     return c;
   }
+};
+
+/// Adds one call of phase `name` with `checks` collision checks and `seconds` to
+/// `context.phases` (nothing when the context records no phases).
+CLUTTERTAMP_API void add_phase(const PlanningContext& context, const std::string& name, std::uint64_t checks,
+                               double seconds);
+
+/// Adds the collision checks and wall-clock time between its construction and its
+/// destruction to `context.phases[name]` (nothing when the context records no phases).
+/// The checks are work and reproducible; the seconds are for profiles only.
+class CLUTTERTAMP_API Phase {
+ public:
+  Phase(const PlanningContext& context, std::string name);
+  ~Phase();
+  Phase(const Phase&) = delete;
+  Phase& operator=(const Phase&) = delete;
+
+ private:
+  const PlanningContext& context_;
+  std::string name_;
+  std::uint64_t checks_at_start_;
+  Deadline::Clock::time_point started_;
 };
 
 }  // namespace cluttertamp::plugin

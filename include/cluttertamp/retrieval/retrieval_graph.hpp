@@ -48,6 +48,8 @@ class CLUTTERTAMP_API RetrievalGraph {
   /// Adds `objects` (sorted) to the node's NodeCol: robot feedback that a way through
   /// the node needs them gone too.
   void add_to_node_col(int node, const ObjectSet& objects);
+  /// Takes `objects` out of the node's NodeCol: objects a way through the node may pass.
+  void remove_from_node_col(int node, const ObjectSet& objects);
   /// See GraphNode::entry_cost; metres, >= 0.
   void set_entry_cost(int node, double metres) { graph_[static_cast<std::size_t>(node)].entry_cost = metres; }
   void set_start(int node) { start_ = node; }

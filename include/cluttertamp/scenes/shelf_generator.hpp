@@ -22,7 +22,9 @@ struct ShelfSpec {
   double floor_height = 0.4; ///< z of the cabinet floor's top
   double radius_min = 0.035, radius_max = 0.040;
   double height_min = 0.24, height_max = 0.29;
-  double min_gap = 0.01;  ///< between neighbouring cylinders, and to the walls
+  /// m between neighbouring cylinders, and to the walls. 0 is the paper's recipe
+  /// ("randomly and uniformly placed without any collisions"): neighbours may touch.
+  double min_gap = 0.0;
 };
 
 /// The cabinet size `spec` gives for its object count.
