@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
@@ -148,6 +149,45 @@ TEST_F(Manipulation, RetrievesTheTargetToTheExitPose) {
   EXPECT_EQ(out.segments.back().name, "carry");
   EXPECT_TRUE(out.after.world_T_objects[target].translation().isApprox(problem_.scene.world_T_exit.translation()));
   expect_collision_free(out, start(), target);
+}
+
+// Given the target's free way (here bent), the carry follows it: the held target on
+// the way's lines at its lifted height, then at x_s, no motion planned; once an object
+// stands on the way, the carry is planned. Both free.
+TEST_F(Manipulation, RetrieveCarriesAlongAGivenWay) {
+  const ObjectIndex target = add("target", 0.95, 0.0);
+  problem_.scene.target = target;
+  const std::vector<Eigen::Vector2d> way{{0.95, 0.0}, {0.85, 0.15}, {0.55, 0.15}, {0.45, 0.0}};
+  std::map<std::string, PhaseTotals> phases;
+  plugin::PlanningContext& c = context();
+  c.phases = &phases;
+  const manipulation::ActionOutcome out = manipulation::retrieve(c, start(), way);
+  ASSERT_TRUE(out.ok) << out.failure->reason;
+  EXPECT_EQ(out.segments.back().name, "carry");
+  EXPECT_EQ(phases.count("retrieve.carry"), 0u) << "planned although the way was free";
+  ASSERT_EQ(phases.count("retrieve.carry_along"), 1u);
+  EXPECT_TRUE(out.after.world_T_objects[target].translation().isApprox(problem_.scene.world_T_exit.translation()));
+  expect_collision_free(out, start(), target);
+  // Every configuration of the carry holds the target over the way (the last leg only
+  // lowers it to x_s).
+  auto checker = world_->make_context();
+  const Trajectory& carry = out.segments.back().trajectory;
+  const Eigen::Isometry3d grip = out.grasp->gripper_T_object;
+  for (std::size_t k = 0; k < carry.positions.size(); ++k) {
+    const Eigen::Vector2d p = (world_->tool_pose(carry.positions[k], *checker) * grip).translation().head<2>();
+    double nearest = 1e9;
+    for (std::size_t i = 0; i + 1 < way.size(); ++i) nearest = std::min(nearest, distance_to_segment(p, way[i], way[i + 1]));
+    EXPECT_LT(nearest, 1e-3) << "waypoint " << k;
+  }
+
+  add("on_the_way", 0.7, 0.15);
+  phases.clear();
+  plugin::PlanningContext& again = context();
+  again.phases = &phases;
+  const manipulation::ActionOutcome planned = manipulation::retrieve(again, start(), way);
+  ASSERT_TRUE(planned.ok) << planned.failure->reason;
+  EXPECT_EQ(phases.count("retrieve.carry"), 1u);
+  expect_collision_free(planned, start(), target);
 }
 
 // Holding an object among neighbours, move_out backs the tool out along its approach

@@ -113,5 +113,41 @@ TEST_F(RoadmapTest, RevealingObjectsUpdatesTheRoadmapAsIfBuiltWithThem) {
   EXPECT_GT(boost::degree(1, g), 0u);
 }
 
+// The free way of the target's footprint: none while the wall of cylinders stands;
+// with one of them gone, a way from x_g to x_s on which every segment sweeps past
+// nothing but fixed-free space (the first may start touching, as x_g may).
+TEST_F(RoadmapTest, FreeWayPassesOnlyWhatIsGone) {
+  Roadmap roadmap = make(5);
+  const RoadmapOptions options;
+  for (int limit : {0, 1, 1, 1}) roadmap.expand(limit, options);
+  std::vector<bool> gone(scene_.objects.size(), false);
+  EXPECT_TRUE(roadmap.free_way(gone).empty()) << "the wall of cylinders leaves no gap for the footprint";
+
+  const ObjectIndex opened = 2;  // the cylinder at y = 0.07
+  gone[opened] = true;
+  world_->remove_object(opened);  // the world as it is once the cylinder is gone
+  const std::vector<Eigen::Vector2d> way = roadmap.free_way(gone);
+  world_->restore_object(opened);
+  ASSERT_GE(way.size(), 2u);
+  EXPECT_TRUE(way.front().isApprox(Eigen::Vector2d(1.1, 0.0)));
+  EXPECT_TRUE(way.back().isApprox(Eigen::Vector2d(0.4, 0.0)));
+  for (std::size_t k = 0; k + 1 < way.size(); ++k) {
+    for (ObjectIndex o : roadmap.edge_col(way[k], way[k + 1])) {
+      EXPECT_TRUE(gone[o]) << "segment " << k << " meets object " << o;
+    }
+    if (k > 0) EXPECT_FALSE(roadmap.hits_fixed(way[k], way[k + 1])) << "segment " << k;
+  }
+  // The way crosses the wall's line through the opened gap: its footprint (5 cm) between
+  // the cylinders at y = -0.07 and 0.2 (3.75 cm).
+  bool crossed = false;
+  for (std::size_t k = 0; k + 1 < way.size(); ++k) {
+    const Eigen::Vector2d a = way[k], b = way[k + 1];
+    if ((a.x() - 0.85) * (b.x() - 0.85) > 0) continue;
+    const double y = a.y() + (b.y() - a.y()) * (0.85 - a.x()) / (b.x() - a.x());
+    crossed = crossed || (y > -0.07 + 0.0875 - 1e-3 && y < 0.2 - 0.0875 + 1e-3);
+  }
+  EXPECT_TRUE(crossed);
+}
+
 }  // namespace
 }  // namespace cluttertamp::retrieval

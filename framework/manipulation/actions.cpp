@@ -198,6 +198,49 @@ std::optional<Trajectory> move_out(plugin::PlanningContext& context, const World
 
 namespace {
 
+// The point of the polyline `way` nearest `p` and the index of the vertex after it.
+std::pair<Eigen::Vector2d, std::size_t> nearest_on(std::span<const Eigen::Vector2d> way, const Eigen::Vector2d& p) {
+  std::pair<Eigen::Vector2d, std::size_t> best{way.front(), 1};
+  double best_distance = (p - way.front()).norm();
+  for (std::size_t k = 0; k + 1 < way.size(); ++k) {
+    const Eigen::Vector2d d = way[k + 1] - way[k];
+    const double t = d.squaredNorm() > 0 ? std::clamp((p - way[k]).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+    const Eigen::Vector2d on = way[k] + t * d;
+    if ((p - on).norm() < best_distance) {
+      best_distance = (p - on).norm();
+      best = {on, k + 1};
+    }
+  }
+  return best;
+}
+
+// The held object carried from where it is in `holding` through `corners` (its
+// positions, world frame) in straight lines of kLineStep steps, its orientation kept:
+// each configuration from IK seeded by the one before, joined by a segment free in
+// `holding`; the first is holding's. Empty where a segment is blocked or the line
+// leaves reach. No jump limit: near a wrist singularity the nearest IK branch turns
+// the wrist half a turn within one step, which the dense check of the segment covers.
+std::optional<std::vector<Eigen::VectorXd>> carry_through(plugin::PlanningContext& context, const WorldState& holding,
+                                                          const Eigen::Isometry3d& gripper_T_object,
+                                                          const std::vector<Eigen::Vector3d>& corners) {
+  const robot::RobotDescription& robot = context.robot();
+  const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
+  const Eigen::Isometry3d object_T_tool = gripper_T_object.inverse();
+  Eigen::Isometry3d object = holding.world_T_objects[*holding.held];
+  std::vector<Eigen::VectorXd> waypoints{holding.robot_configuration};
+  for (const Eigen::Vector3d& corner : corners) {
+    const Eigen::Vector3d from = object.translation();
+    const int steps = static_cast<int>(std::ceil((corner - from).norm() / kLineStep));
+    for (int s = 1; s <= steps; ++s) {
+      object.translation() = from + (corner - from) * (double(s) / steps);
+      const auto ik = robot.ik().solve(base_T_world * object * object_T_tool, waypoints.back());
+      if (ik.empty() || !straight_free(context, holding, waypoints.back(), ik[0], {})) return std::nullopt;
+      waypoints.push_back(ik[0]);
+    }
+  }
+  return waypoints;
+}
+
 // The rest of a pick once the transfer to `grasp`'s pre-grasp is planned: approach,
 // close the fingers, lift, and retreat when the way back is free.
 ActionOutcome grasped(plugin::PlanningContext& context, const WorldState& state, ObjectIndex object,
@@ -420,7 +463,7 @@ std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> exit_configuration(
 
 }  // namespace
 
-ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state) {
+ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state, std::span<const Eigen::Vector2d> way) {
   const ObjectIndex target = context.scene().target;
   ActionOutcome picked = pick(context, state, target);
   if (!picked.ok) return picked;
@@ -430,6 +473,33 @@ ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state
   if (!held_at_exit) {
     context.world->sync(state);  // as the other actions leave it
     return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
+  }
+  if (way.size() >= 2 && !BasePlacement::of(context.robot())) {
+    // From the lift, where the target still stands over the way's first point (the
+    // retreat backs it off the way): along the way at the lifted height, then to x_s.
+    ActionOutcome lifted = picked;
+    if (lifted.segments.back().name == "retreat") {
+      lifted.segments.pop_back();
+      lifted.after.robot_configuration = lifted.segments.back().trajectory.positions.back();
+      lifted.after.world_T_objects[target] = held_pose(context, lifted.after.robot_configuration, lifted.grasp->gripper_T_object);
+    }
+    const Eigen::Vector3d from = lifted.after.world_T_objects[target].translation();
+    std::vector<Eigen::Vector3d> corners;
+    const auto [joined, next] = nearest_on(way, from.head<2>());
+    corners.emplace_back(joined.x(), joined.y(), from.z());
+    for (std::size_t k = next; k < way.size(); ++k) corners.emplace_back(way[k].x(), way[k].y(), from.z());
+    corners.push_back(held_at_exit->second.translation());
+    const auto along = [&] {
+      plugin::Phase phase(context, "retrieve.carry_along");
+      return carry_through(context, lifted.after, lifted.grasp->gripper_T_object, corners);
+    }();
+    context.world->sync(state);  // as the other actions leave it
+    if (along) {
+      lifted.segments.push_back({"carry", timed(context.robot(), *along)});
+      lifted.after.world_T_objects[target].translation() = held_at_exit->second.translation();
+      lifted.after.robot_configuration = along->back();
+      return lifted;
+    }
   }
   std::optional<Failure> why;
   const auto carry = [&] {

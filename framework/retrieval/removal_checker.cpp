@@ -62,7 +62,8 @@ const RemovalChecker::Step& RemovalChecker::step(std::span<const ObjectIndex> pr
   Step s;
   if (object == context_.scene().target) {
     plugin::Phase phase(context, "check.retrieve");
-    const manipulation::ActionOutcome out = manipulation::retrieve(context, before);
+    const std::vector<Eigen::Vector2d> way = way_out_ ? way_out_(before) : std::vector<Eigen::Vector2d>{};
+    const manipulation::ActionOutcome out = manipulation::retrieve(context, before, way);
     s.ok = out.ok;
     s.failure = out.failure;
     if (out.ok) {

@@ -1,7 +1,9 @@
 #include "cluttertamp/retrieval/roadmap.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <map>
+#include <queue>
 
 #include "cluttertamp/core/geometry.hpp"
 #include <random>
@@ -195,6 +197,53 @@ void Roadmap::move_goal(const Eigen::Vector2d& x_g, const RoadmapOptions& option
   graph_[1].col = col(x_g);
   index_->tree.insert({Point(x_g.x(), x_g.y()), 1});
   connect(1, options);
+}
+
+std::vector<Eigen::Vector2d> Roadmap::free_way(const std::vector<bool>& gone) const {
+  const std::size_t n = boost::num_vertices(graph_);
+  auto passable = [&](std::size_t v) {
+    return std::all_of(graph_[v].col.begin(), graph_[v].col.end(),
+                       [&](ObjectIndex o) { return o < gone.size() && gone[o]; });
+  };
+  // Dijkstra from x_g over passable nodes, edge length as cost.
+  std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+  std::vector<std::size_t> previous(n, n);
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  if (n < 2 || !passable(1)) return {};
+  dist[1] = 0.0;
+  open.push({0.0, 1});
+  while (!open.empty()) {
+    const auto [d, v] = open.top();
+    open.pop();
+    if (d > dist[v]) continue;
+    if (v == 0) break;
+    for (auto [w, end] = boost::adjacent_vertices(v, graph_); w != end; ++w) {
+      const double through = d + (graph_[*w].x - graph_[v].x).norm();
+      if (through < dist[*w] && passable(*w)) {
+        dist[*w] = through;
+        previous[*w] = v;
+        open.push({through, *w});
+      }
+    }
+  }
+  if (previous[0] == n) return {};
+  std::vector<Eigen::Vector2d> way;
+  for (std::size_t v = 0; v != n; v = previous[v]) way.push_back(graph_[v].x);
+  std::reverse(way.begin(), way.end());
+  // Greedy shortcuts: from each kept point, the farthest later point a free sweep reaches.
+  const ObjectIndex ignored[] = {target_};
+  auto free = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return !world_.sweep_hits_fixed(a, b, footprint_) && world_.swept_objects(a, b, footprint_, ignored).empty();
+  };
+  std::vector<Eigen::Vector2d> shortened{way.front()};
+  for (std::size_t i = 0; i + 1 < way.size();) {
+    std::size_t j = way.size() - 1;
+    while (j > i + 1 && !free(way[i], way[j])) --j;
+    shortened.push_back(way[j]);
+    i = j;
+  }
+  return shortened;
 }
 
 RetrievalGraph Roadmap::cluster(const std::vector<bool>& removed, std::function<Eigen::Vector2d(ObjectIndex)> position,

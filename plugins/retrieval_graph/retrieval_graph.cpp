@@ -106,6 +106,12 @@ class Search {
     roadmap_ = std::make_unique<retrieval::Roadmap>(*world_, footprint_, area, scene.world_T_exit.translation().head<2>(),
                                                     initial.world_T_objects[target_].translation().head<2>(), target_,
                                                     context.seed);
+    // The target leaves along its footprint's free way (the paper's end-effector path):
+    // a carry that follows it needs no motion planning.
+    checker_.set_way_out([this](const WorldState& after) {
+      world_->sync(after);
+      return roadmap_->free_way(after.removed);
+    });
   }
 
   // The graph of the current roadmap with every feedback node; objects already removed

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,16 @@ CLUTTERTAMP_API ActionOutcome place(plugin::PlanningContext& context, const Worl
 
 /// Retrieve the scene's target: pick it and carry it to the exit pose x_s (its centre
 /// there, upright). The target stays in the hand.
-CLUTTERTAMP_API ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state);
+///
+/// `way`: where the target may travel in the plane (world frame, m), from where it
+/// stands to x_s, e.g. a retrieval planner's free path of its footprint. When given,
+/// the carry first follows it: the target at its lifted height and orientation, the
+/// tool on that straight line every 2 cm by IK from the previous configuration, each
+/// segment checked densely; then straight to x_s. Where that is blocked or leaves
+/// reach, the carry is planned as without a way (move_out). Fixed-base robots only; a
+/// mobile base plans as without.
+CLUTTERTAMP_API ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state,
+                                       std::span<const Eigen::Vector2d> way = {});
 
 /// A motion from `state` (its held object included) to the configuration `goal` that
 /// first backs the tool out of where it is: along the tool's approach axis (its z axis,

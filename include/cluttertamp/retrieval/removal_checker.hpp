@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <span>
@@ -47,6 +48,13 @@ class CLUTTERTAMP_API RemovalChecker {
 
   /// remove(order), then the target out to the exit pose.
   RemovalCheck retrieve(std::span<const ObjectIndex> order, std::uint64_t salt = 0);
+  /// Where the target may travel, given the world after the removals: its footprint's
+  /// free way in the plane from where it stands to x_s (see manipulation::retrieve), or
+  /// empty for none known.
+  using WayOut = std::function<std::vector<Eigen::Vector2d>(const WorldState& after_removals)>;
+  /// The carry of every later retrieval first follows `way_out`'s way (a retrieval
+  /// planner's roadmap knows one); without it the carry is planned.
+  void set_way_out(WayOut way_out) { way_out_ = std::move(way_out); }
 
   /// The plan of a successful retrieve(order, salt): pick and place steps with their
   /// trajectories, then the retrieval; moved objects in order, target last; and a
@@ -79,7 +87,8 @@ class CLUTTERTAMP_API RemovalChecker {
   plugin::PlanningContext& context_;
   WorldState initial_;
   std::string region_;
-  std::map<Key, Step> steps_;  // key: the prefix then the object removed after it
+  std::map<Key, Step> steps_;
+  WayOut way_out_;  // key: the prefix then the object removed after it
   double motion_seconds_ = 0.0;
   std::uint64_t actions_planned_ = 0;
 };

@@ -63,6 +63,13 @@ class CLUTTERTAMP_API Roadmap {
   /// recomputed there and it joins its neighbours as expand() joins the ends.
   void move_goal(const Eigen::Vector2d& x_g, const RoadmapOptions& options);
 
+  /// The shortest way of the target's footprint from x_g (node 1) to x_s (node 0)
+  /// through roadmap nodes whose Col holds only objects marked in `gone` (their edges
+  /// then meet nothing else), shortened where a straight sweep in the world as it is
+  /// now meets no object and no fixed geometry: positions in the plane, x_g first and
+  /// x_s last. Empty when the roadmap joins them by no such way.
+  /// Precondition: the world is synced to the state the way is for.
+  std::vector<Eigen::Vector2d> free_way(const std::vector<bool>& gone) const;
   ObjectSet col(const Eigen::Vector2d& x) const;
   ObjectSet edge_col(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
   bool hits_fixed(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
