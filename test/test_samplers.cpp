@@ -175,6 +175,16 @@ TEST_F(SamplerScene, PlansACollisionFreeMotionWithinVelocityLimits) {
   for (std::size_t k = 0; k < t.positions.size(); ++k) EXPECT_EQ(again.trajectory->positions[k], t.positions[k]);
 }
 
+// The trees' step `range` is read with its location and must be positive.
+TEST_F(SamplerScene, MotionRangeMustBePositive) {
+  for (double range : {0.0, -0.5}) {
+    Parameters parameters;
+    parameters.set("range", range, {"p.yaml", 4, 7});
+    const Diagnostics d = test::expect_input_error([&] { registry_.create<plugin::MotionSampler>("motion_ompl", parameters); });
+    EXPECT_TRUE(test::has_error(d, 4, 7, "parameter 'range' must be in (0, 100]")) << range;
+  }
+}
+
 TEST_F(SamplerScene, TakesAFreeStraightSegmentWithoutSearching) {
   // Home to a pre-grasp above an empty table: the straight joint-space segment is free,
   // so the motion is that segment; a cylinder on it forces a detour around.
