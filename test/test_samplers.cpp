@@ -91,6 +91,7 @@ TEST_F(SamplerScene, NamesExactlyTheCylindersBlockingTheGrasp) {
   add("aside", 1.0, 0.35);  // nowhere near the approach
   Parameters narrow;
   narrow.set("spread", 5.0);  // approach only straight from the robot
+  narrow.set("wide_spread", 0.0);
   narrow.set("random", std::int64_t{0});
   const plugin::GraspAnswer answer = grasp(target, narrow);
   ASSERT_TRUE(answer.usable.empty());
@@ -101,6 +102,33 @@ TEST_F(SamplerScene, NamesExactlyTheCylindersBlockingTheGrasp) {
   EXPECT_EQ(best->blocking_objects, (std::vector<ObjectIndex>{front}));
   for (const plugin::BlockedGrasp& b : answer.blocked) {
     for (ObjectIndex o : b.blocking_objects) EXPECT_EQ(o, front);
+  }
+}
+
+// A neighbour 2 mm away, well round from the robot's line of sight, blocks every grasp
+// from the front (the fingers close across the line towards it): with nothing usable
+// within the spread, the wide pass finds a grasp from further round.
+TEST_F(SamplerScene, SideBySideCylindersAreGraspedFromFurtherRound) {
+  // The neighbour stands 85 degrees round from the robot's line of sight, 2 mm away.
+  const Eigen::Vector2d at(0.95, 0.0);
+  const double phi = 85.0 * M_PI / 180.0;
+  const ObjectIndex left = add("left", at.x(), at.y());
+  const ObjectIndex right = add("right", at.x() + 0.072 * std::cos(phi), at.y() + 0.072 * std::sin(phi));
+  for (ObjectIndex o : {left, right}) {  // tall, so that a grasp from the side keeps the forearm off the table
+    problem_.scene.objects[o].shape = Cylinder{0.035, 0.5};
+    problem_.scene.objects[o].world_T_object.translation().z() = 0.4 + 0.25;
+  }
+  Parameters front_only;
+  front_only.set("wide_spread", 0.0);
+  const plugin::GraspAnswer stuck = grasp(left, front_only);
+  ASSERT_TRUE(stuck.usable.empty()) << "within +-60 degrees the fingers meet the neighbour";
+  const plugin::GraspAnswer answer = grasp(left);
+  ASSERT_FALSE(answer.usable.empty()) << answer.failure->reason;
+  for (const plugin::Grasp& g : answer.usable) {
+    const Eigen::Vector3d approach = g.world_T_gripper.linear().col(2);
+    const double yaw = std::atan2(approach.y(), approach.x()) * 180.0 / M_PI;  // facing the robot is 0 here
+    EXPECT_GT(std::abs(yaw), 60.0 + 1e-6);
+    EXPECT_LE(std::abs(yaw), 100.0 + 1e-6);
   }
 }
 

@@ -26,12 +26,15 @@ using plugin::GraspMotion;
 constexpr double kPi = M_PI;
 // rad between the checks of a usable grasp's approach and lift: pick's dense check.
 constexpr double kDenseResolution = 0.01;
+// Degrees between the directions of the wide pass at the least.
+constexpr double kWideStep = 10.0;
 
 class SideGrasps final : public plugin::GraspSampler {
  public:
   void configure(const Parameters& p) override {
     directions_ = p.get_int("directions", directions_);
     spread_ = p.get_double("spread", spread_);
+    wide_spread_ = p.get_double("wide_spread", wide_spread_);
     heights_ = p.get_vector("heights", heights_);
     random_ = p.get_int("random", random_);
     approach_ = p.get_double("approach", approach_);
@@ -45,6 +48,7 @@ class SideGrasps final : public plugin::GraspSampler {
     p.require(base_distance_ >= 0 && base_distance_ < 3, "base_distance", "must be 0 (off) to 3 m");
     p.require(directions_ >= 1 && directions_ <= 64, "directions", "must be 1 to 64");
     p.require(spread_ >= 0 && spread_ <= 180, "spread", "must be 0 to 180 (degrees either side)");
+    p.require(wide_spread_ >= 0 && wide_spread_ <= 180, "wide_spread", "must be 0 to 180 (degrees either side; 0: off)");
     p.require(!heights_.empty() && std::all_of(heights_.begin(), heights_.end(), [](double h) { return h > 0 && h < 1; }),
               "heights", "must list fractions of the object's height in (0, 1)");
     p.require(random_ >= 0 && random_ <= 1000, "random", "must be 0 to 1000");
@@ -86,31 +90,39 @@ class SideGrasps final : public plugin::GraspSampler {
     std::mt19937_64 rng(context.seed ^ (0x9e3779b97f4a7c15ull * (query.object + 1)));
 
     bool previous_unreachable = true;
-    for (const Candidate& c : candidates(object, world_T_object, context.scene().world_T_robot_base, rng)) {
-      // The wrist turned over (tool x up) is tried only where the upright one is out of reach.
-      if (c.flipped && !previous_unreachable) continue;
-      context.count(counter::samples);
-      Grasp grasp = make_grasp(c, *half_width, object_height(object), world_T_object, gripper);
-      const std::size_t blocked_before = answer.blocked.size();
-      evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, answer);
-      if (answer.blocked.size() > blocked_before && answer.blocked.back().freeable && tight_clearance_ < clearance_) {
-        // Objects may stand closer than the fingers' usual clearance (the paper's shelves
-        // keep no gap): the same grasp with the fingers opened just enough.
-        grasp.finger_open = std::min(gripper.stroke / 2, *half_width + tight_clearance_);
-        GraspAnswer tight;
-        evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, tight);
-        if (!tight.usable.empty()) {
-          answer.blocked.pop_back();
-          answer.usable.push_back(std::move(tight.usable.front()));
-        } else if (tight.blocked.back().freeable &&
-                   tight.blocked.back().blocking_objects.size() < answer.blocked.back().blocking_objects.size()) {
-          answer.blocked.back() = std::move(tight.blocked.back());
+    // Evaluates `tried` in order into `answer`, up to max_usable_ usable grasps.
+    auto try_candidates = [&](const std::vector<Candidate>& tried) {
+      for (const Candidate& c : tried) {
+        // The wrist turned over (tool x up) is tried only where the upright one is out of reach.
+        if (c.flipped && !previous_unreachable) continue;
+        context.count(counter::samples);
+        Grasp grasp = make_grasp(c, *half_width, object_height(object), world_T_object, gripper);
+        const std::size_t blocked_before = answer.blocked.size();
+        evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, answer);
+        if (answer.blocked.size() > blocked_before && answer.blocked.back().freeable && tight_clearance_ < clearance_) {
+          // Objects may stand closer than the fingers' usual clearance (the paper's shelves
+          // keep no gap): the same grasp with the fingers opened just enough.
+          grasp.finger_open = std::min(gripper.stroke / 2, *half_width + tight_clearance_);
+          GraspAnswer tight;
+          evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, tight);
+          if (!tight.usable.empty()) {
+            answer.blocked.pop_back();
+            answer.usable.push_back(std::move(tight.usable.front()));
+          } else if (tight.blocked.back().freeable &&
+                     tight.blocked.back().blocking_objects.size() < answer.blocked.back().blocking_objects.size()) {
+            answer.blocked.back() = std::move(tight.blocked.back());
+          }
         }
+        previous_unreachable = answer.blocked.size() > blocked_before && !answer.blocked.back().freeable &&
+                               answer.blocked.back().reason.rfind("unreachable", 0) == 0;
+        if (static_cast<std::int64_t>(answer.usable.size()) >= max_usable_) break;
       }
-      previous_unreachable = answer.blocked.size() > blocked_before && !answer.blocked.back().freeable &&
-                             answer.blocked.back().reason.rfind("unreachable", 0) == 0;
-      if (static_cast<std::int64_t>(answer.usable.size()) >= max_usable_) break;
-    }
+    };
+    try_candidates(candidates(object, world_T_object, context.scene().world_T_robot_base, rng));
+    // Two cylinders standing a few millimetres apart side by side block each other's
+    // grasps from the front: from further round, across the line between them, they
+    // may come free (the paper's shelves keep no gap between objects).
+    if (answer.usable.empty()) try_candidates(wide_candidates(object, world_T_object, context.scene().world_T_robot_base));
     world.sync(*query.state);
     if (answer.usable.empty()) {
       const BlockedGrasp* best = answer.least_blocked();
@@ -188,6 +200,27 @@ class SideGrasps final : public plugin::GraspSampler {
       const double y = yaw(rng), h = height(rng);
       out.push_back({y, h, false});  // upright first; turned over only where it is out of reach
       out.push_back({y, h, true});
+    }
+    return out;
+  }
+
+  // Beyond +-spread, in the ring's steps (at least kWideStep), out to +-wide_spread of facing the robot:
+  // tried only when no grasp within the spread is usable. Upright cylinders only (a box
+  // has its own two sides).
+  std::vector<Candidate> wide_candidates(const SceneObject& object, const Eigen::Isometry3d& world_T_object,
+                                         const Eigen::Isometry3d& world_T_base) const {
+    std::vector<Candidate> out;
+    if (!std::holds_alternative<Cylinder>(object.shape) || directions_ < 2 || spread_ >= 180.0 - 1e-9) return out;
+    const Eigen::Vector2d d = (world_T_object.translation() - world_T_base.translation()).head<2>();
+    const double facing = std::atan2(d.y(), d.x());
+    const double step = std::max(kWideStep, 2 * spread_ / double(directions_ - 1));
+    for (double off = spread_ + step; off <= wide_spread_ + 1e-9; off += step) {
+      for (double side : {-1.0, 1.0}) {
+        for (double h : heights_) {
+          out.push_back({facing + side * off * kPi / 180.0, h, false});
+          out.push_back({facing + side * off * kPi / 180.0, h, true});
+        }
+      }
     }
     return out;
   }
@@ -339,6 +372,7 @@ class SideGrasps final : public plugin::GraspSampler {
 
   std::int64_t directions_ = 7;
   double spread_ = 60.0;  // degrees either side of facing the robot
+  double wide_spread_ = 100.0;  // degrees either side, tried when nothing within spread_ is usable
   std::vector<double> heights_{0.5, 0.35, 0.65};
   std::int64_t random_ = 4;
   double approach_ = 0.10;
