@@ -324,6 +324,30 @@ TEST_F(RetrievalPlanner, TightlyPackedShelvesEndWithAPlanOrAReason) {
   }
 }
 
+// No-gap shelves that once ended unsolved. Table V's 100 cylinders, where two stand
+// millimetres apart and each blocks the other's least blocked grasp (seed 1: o38 and o72
+// at the front, freed by a grasp from further round; seed 4: o44 and o89 deep inside,
+// where o44's grasp across their line needs six others moved first); 16 cylinders of
+// seed 19, where the first IK solution holding the target at x_s had the arm in itself.
+TEST_F(RetrievalPlanner, NoGapShelvesOnceStuckAreSolved) {
+  for (const auto& [objects, scene_seed] : std::vector<std::pair<int, std::uint64_t>>{{100, 1}, {100, 4}, {16, 19}}) {
+    scenes::ShelfSpec spec;
+    spec.objects = objects;
+    spec.min_gap = 0.0;
+    problem_.scene = scenes::generate_shelf_scene(spec, scene_seed);
+    const Result r = plan(1);
+    ASSERT_TRUE(r.solved) << objects << " objects, scene " << scene_seed << ": " << r.reason;
+    EXPECT_EQ(r.moved_objects.back(), problem_.scene.target);
+    std::set<ObjectIndex> distinct(r.moved_objects.begin(), r.moved_objects.end());
+    EXPECT_EQ(distinct.size(), r.moved_objects.size());
+    for (std::size_t i = 0; i + 1 < r.plan.size(); ++i) {
+      const auto& end = r.plan[i].trajectory->positions.back();
+      const auto& begin = r.plan[i + 1].trajectory->positions.front();
+      EXPECT_LT((end - begin).cwiseAbs().maxCoeff(), 1e-9) << "scene " << scene_seed << " step " << i;
+    }
+  }
+}
+
 // A motion not found is no proof: the exhaustive planner retries such checks with fresh
 // draws and says when its answer rests on them.
 TEST_F(RetrievalPlanner, ExhaustiveSaysWhenItsAnswerIsNoProof) {

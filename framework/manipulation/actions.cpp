@@ -432,15 +432,19 @@ std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> exit_configuration(
   const robot::RobotDescription& robot = context.robot();
   const Eigen::VectorXd& from = holding.robot_configuration;
   const auto mobile = BasePlacement::of(robot);
-  if (!mobile) {
-    const Eigen::Isometry3d tool = exit * grasp.gripper_T_object.inverse();
-    const auto solutions = robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, from);
-    if (solutions.empty()) return std::nullopt;
-    return std::pair(solutions[0], exit);
-  }
   collision::CollisionWorld& world = *context.world;
   world.sync(holding);
   auto checker = world.make_context();
+  if (!mobile) {
+    // The IK solutions nearest `from` first; one in collision (the arm folded into
+    // itself, say) would make every carry fail at its goal.
+    const Eigen::Isometry3d tool = exit * grasp.gripper_T_object.inverse();
+    for (const Eigen::VectorXd& q : robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, from)) {
+      context.count(counter::collision_checks);
+      if (world.is_valid(q, *checker, {})) return std::pair(q, exit);
+    }
+    return std::nullopt;
+  }
   const SceneObject& target = context.scene().objects.at(*holding.held);
   const bool turnable = std::holds_alternative<Cylinder>(target.shape) && std::abs(exit.linear()(2, 2)) > 1 - 1e-6;
   const auto& base = mobile->base_variables();

@@ -542,6 +542,12 @@ class Search {
       if (branch) return ++unexplained_branch_[*branch] >= 2 && kill_branch(*branch);
       return ++unexplained_[object] >= 2 && avoid(object, failure);
     }
+    // Objects blocking each other's least blocked grasps (two cylinders millimetres
+    // apart): one of them already waits for this object, so removing them first cannot
+    // work; another grasp's blockers that wait for nothing of this object's may.
+    if (object != target_ && waits_for(object, blocking)) {
+      if (const auto other = other_grasp_blockers(object, failure, at_failure, true)) blocking = *other;
+    }
     if (!seen_failures_[object].insert(blocking).second) {
       // The same object blocked by the same objects again: removing them first did not
       // help (objects blocking each other's least blocked grasps). Feed back the next
@@ -673,11 +679,26 @@ class Search {
     return sets;
   }
 
-  // The smallest of those, or nothing. Only grasp failures have alternatives.
-  std::optional<ObjectSet> other_grasp_blockers(ObjectIndex object, const Failure& failure, const WorldState& at_failure) {
+  // The smallest of those (with `acyclic`, of those none of whose objects waits for
+  // `object`), or nothing. Only grasp failures have alternatives.
+  std::optional<ObjectSet> other_grasp_blockers(ObjectIndex object, const Failure& failure, const WorldState& at_failure,
+                                                bool acyclic = false) {
     if (failure.stage != "grasp") return std::nullopt;
-    std::vector<ObjectSet> sets = grasp_blocker_sets(object, at_failure, true);
-    return sets.empty() ? std::nullopt : std::optional<ObjectSet>(std::move(sets.front()));
+    for (ObjectSet& set : grasp_blocker_sets(object, at_failure, true)) {
+      if (!acyclic || !waits_for(object, set)) return std::move(set);
+    }
+    return std::nullopt;
+  }
+
+  // True when an object of `blocking` was fed back as blocked by `object`: it waits for
+  // `object` to leave first.
+  bool waits_for(ObjectIndex object, const ObjectSet& blocking) const {
+    return std::any_of(blocking.begin(), blocking.end(), [&](ObjectIndex b) {
+      const auto it = seen_failures_.find(b);
+      return it != seen_failures_.end() && std::any_of(it->second.begin(), it->second.end(), [&](const ObjectSet& s) {
+               return std::binary_search(s.begin(), s.end(), object);
+             });
+    });
   }
 
   // The goal branches beside a target grasp's fed-back blockers (already seen): at most
