@@ -66,6 +66,26 @@ class RetrievalPlanner : public ::testing::Test {
     return planner->solve(context, s);
   }
 
+  // The scene becomes a generated shelf of `objects` cylinders at least `min_gap` apart.
+  void generate(int objects, std::uint64_t seed, double min_gap) {
+    scenes::ShelfSpec spec;
+    spec.objects = objects;
+    spec.min_gap = min_gap;
+    problem_.scene = scenes::generate_shelf_scene(spec, seed);
+  }
+
+  // A solved plan moves each object once, the target last, and its steps join up.
+  void expect_sound_plan(const Result& r, const std::string& where) const {
+    EXPECT_EQ(r.moved_objects.back(), problem_.scene.target) << where;
+    const std::set<ObjectIndex> distinct(r.moved_objects.begin(), r.moved_objects.end());
+    EXPECT_EQ(distinct.size(), r.moved_objects.size()) << where;
+    for (std::size_t i = 0; i + 1 < r.plan.size(); ++i) {
+      const auto& end = r.plan[i].trajectory->positions.back();
+      const auto& begin = r.plan[i + 1].trajectory->positions.front();
+      EXPECT_LT((end - begin).cwiseAbs().maxCoeff(), 1e-9) << where << ", step " << i;
+    }
+  }
+
   // A checker over the current scene from the robot's home configuration, seed 1.
   retrieval::RemovalChecker& removal_checker() {
     world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
@@ -160,22 +180,13 @@ TEST_F(RetrievalPlanner, PrunesToTheObjectsOfTheRemovalSequence) {
 // the feedback must offer other grasps' blockers and name what the dense check hit.
 TEST_F(RetrievalPlanner, SolvesGeneratedShelvesWithMutuallyBlockingObjects) {
   for (std::uint64_t scene_seed : {1u, 2u}) {
-    scenes::ShelfSpec spec;
-    spec.objects = 16;
-    spec.min_gap = 0.01;  // the scenes described above
-    problem_.scene = scenes::generate_shelf_scene(spec, scene_seed);
+    generate(16, scene_seed, 0.01);  // the scenes described above
     for (std::uint64_t seed : {0u, 1u}) {
       const Result r = plan(seed);
-      ASSERT_TRUE(r.solved) << "scene " << scene_seed << " seed " << seed << ": " << r.reason;
+      const std::string where = "scene " + std::to_string(scene_seed) + " seed " + std::to_string(seed);
+      ASSERT_TRUE(r.solved) << where << ": " << r.reason;
       ASSERT_GE(r.moved_objects.size(), 2u);
-      EXPECT_EQ(r.moved_objects.back(), problem_.scene.target);
-      std::set<ObjectIndex> distinct(r.moved_objects.begin(), r.moved_objects.end());
-      EXPECT_EQ(distinct.size(), r.moved_objects.size());
-      for (std::size_t i = 0; i + 1 < r.plan.size(); ++i) {
-        const auto& end = r.plan[i].trajectory->positions.back();
-        const auto& begin = r.plan[i + 1].trajectory->positions.front();
-        EXPECT_LT((end - begin).cwiseAbs().maxCoeff(), 1e-9) << "step " << i;
-      }
+      expect_sound_plan(r, where);
     }
   }
 }
@@ -308,10 +319,7 @@ TEST_F(RetrievalPlanner, TargetAHairIntoItsBoardIsRetrieved) {
 // apart); the planner once restarted on them until its limit.
 TEST_F(RetrievalPlanner, TightlyPackedShelvesEndWithAPlanOrAReason) {
   for (const auto& [objects, scene_seed] : std::vector<std::pair<int, std::uint64_t>>{{16, 100}, {20, 1900}, {12, 300}}) {
-    scenes::ShelfSpec spec;
-    spec.objects = objects;
-    spec.min_gap = 0.0;
-    problem_.scene = scenes::generate_shelf_scene(spec, scene_seed);
+    generate(objects, scene_seed, 0.0);
     const Result r = plan(0);
     const std::string where = std::to_string(objects) + " objects, seed " + std::to_string(scene_seed);
     if (r.solved) {
@@ -331,20 +339,11 @@ TEST_F(RetrievalPlanner, TightlyPackedShelvesEndWithAPlanOrAReason) {
 // seed 19, where the first IK solution holding the target at x_s had the arm in itself.
 TEST_F(RetrievalPlanner, NoGapShelvesOnceStuckAreSolved) {
   for (const auto& [objects, scene_seed] : std::vector<std::pair<int, std::uint64_t>>{{100, 1}, {100, 4}, {16, 19}}) {
-    scenes::ShelfSpec spec;
-    spec.objects = objects;
-    spec.min_gap = 0.0;
-    problem_.scene = scenes::generate_shelf_scene(spec, scene_seed);
+    generate(objects, scene_seed, 0.0);
     const Result r = plan(1);
-    ASSERT_TRUE(r.solved) << objects << " objects, scene " << scene_seed << ": " << r.reason;
-    EXPECT_EQ(r.moved_objects.back(), problem_.scene.target);
-    std::set<ObjectIndex> distinct(r.moved_objects.begin(), r.moved_objects.end());
-    EXPECT_EQ(distinct.size(), r.moved_objects.size());
-    for (std::size_t i = 0; i + 1 < r.plan.size(); ++i) {
-      const auto& end = r.plan[i].trajectory->positions.back();
-      const auto& begin = r.plan[i + 1].trajectory->positions.front();
-      EXPECT_LT((end - begin).cwiseAbs().maxCoeff(), 1e-9) << "scene " << scene_seed << " step " << i;
-    }
+    const std::string where = std::to_string(objects) + " objects, scene " + std::to_string(scene_seed);
+    ASSERT_TRUE(r.solved) << where << ": " << r.reason;
+    expect_sound_plan(r, where);
   }
 }
 
