@@ -347,6 +347,19 @@ TEST_F(RetrievalPlanner, NoGapShelvesOnceStuckAreSolved) {
   }
 }
 
+// initial_L: objects expands the roadmap once at L = |O|; where those T samples have not
+// joined x_s to x_g yet (this no-gap shelf), it grows the roadmap again instead of
+// giving up at once.
+TEST_F(RetrievalPlanner, FullInitialLimitGrowsTheRoadmapUntilItJoins) {
+  generate(20, 17, 0.0);
+  Parameters full;
+  full.set("initial_L", std::string("objects"));
+  const Result r = plan(1, "retrieval_graph", full);
+  ASSERT_TRUE(r.solved) << r.reason;
+  EXPECT_GE(r.counters.at("iterations"), 2u);
+  expect_sound_plan(r, "20 objects, scene 17");
+}
+
 // A motion not found is no proof: the exhaustive planner retries such checks with fresh
 // draws and says when its answer rests on them.
 TEST_F(RetrievalPlanner, ExhaustiveSaysWhenItsAnswerIsNoProof) {

@@ -245,8 +245,10 @@ class Search {
     int limit = initial_limit();
     const int objects = static_cast<int>(context_.scene().objects.size());
     std::uint64_t iterations = 0;
-    // At L = |O| the graph cannot grow: a few more rounds, each drawing afresh after
-    // an attempt that taught nothing, before giving up.
+    // At L = |O| the limit cannot grow: a few more rounds, each drawing afresh after an
+    // attempt that taught nothing, or growing a roadmap that has not yet joined x_s to
+    // x_g (with initial_L: objects, one expansion of T samples is all it had), before
+    // giving up.
     constexpr int kRoundsAtFullLimit = 3;
     int rounds_at_full_limit = 0;
     // Limits in a row whose expanded roadmap, with the feedback, held no path at all:
@@ -254,6 +256,7 @@ class Search {
     constexpr int kLimitsWithoutPath = 5;
     int limits_without_path = 0;
     bool stuck = false;
+    bool unjoined = false;  // the last expansion's roadmap held no way at all, with no feedback
     std::uint64_t sequences_at_restart = 0;
     int explored_limit = 0;  // the roadmap has been expanded for every L up to this
     // Rounds (restart to restart) whose feedback ended the same; at kSameRounds, stop.
@@ -262,7 +265,7 @@ class Search {
     bool repeated = false;
     for (;;) {
       if (context_.stopped()) break;
-      const bool exhausted = limit > objects && !(stuck && ++rounds_at_full_limit < kRoundsAtFullLimit);
+      const bool exhausted = limit > objects && !((stuck || unjoined) && ++rounds_at_full_limit < kRoundsAtFullLimit);
       const bool cut_off = settings_.restart && limits_without_path >= kLimitsWithoutPath &&
                            result.counters["planning_sequences"] > sequences_at_restart;
       if (exhausted || cut_off) {
@@ -287,6 +290,7 @@ class Search {
       }
       limit = std::min(limit, objects);
       stuck = false;
+      unjoined = false;
       // After a restart, the limits already explored keep their roadmap.
       if (result.counters["restarts"] == 0 || limit > explored_limit) roadmap_->expand(limit, settings_.roadmap);
       explored_limit = std::max(explored_limit, limit);
@@ -296,6 +300,7 @@ class Search {
         auto removal = g.removal_sequence();
         if (!removal) {
           if (!feedback_.empty()) ++limits_without_path;  // without feedback: K still too low
+          unjoined = feedback_.empty();
           break;
         }
         limits_without_path = 0;
