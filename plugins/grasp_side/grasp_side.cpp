@@ -204,9 +204,9 @@ class SideGrasps final : public plugin::GraspSampler {
     return out;
   }
 
-  // Beyond +-spread, in the ring's steps (at least kWideStep), out to +-wide_spread of facing the robot:
-  // tried only when no grasp within the spread is usable. Upright cylinders only (a box
-  // has its own two sides).
+  // Beyond +-spread, in the ring's steps (at least kWideStep), out to +-wide_spread of
+  // facing the robot: tried only when no grasp within the spread is usable. Upright
+  // cylinders only (a box has its own two sides).
   std::vector<Candidate> wide_candidates(const SceneObject& object, const Eigen::Isometry3d& world_T_object,
                                          const Eigen::Isometry3d& world_T_base) const {
     std::vector<Candidate> out;

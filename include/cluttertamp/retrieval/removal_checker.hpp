@@ -87,8 +87,8 @@ class CLUTTERTAMP_API RemovalChecker {
   plugin::PlanningContext& context_;
   WorldState initial_;
   std::string region_;
-  std::map<Key, Step> steps_;
-  WayOut way_out_;  // key: the prefix then the object removed after it
+  std::map<Key, Step> steps_;  // key: the prefix then the object removed after it
+  WayOut way_out_;
   double motion_seconds_ = 0.0;
   std::uint64_t actions_planned_ = 0;
 };
