@@ -198,22 +198,6 @@ std::optional<Trajectory> move_out(plugin::PlanningContext& context, const World
 
 namespace {
 
-// The point of the polyline `way` nearest `p` and the index of the vertex after it.
-std::pair<Eigen::Vector2d, std::size_t> nearest_on(std::span<const Eigen::Vector2d> way, const Eigen::Vector2d& p) {
-  std::pair<Eigen::Vector2d, std::size_t> best{way.front(), 1};
-  double best_distance = (p - way.front()).norm();
-  for (std::size_t k = 0; k + 1 < way.size(); ++k) {
-    const Eigen::Vector2d d = way[k + 1] - way[k];
-    const double t = d.squaredNorm() > 0 ? std::clamp((p - way[k]).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-    const Eigen::Vector2d on = way[k] + t * d;
-    if ((p - on).norm() < best_distance) {
-      best_distance = (p - on).norm();
-      best = {on, k + 1};
-    }
-  }
-  return best;
-}
-
 // The held object carried from where it is in `holding` through `corners` (its
 // positions, world frame) in straight lines of kLineStep steps, its orientation kept:
 // each configuration from IK seeded by the one before, joined by a segment free in
@@ -487,11 +471,9 @@ ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state
       lifted.after.robot_configuration = lifted.segments.back().trajectory.positions.back();
       lifted.after.world_T_objects[target] = held_pose(context, lifted.after.robot_configuration, lifted.grasp->gripper_T_object);
     }
-    const Eigen::Vector3d from = lifted.after.world_T_objects[target].translation();
+    const double lifted_z = lifted.after.world_T_objects[target].translation().z();
     std::vector<Eigen::Vector3d> corners;
-    const auto [joined, next] = nearest_on(way, from.head<2>());
-    corners.emplace_back(joined.x(), joined.y(), from.z());
-    for (std::size_t k = next; k < way.size(); ++k) corners.emplace_back(way[k].x(), way[k].y(), from.z());
+    for (const Eigen::Vector2d& x : way) corners.emplace_back(x.x(), x.y(), lifted_z);  // the first leg is empty
     corners.push_back(held_at_exit->second.translation());
     const auto along = [&] {
       plugin::Phase phase(context, "retrieve.carry_along");

@@ -550,7 +550,7 @@ class Search {
     // Objects blocking each other's least blocked grasps (two cylinders millimetres
     // apart): one of them already waits for this object, so removing them first cannot
     // work; another grasp's blockers that wait for nothing of this object's may.
-    if (object != target_ && waits_for(object, blocking)) {
+    if (object != target_ && any_waits_for(blocking, object)) {
       if (const auto other = other_grasp_blockers(object, failure, at_failure, true)) blocking = *other;
     }
     if (!seen_failures_[object].insert(blocking).second) {
@@ -690,15 +690,15 @@ class Search {
                                                 bool acyclic = false) {
     if (failure.stage != "grasp") return std::nullopt;
     for (ObjectSet& set : grasp_blocker_sets(object, at_failure, true)) {
-      if (!acyclic || !waits_for(object, set)) return std::move(set);
+      if (!acyclic || !any_waits_for(set, object)) return std::move(set);
     }
     return std::nullopt;
   }
 
-  // True when an object of `blocking` was fed back as blocked by `object`: it waits for
+  // True when one of `objects` was fed back as blocked by `object`: it waits for
   // `object` to leave first.
-  bool waits_for(ObjectIndex object, const ObjectSet& blocking) const {
-    return std::any_of(blocking.begin(), blocking.end(), [&](ObjectIndex b) {
+  bool any_waits_for(const ObjectSet& objects, ObjectIndex object) const {
+    return std::any_of(objects.begin(), objects.end(), [&](ObjectIndex b) {
       const auto it = seen_failures_.find(b);
       return it != seen_failures_.end() && std::any_of(it->second.begin(), it->second.end(), [&](const ObjectSet& s) {
                return std::binary_search(s.begin(), s.end(), object);
