@@ -761,6 +761,32 @@ TEST_F(Cli, TheOcclusionPlannerRetrievesAHiddenTargetMovingOnlyWhatItHadSeen) {
   }
 }
 
+// Occlusion shelves drawn as Table I's, solved where the planner once gave up: 12
+// objects seed 2 (the object hiding the target waits on a neighbour's removal: its
+// blocker goes first, and a temporary goal with no way there is given up for the next),
+// 20 objects seed 3 (the target and a neighbour block each other's grasps: another grasp
+// of the neighbour, whose blockers go first). The final removal sequence is a part of
+// what was moved, the target in it.
+TEST_F(Cli, TheOcclusionPlannerSolvesRandomShelvesAndCountsTheFinalSequence) {
+  for (const auto& [objects, seed] : {std::pair{12, 2}, std::pair{20, 3}}) {
+    const std::string name = "occr" + std::to_string(objects) + "-" + std::to_string(seed);
+    const fs::path problem = dir_ / (name + "-problem.yaml");
+    const CliRun g = run("generate --occlusion --occlusion-layout random --objects " + std::to_string(objects) + " --seed " +
+                         std::to_string(seed) + " --any --attempts 1 -q --output " + (dir_ / (name + ".yaml")).string() +
+                         " --problem " + problem.string());
+    ASSERT_EQ(g.exit_code, 0) << g.output;
+    const auto [r, result] = planned(problem, name, "-q");
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.output;
+    const std::vector<std::string> moved = result["moved_objects"];
+    EXPECT_EQ(moved.back(), "target") << name;
+    const int final_sequence = result["counters"]["final_sequence"];
+    EXPECT_GE(final_sequence, 2) << name;  // the target was hidden: something in front had to go
+    EXPECT_LE(final_sequence, static_cast<int>(moved.size())) << name;
+  }
+  // --occlusion-layout belongs to --occlusion.
+  EXPECT_EQ(run("generate --occlusion-layout random --objects 12 -q --output " + (dir_ / "x.yaml").string()).exit_code, 2);
+}
+
 // Algorithm 4's x_temp lies behind the deepest observed object; among equally deep
 // ones (the front row of occ16, all four at the same depth) it looks behind the one
 // nearest the line from x_s first: a middle column, reached straightest.

@@ -268,6 +268,33 @@ TEST_F(RetrievalPlanner, RemovalCheckerStartsEveryCheckFromTheInitialWorld) {
   EXPECT_TRUE(fresh.state.removed[wall[1]]);
 }
 
+// Which objects a plan needed moved: a cylinder straight in front of the target stood
+// where the retrieval passes, one beside the shelf's wall did not; and the removal of
+// the one in front passes where the one beside it stood only if it had to.
+TEST_F(RetrievalPlanner, MetByPlanNamesTheMovedObjectsThePlanPassesThrough) {
+  problem_.scene.target = add("target", 1.1, 0.0);
+  const ObjectIndex front = add("front", 0.92, 0.0), aside = add("aside", 1.1, 0.24);
+  removal_checker();
+  WorldState cleared = initial_;  // both taken away before the plan checked here
+  cleared.removed[front] = cleared.removed[aside] = true;
+  retrieval::RemovalChecker after(*context_, cleared, "buffer");
+  ASSERT_TRUE(after.retrieve({}).ok);
+  const std::vector<ObjectIndex> moved{front, aside};
+  EXPECT_EQ(after.met_by_plan({}, 0, true, moved, initial_), std::vector<ObjectIndex>{front});
+  EXPECT_TRUE(after.met_by_plan({}, 0, true, std::vector<ObjectIndex>{aside}, initial_).empty());
+
+  // A pick's motions count too: a cylinder at the shelf's opening before `front`.
+  const ObjectIndex opening = add("opening", 0.76, 0.0);
+  removal_checker();
+  WorldState opened = initial_;
+  opened.removed[opening] = true;
+  retrieval::RemovalChecker picking(*context_, opened, "buffer");
+  const std::vector<ObjectIndex> order{front};
+  ASSERT_TRUE(picking.remove(order).ok);
+  EXPECT_EQ(picking.met_by_plan(order, 0, false, std::vector<ObjectIndex>{opening, aside}, initial_),
+            std::vector<ObjectIndex>{opening});
+}
+
 // The bundled Table VI shelf whose fewest objects to move is 3 (proved by exhaustive):
 // with its removal order shortened, retrieval_graph moves exactly that many.
 TEST_F(RetrievalPlanner, ReachesTheKnownMinimumOfATableSixShelf) {

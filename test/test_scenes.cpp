@@ -1,10 +1,13 @@
 // Generated shelf scenes and the scene writer: round trips through the validator.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
 
 #include <gtest/gtest.h>
 
 #include "cluttertamp/io/scene_io.hpp"
+#include "cluttertamp/perception/visibility.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
 #include "test_support.hpp"
 
@@ -94,6 +97,49 @@ TEST(ShelfGenerator, CabinetSizesFollowThePaper) {
   EXPECT_TRUE(scenes::cabinet_size(spec).isApprox(Eigen::Vector3d(0.6, 0.9, 0.5)));
   spec.objects = 20;
   EXPECT_TRUE(scenes::cabinet_size(spec).isApprox(Eigen::Vector3d(0.7, 1.2, 0.5)));
+}
+
+// Occlusion shelves drawn as Table I's (the paper's Table II scenes): the camera at the
+// front cannot see the target, which is the hidden object nearest the middle of the back
+// wall; the scene round-trips and the seed decides it.
+TEST(OcclusionGenerator, RandomLayoutHidesTheTargetNearestTheBackMiddle) {
+  for (int objects : {12, 20}) {
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+      scenes::OcclusionSpec spec;
+      spec.layout = scenes::OcclusionLayout::random;
+      spec.objects = objects;
+      const Scene scene = scenes::generate_occlusion_scene(spec, seed);
+      const std::string where = scene.name;
+      ASSERT_EQ(scene.objects.size(), static_cast<std::size_t>(objects)) << where;
+      EXPECT_EQ(scene.objects[scene.target].id, "target") << where;
+      const std::vector<ObjectIndex> seen = perception::VisibilityModel(scene).observed(WorldState::initial(scene));
+      EXPECT_FALSE(seen.empty()) << where;
+      EXPECT_EQ(std::count(seen.begin(), seen.end(), scene.target), 0) << where;
+      const Eigen::Vector2d back(spec.front + scenes::cabinet_size({.objects = objects}).x(), 0.0);
+      auto distance = [&](ObjectIndex o) { return (scene.objects[o].world_T_object.translation().head<2>() - back).norm(); };
+      for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
+        if (std::count(seen.begin(), seen.end(), o) == 0) EXPECT_LE(distance(scene.target), distance(o)) << where;
+      }
+      std::set<std::string> ids;
+      for (const SceneObject& o : scene.objects) ids.insert(o.id);
+      EXPECT_EQ(ids.size(), scene.objects.size()) << where;
+      expect_same(scene, scenes::generate_occlusion_scene(spec, seed));
+      const auto file = std::filesystem::temp_directory_path() / (where + ".yaml");
+      io::write_scene(file, scene);
+      expect_same(scene, io::load_scene(file));
+      std::filesystem::remove(file);
+    }
+  }
+}
+
+// The columns layout: the camera sees the front row and nothing behind it.
+TEST(OcclusionGenerator, ColumnsLayoutShowsOnlyTheFrontRow) {
+  scenes::OcclusionSpec spec;
+  spec.columns = 4;
+  const Scene scene = scenes::generate_occlusion_scene(spec, 7);
+  ASSERT_EQ(scene.objects.size(), 16u);
+  const std::vector<ObjectIndex> seen = perception::VisibilityModel(scene).observed(WorldState::initial(scene));
+  EXPECT_EQ(seen, (std::vector<ObjectIndex>{0, 4, 8, 12}));
 }
 
 TEST(SceneWriter, RoundTripsStackedBoxesAndRotations) {

@@ -82,6 +82,7 @@ struct GenerateArgs {
   std::optional<double> min_gap;
   int max_attempts = 100;
   bool occlusion = false;  ///< an occlusion shelf (columns of 4 hidden behind a front row)
+  std::string occlusion_layout = "columns";  ///< with occlusion: "columns" or "random"
   bool table = false;      ///< a table for a mobile manipulator, reachable from every side
   Verbosity verbosity = Verbosity::normal;
 };
@@ -150,6 +151,7 @@ struct BenchArgs {
   double min_gap = 0.0;                  ///< bench retrieval: m between generated cylinders (0: the paper's)
   double table_v_width = 0.0;            ///< bench retrieval: Table V cabinet width, m; 0: ShelfSpec's
   std::string mobile_tables = "fig9";    ///< bench mobile: "fig9" (Tian et al.'s Fig. 9 tables) or "random"
+  std::vector<std::string> occlusion_layouts;  ///< bench occlusion: "columns", "random" (default both)
   Verbosity verbosity = Verbosity::normal;
   int runs = 3;                          ///< bench pddl
 };

@@ -121,9 +121,14 @@ int generate(const GenerateArgs& args) {
         if (args.min_gap) table.min_gap = *args.min_gap;
         scene = scenes::generate_table_scene(table, seed);
       } else if (args.occlusion) {
-        if (args.objects % 4 != 0) throw std::runtime_error("an occlusion shelf holds columns of 4: a multiple of 4 objects");
         scenes::OcclusionSpec occlusion;
-        occlusion.columns = args.objects / 4;
+        if (args.occlusion_layout == "random") {
+          occlusion.layout = scenes::OcclusionLayout::random;
+          occlusion.objects = args.objects;
+        } else {
+          if (args.objects % 4 != 0) throw std::runtime_error("an occlusion shelf holds columns of 4: a multiple of 4 objects");
+          occlusion.columns = args.objects / 4;
+        }
         scene = scenes::generate_occlusion_scene(occlusion, seed);
       } else {
         scene = scenes::generate_shelf_scene(spec, seed);

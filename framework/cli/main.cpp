@@ -185,9 +185,15 @@ int main(int argc, char** argv) {
                      "A table reachable from every side (Tian et al., Fig. 9): --objects cylinders, the target in the middle, "
                      "--width the table's side (default 0.7 m); its problem uses pr2_mobile (unless --robot names another) "
                      "and retrieval_graph with area_margin 0.3");
-  generate->add_flag("--occlusion", generate_args.occlusion,
+  auto* occlusion_flag = generate->add_flag("--occlusion", generate_args.occlusion,
                      "An occlusion shelf (Tian et al., Fig. 7): --objects / 4 columns of 4 cylinders, each hidden from the "
                      "camera by the one in front, the target at the back of one; its problem uses the occlusion planner");
+  generate->add_option("--occlusion-layout", generate_args.occlusion_layout,
+                       "With --occlusion: 'columns' (above) or 'random': --objects cylinders drawn as for Table I, the "
+                       "camera in front at their height, the target the hidden one nearest the back wall's middle")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"columns", "random"}))
+      ->needs(occlusion_flag);
   generate->add_flag("!--any", generate_args.require_removal,
                      "Keep the first scene even if the target comes out without removing anything");
   generate->add_option("--attempts", generate_args.max_attempts, "Scenes tried (seeds seed, seed+1, ...)")
@@ -267,7 +273,14 @@ int main(int argc, char** argv) {
                                           "size (default 20)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
-  bench->add_option("--sizes", bench_args.sizes, "retrieval, occlusion: object counts (default 12 16 20)")->check(CLI::Range(1, 100));
+  bench->add_option("--sizes", bench_args.sizes, "retrieval, occlusion: object counts (default 12 16 20)")->check(CLI::Range(1, 400));
+  bench->add_option("--occlusion-layout", bench_args.occlusion_layouts,
+                    "occlusion: 'columns' (each object hidden by the one in front) and/or 'random' (Table I shelves "
+                    "seen from the front, the target hidden); repeatable, default both")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->check(CLI::IsMember({"columns", "random"}));
   bench->add_option("--csv", bench_args.csv, "retrieval, push, occlusion: also write every run as CSV");
   bench->add_option("--svg", bench_args.svg, "push: also plot success rates and mean times (SVG)");
   bench_args.push_scenes = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/shelf10";

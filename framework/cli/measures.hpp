@@ -24,6 +24,9 @@ struct PaperMeasures {
 struct Measures {
   int runs = 0, solved = 0;
   std::vector<double> removed, seconds, iterations;
+  /// Occlusion: the objects of the final removal sequence (target included) per solved
+  /// run, where `removed` counts every object moved; empty: not measured.
+  std::vector<double> final_sequence;
 
   void add(bool ok, double removed_count, double time_s, double iteration_count) {
     ++runs;
@@ -46,6 +49,11 @@ struct Measures {
       return out.str();
     };
     auto p = [&](double PaperMeasures::*m) { return paper ? std::optional<double>((*paper).*m) : std::nullopt; };
+    if (!final_sequence.empty()) {
+      return {cell(mean_of(removed), std::nullopt, 2), cell(mean_of(final_sequence), p(&PaperMeasures::removed), 2),
+              cell(mean_of(seconds), p(&PaperMeasures::seconds), 2), cell(time_median(), std::nullopt, 2),
+              cell(mean_of(iterations), p(&PaperMeasures::iterations), 2), cell(success(), p(&PaperMeasures::success), 0)};
+    }
     return {cell(mean_of(removed), p(&PaperMeasures::removed), 2), cell(mean_of(seconds), p(&PaperMeasures::seconds), 2),
             cell(time_median(), std::nullopt, 2), cell(mean_of(iterations), p(&PaperMeasures::iterations), 2),
             cell(success(), p(&PaperMeasures::success), 0)};
@@ -56,6 +64,8 @@ struct Measures {
                                {"solved", solved},
                                {"success_rate", success() / 100},
                                {"removed_mean", mean_of(removed)},
+                               {"final_sequence_mean", final_sequence.empty() ? nlohmann::ordered_json(nullptr)
+                                                                              : nlohmann::ordered_json(mean_of(final_sequence))},
                                {"time_mean_s", mean_of(seconds)},
                                {"time_median_s", time_median()},
                                {"iterations_mean", mean_of(iterations)}};
@@ -72,8 +82,13 @@ inline void print_measures(std::ostream& out, const std::vector<std::string>& he
   out << std::left << std::setw(26) << "measure";
   for (const std::string& h : headers) out << std::setw(width) << h;
   out << "\n";
-  const char* labels[] = {"|O_r| (target included)", "time, mean (s)", "time, median (s)", "# iteration", "success rate (%)"};
-  for (std::size_t k = 0; k < 5; ++k) {
+  const bool both = !columns.empty() && columns.front().size() == 6;  // moved in total and final sequence
+  std::vector<std::string> labels{"|O_r| (target included)", "time, mean (s)", "time, median (s)", "# iteration", "success rate (%)"};
+  if (both) {
+    labels[0] = "|O_r| moved in total";
+    labels.insert(labels.begin() + 1, "|O_r| final sequence");
+  }
+  for (std::size_t k = 0; k < labels.size(); ++k) {
     out << std::setw(26) << labels[k];
     for (const auto& c : columns) out << std::setw(width) << c[k];
     out << "\n";

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <set>
 
 #include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
@@ -25,6 +27,32 @@ Trajectory join(const std::vector<manipulation::Segment>& segments) {
     offset = t.times.empty() ? 0.0 : t.times.back();
   }
   return t;
+}
+
+// The segments of `out` from index `from` up to (not including) `to`, joined.
+Trajectory join_range(const std::vector<manipulation::Segment>& segments, std::size_t from, std::size_t to) {
+  return join({segments.begin() + static_cast<std::ptrdiff_t>(from), segments.begin() + static_cast<std::ptrdiff_t>(to)});
+}
+
+// Index of the first segment named `name`, or the number of segments.
+std::size_t segment_index(const std::vector<manipulation::Segment>& segments, const std::string& name) {
+  std::size_t i = 0;
+  while (i < segments.size() && segments[i].name != name) ++i;
+  return i;
+}
+
+// The motions of a pick (or retrieve) of `object` from `before`: empty-handed up to the
+// lift, then holding the object as it stood when the fingers closed. (A template: the
+// step's motions are a private type of RemovalChecker.)
+template <class StepT>
+void add_taking_motions(StepT& s, const WorldState& before, ObjectIndex object, const manipulation::ActionOutcome& out) {
+  const std::size_t lift = segment_index(out.segments, "lift");
+  s.motions.push_back({before, join_range(out.segments, 0, lift)});
+  if (lift == out.segments.size()) return;
+  WorldState holding = before;
+  holding.held = object;
+  holding.robot_configuration = out.segments[lift].trajectory.positions.front();
+  s.motions.push_back({holding, join_range(out.segments, lift, out.segments.size())});
 }
 
 PlanStep plan_step(const std::string& action, ObjectIndex object, const manipulation::ActionOutcome& out) {
@@ -69,6 +97,7 @@ const RemovalChecker::Step& RemovalChecker::step(std::span<const ObjectIndex> pr
     if (out.ok) {
       s.after = out.after;
       s.steps.push_back(plan_step("retrieve", object, out));
+      add_taking_motions(s, before, object, out);
     }
   } else {
     std::optional<plugin::Phase> phase(std::in_place, context, "check.pick");
@@ -78,12 +107,16 @@ const RemovalChecker::Step& RemovalChecker::step(std::span<const ObjectIndex> pr
     s.failure = picked.failure;
     if (picked.ok) {
       s.steps.push_back(plan_step("pick", object, picked));
+      add_taking_motions(s, before, object, picked);
       s.after = picked.after;
       phase.emplace(context, "check.place");
       const manipulation::ActionOutcome placed = manipulation::place(context, picked.after, region_);
       phase.reset();
       if (placed.ok) {
         s.steps.push_back(plan_step("place", object, placed));
+        const std::size_t release = segment_index(placed.segments, "release");
+        s.motions.push_back({picked.after, join_range(placed.segments, 0, release)});
+        s.motions.push_back({placed.after, join_range(placed.segments, release, placed.segments.size())});
         s.after = placed.after;
       } else {
         s.note = Failure{"place", "'" + context_.scene().objects[object].id + "' could not be placed in '" + region_ +
@@ -158,6 +191,43 @@ void RemovalChecker::write_steps(std::span<const ObjectIndex> order, std::uint64
     if (s.note) result.failures.push_back(*s.note);
     result.moved_objects.push_back(object);
   }
+}
+
+std::vector<ObjectIndex> RemovalChecker::met_by_plan(std::span<const ObjectIndex> order, std::uint64_t salt,
+                                                     bool with_target, std::span<const ObjectIndex> restored,
+                                                     const WorldState& where) const {
+  std::vector<ObjectIndex> key, steps(order.begin(), order.end());
+  if (with_target) steps.push_back(context_.scene().target);
+  std::set<ObjectIndex> met;
+  collision::CollisionWorld& world = *context_.world;
+  auto checker = world.make_context();
+  for (ObjectIndex object : steps) {
+    key.push_back(object);
+    for (const Motion& m : steps_.at({key, salt}).motions) {
+      // Only the restored objects stand in this world: any touch is one of them.
+      WorldState state = m.start;
+      std::fill(state.removed.begin(), state.removed.end(), true);
+      if (state.held) state.removed[*state.held] = false;
+      for (ObjectIndex r : restored) {
+        if (r == object || r == state.held) continue;
+        state.removed[r] = false;
+        state.world_T_objects[r] = where.world_T_objects[r];
+      }
+      world.sync(state);
+      const std::vector<Eigen::VectorXd>& qs = m.trajectory.positions;
+      for (std::size_t i = 0; i < qs.size(); ++i) {
+        const Eigen::VectorXd& b = qs[i];
+        const Eigen::VectorXd& a = i ? qs[i - 1] : b;
+        const int n = std::max(1, static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / 0.01)));
+        for (int k = i ? 1 : 0; k <= n; ++k) {
+          const Eigen::VectorXd q = a + (b - a) * (double(k) / n);
+          if (!world.touches_object(q, *checker)) continue;
+          for (ObjectIndex o : world.check(q, *checker).objects) met.insert(o);
+        }
+      }
+    }
+  }
+  return {met.begin(), met.end()};
 }
 
 void RemovalChecker::write_plan(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const {

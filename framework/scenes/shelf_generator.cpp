@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -185,7 +186,44 @@ Scene generate_table_scene(const TableSpec& spec, std::uint64_t seed) {
   return scene;
 }
 
+namespace {
+
+// The camera of an occlusion shelf: 0.5 m behind the robot, `eye_height` above the
+// floor at z0, looking along +x.
+Eigen::Isometry3d occlusion_camera(double z0, double eye_height) {
+  Eigen::Isometry3d camera = at(-0.5, 0.0, z0 + eye_height);
+  camera.linear() << 0, 0, 1,  // optical z looks along +x, x to the right (-y), y down (-z)
+      -1, 0, 0,                //
+      0, -1, 0;
+  return camera;
+}
+
+Scene random_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed) {
+  ShelfSpec shelf;
+  shelf.objects = spec.objects;
+  shelf.front = spec.front;
+  shelf.floor_height = spec.floor_height;
+  Scene scene = generate_shelf_scene(shelf, seed);
+  scene.name = "occlusion-random" + std::to_string(spec.objects) + "-seed" + std::to_string(seed);
+  scene.world_T_camera = occlusion_camera(spec.floor_height, 0.15);
+  const std::vector<ObjectIndex> seen = perception::VisibilityModel(scene).observed(WorldState::initial(scene));
+  const Eigen::Vector2d back(spec.front + cabinet_size(shelf).x(), 0.0);
+  std::optional<ObjectIndex> hidden;
+  for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
+    if (std::find(seen.begin(), seen.end(), o) != seen.end()) continue;
+    auto distance = [&](ObjectIndex i) { return (scene.objects[i].world_T_object.translation().head<2>() - back).norm(); };
+    if (!hidden || distance(o) < distance(*hidden)) hidden = o;
+  }
+  if (!hidden) throw std::runtime_error("occlusion shelf: the camera sees all " + std::to_string(spec.objects) + " objects, none hides a target");
+  std::swap(scene.objects[*hidden].id, scene.objects[scene.target].id);
+  scene.target = *hidden;
+  return scene;
+}
+
+}  // namespace
+
 Scene generate_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed) {
+  if (spec.layout == OcclusionLayout::random) return random_occlusion_scene(spec, seed);
   if (spec.columns < 1 || spec.rows < 2) throw std::runtime_error("an occlusion shelf needs at least 1 column and 2 rows");
   const double z0 = spec.floor_height;
   const double front_radius = 0.045, front_height = 0.33, eye_height = 0.15;
@@ -198,11 +236,7 @@ Scene generate_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed) {
   const double depth = x_back + 0.04 + 0.02 - spec.front;
   Scene scene = cabinet(spec.front, depth, 2 * half, 0.5, z0, 0.27);
   scene.name = "occlusion" + std::to_string(spec.columns * spec.rows) + "-seed" + std::to_string(seed);
-  Eigen::Isometry3d camera = at(eye.x(), eye.y(), z0 + eye_height);
-  camera.linear() << 0, 0, 1,  // optical z looks along +x, x to the right (-y), y down (-z)
-      -1, 0, 0,                //
-      0, -1, 0;
-  scene.world_T_camera = camera;
+  scene.world_T_camera = occlusion_camera(z0, eye_height);
 
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> radius(0.033, 0.037), tall(0.24, 0.29), jitter(-0.01, 0.01);

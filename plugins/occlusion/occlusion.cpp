@@ -12,11 +12,13 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/perception/visibility.hpp"
 #include "cluttertamp/plugin/export.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/retrieval/removal_checker.hpp"
 #include "cluttertamp/retrieval/roadmap.hpp"
@@ -86,7 +88,9 @@ class Run {
       sync_roadmap();
       const std::optional<Goal> goal = next_goal();
       if (!goal) {
-        result.reason = "the target was never seen, and there is no place behind an observed object left to look";
+        result.reason = "the target was never seen, and there is no place behind an observed object left to look" +
+                        std::string(unreachable_.empty() ? "" : " (" + std::to_string(unreachable_.size()) +
+                                                                    " given up: no way there within the exploration limit)");
         break;
       }
       // An iteration of Algorithm 4: planning towards a new goal.
@@ -96,18 +100,32 @@ class Run {
       }
       std::optional<ObjectSet> order = way(limit);
       if (!order) {
-        if (limit >= known_movable()) {
-          result.reason = "no way to the " + std::string(world_.known(scene_.target) ? "target" : "temporary goal") +
-                          " within the exploration limit";
+        if (limit < known_movable()) {
+          roadmap_->expand(++limit, settings_.roadmap);
+          result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
+          continue;
+        }
+        // At the full limit an unjoined roadmap may only lack samples (a goal in a narrow
+        // gap): it grows a few more times towards this goal before the goal is given up.
+        if (extra_expansions_[goal->behind] < kExtraExpansions) {
+          ++extra_expansions_[goal->behind];
+          roadmap_->expand(limit, settings_.roadmap);
+          ++result.counters["extra_expansions"];
+          continue;
+        }
+        if (world_.known(scene_.target)) {
+          result.reason = "no way to the target within the exploration limit";
           break;
         }
-        roadmap_->expand(++limit, settings_.roadmap);
-        result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
+        // No way behind this object: look behind the next one (next_goal skips it).
+        unreachable_.insert(goal->behind);
+        ++result.counters["temporary_goals_given_up"];
         continue;
       }
       if (order->empty() && world_.known(scene_.target)) {
         if (retrieve(result)) {
           result.solved = true;
+          result.counters["final_sequence"] = final_sequence();
           break;
         }
         continue;
@@ -117,7 +135,7 @@ class Run {
         break;
       }
       // Unseen target and a free way to x_temp: take away what x_temp looks behind.
-      const ObjectIndex next = order->empty() ? goal->behind : first_free(order->front());
+      const ObjectIndex next = first_free(order->empty() ? goal->behind : order->front());
       remove(next, result);
     }
     if (!result.solved && result.reason.empty()) result.reason = "time limit reached before the target was retrieved";
@@ -197,7 +215,7 @@ class Run {
     std::vector<ObjectIndex> candidates;
     const std::vector<bool> gone = discounted();
     for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) {
-      if (!gone[o] && scene_.objects[o].movable && !blocked_.count(o)) candidates.push_back(o);
+      if (!gone[o] && scene_.objects[o].movable && !blocked_.count(o) && !unreachable_.count(o)) candidates.push_back(o);
     }
     // Farthest first in depth (along x_s to the middle of the shelf), in rows as deep as
     // the target's footprint radius; in a row, the one nearest the line from x_s first: the
@@ -282,28 +300,54 @@ class Run {
     return out;
   }
 
+  // `blockers` of a failed removal of `object`, unless they are none or one of them
+  // waits for `object` (two cylinders millimetres apart block each other's least blocked
+  // grasps, or a blocker was given up on): then the blockers of another grasp of
+  // `object`, the fewest, all known, movable and waiting for nothing of `object`'s.
+  std::vector<ObjectIndex> not_waiting(ObjectIndex object, std::vector<ObjectIndex> blockers,
+                                       const retrieval::RemovalCheck& check, const WorldState& belief) {
+    auto waits = [&](ObjectIndex b) {
+      const auto it = waits_for_.find(b);
+      return it != waits_for_.end() && it->second.count(object);
+    };
+    const bool grasp_failed = check.failure && check.failure->stage == "grasp";
+    if (!grasp_failed || (!blockers.empty() && std::none_of(blockers.begin(), blockers.end(), waits))) return blockers;
+    context_.world->sync(belief);
+    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &belief});
+    std::optional<std::vector<ObjectIndex>> best;
+    for (const plugin::BlockedGrasp& g : answer.blocked) {
+      if (!g.freeable || g.blocking_objects.empty()) continue;
+      const bool usable = std::all_of(g.blocking_objects.begin(), g.blocking_objects.end(), [&](ObjectIndex b) {
+        return b != object && b != scene_.target && world_.known(b) && scene_.objects[b].movable && !blocked_.count(b) && !waits(b);
+      });
+      if (usable && (!best || g.blocking_objects.size() < best->size())) best = g.blocking_objects;
+    }
+    return best ? *best : blockers;
+  }
+
   // Picks `object` and places it in the region (or carries it out), planned on what is
   // known and checked against the truth; then looks again.
   void remove(ObjectIndex object, Result& result) {
     const auto t0 = Clock::now();
     sync();
     const WorldState belief = world_.belief();
-    retrieval::RemovalChecker checker(context_, belief, settings_.region);
+    auto checker = std::make_unique<retrieval::RemovalChecker>(context_, belief, settings_.region);
     const ObjectIndex order[] = {object};
     const std::uint64_t salt = static_cast<std::uint64_t>(attempts_[object]);
-    const retrieval::RemovalCheck check = checker.remove(order, salt);
+    const retrieval::RemovalCheck check = checker->remove(order, salt);
     motion_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
     ++result.counters["removal_attempts"];
     if (!check.ok) {
       if (check.failure) retrieval::record_failure_once(result, *check.failure);
-      const std::vector<ObjectIndex> known_blockers = blockers_of(check, object);
+      if (check.failure) waits_for_[object].insert(check.failure->blocking_objects.begin(), check.failure->blocking_objects.end());
+      const std::vector<ObjectIndex> known_blockers = not_waiting(object, blockers_of(check, object), check, belief);
       // The blockers go first next time; an object that keeps failing is given up on.
       if (!known_blockers.empty()) blockers_[object] = known_blockers;
       if (++attempts_[object] >= settings_.max_attempts) blocked_.insert(object);
       return;
     }
     Result steps;
-    checker.write_steps(order, salt, steps);
+    checker->write_steps(order, salt, steps);
     for (const PlanStep& step : steps.plan) {
       const std::vector<ObjectIndex> hidden = hidden_in_the_way(step);
       if (!hidden.empty()) {
@@ -315,12 +359,15 @@ class Run {
     result.moved_objects.insert(result.moved_objects.end(), steps.moved_objects.begin(), steps.moved_objects.end());
     result.failures.insert(result.failures.end(), steps.failures.begin(), steps.failures.end());
     moved_.insert(object);
+    done_.push_back({object, salt, std::move(checker)});
     const std::vector<ObjectIndex> revealed = world_.update(check.state);
     result.counters["revealed"] += revealed.size();
     // The world changed: what could not be removed before may come out now.
     blockers_.clear();
     blocked_.clear();
     attempts_.clear();
+    unreachable_.clear();
+    waits_for_.clear();
     if (!revealed.empty()) {
       sync_roadmap();
       roadmap_->reveal(revealed);
@@ -339,16 +386,16 @@ class Run {
     const auto t0 = Clock::now();
     sync();
     const WorldState belief = world_.belief();
-    retrieval::RemovalChecker checker(context_, belief, settings_.region);
+    auto checker = std::make_unique<retrieval::RemovalChecker>(context_, belief, settings_.region);
     const std::uint64_t salt = static_cast<std::uint64_t>(attempts_[scene_.target]);
-    const retrieval::RemovalCheck check = checker.retrieve({}, salt);
+    const retrieval::RemovalCheck check = checker->retrieve({}, salt);
     motion_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
     ++result.counters["removal_attempts"];
     if (!check.ok) {
       if (check.failure) retrieval::record_failure_once(result, *check.failure);
-      const std::vector<ObjectIndex> known_blockers = blockers_of(check, scene_.target);
+      const std::vector<ObjectIndex> known_blockers = not_waiting(scene_.target, blockers_of(check, scene_.target), check, belief);
       if (!known_blockers.empty()) {
-        remove(known_blockers.front(), result);
+        remove(first_free(known_blockers.front()), result);
       } else if (++attempts_[scene_.target] >= settings_.max_attempts) {
         result.reason = "the target is seen and nothing known is in its way, but the robot could not retrieve it: " +
                         (check.failure ? check.failure->reason : std::string("no reason given"));
@@ -356,7 +403,7 @@ class Run {
       return false;
     }
     Result steps;
-    checker.write_plan({}, salt, steps);
+    checker->write_plan({}, salt, steps);
     for (const PlanStep& step : steps.plan) {
       const std::vector<ObjectIndex> hidden = hidden_in_the_way(step);
       if (!hidden.empty()) {
@@ -367,7 +414,26 @@ class Run {
     result.plan.insert(result.plan.end(), steps.plan.begin(), steps.plan.end());
     result.moved_objects.insert(result.moved_objects.end(), steps.moved_objects.begin(), steps.moved_objects.end());
     result.failures.insert(result.failures.end(), steps.failures.begin(), steps.failures.end());
+    done_.push_back({scene_.target, salt, std::move(checker)});
     return true;
+  }
+
+  // Tian et al.'s Table II counts the final removal sequence: objects moved only to
+  // look behind them are the extra cost of occlusion. These are the moved objects the
+  // plan needed moved (target included): those the target's retrieval would have met
+  // where they stood at first, then those the removal of a needed one would have met.
+  std::size_t final_sequence() const {
+    std::set<ObjectIndex> needed{scene_.target};
+    for (std::size_t i = done_.size(); i-- > 0;) {
+      const Removal& d = done_[i];
+      if (!needed.count(d.object)) continue;
+      std::vector<ObjectIndex> earlier;
+      for (std::size_t j = 0; j < i; ++j) earlier.push_back(done_[j].object);
+      const bool target = d.object == scene_.target;
+      const std::vector<ObjectIndex> order = target ? std::vector<ObjectIndex>{} : std::vector<ObjectIndex>{d.object};
+      for (ObjectIndex o : d.checker->met_by_plan(order, d.salt, target, earlier, initial_)) needed.insert(o);
+    }
+    return needed.size();
   }
 
   plugin::PlanningContext& context_;
@@ -379,9 +445,19 @@ class Run {
   collision::Footprint footprint_;
   Eigen::AlignedBox2d area_;
   std::set<ObjectIndex> moved_;  // taken away by the plan
+  struct Removal {  // a removal in the plan (the target's retrieval last), with its checker's motions
+    ObjectIndex object;
+    std::uint64_t salt;
+    std::unique_ptr<retrieval::RemovalChecker> checker;
+  };
+  std::vector<Removal> done_;
   std::unique_ptr<retrieval::Roadmap> roadmap_;
   std::set<ObjectIndex> blocked_;                           // could not be removed
+  std::set<ObjectIndex> unreachable_;  // no way to the temporary goal behind them (until the world changes)
+  static constexpr int kExtraExpansions = 3;
+  std::map<ObjectIndex, int> extra_expansions_;  // per goal (keyed by what it lies behind; the target's own)
   std::map<ObjectIndex, std::vector<ObjectIndex>> blockers_;  // known objects in the way of removing one
+  std::map<ObjectIndex, std::set<ObjectIndex>> waits_for_;    // every object a failed removal named, target included
   std::map<ObjectIndex, int> attempts_;
   double motion_seconds_ = 0.0;
 };

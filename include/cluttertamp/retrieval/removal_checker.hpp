@@ -64,6 +64,15 @@ class CLUTTERTAMP_API RemovalChecker {
   /// The pick and place steps of a successful remove(order, salt), without the target's.
   void write_steps(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const;
 
+  /// Of `restored` (objects gone from, or standing elsewhere in, the initial world), those
+  /// the robot or the object it holds would touch on the motions of remove(order, salt)
+  /// — and of the target's retrieval after it when `with_target` — had each stood at its
+  /// pose in `where`: the objects this plan needed moved before it. Configurations are
+  /// checked every 0.01 rad; the object being moved is never counted. Sorted.
+  /// Precondition: remove(order, salt) (retrieve, when `with_target`) returned ok.
+  std::vector<ObjectIndex> met_by_plan(std::span<const ObjectIndex> order, std::uint64_t salt, bool with_target,
+                                       std::span<const ObjectIndex> restored, const WorldState& where) const;
+
   double motion_seconds() const { return motion_seconds_; }  ///< spent planning actions, s
 
   /// Fills `result.time` — motion planning: motion_seconds(); task planning: the rest
@@ -72,11 +81,16 @@ class CLUTTERTAMP_API RemovalChecker {
   std::uint64_t actions_planned() const { return actions_planned_; }  ///< cache misses
 
  private:
+  struct Motion {  // a stretch of a step's motions with one held object (or none)
+    WorldState start;  // the held object's grip follows from its pose at start.robot_configuration
+    Trajectory trajectory;
+  };
   struct Step {  // removing one object after a prefix
     bool ok = false;
     std::optional<Failure> failure;
     WorldState after;
     std::vector<PlanStep> steps;
+    std::vector<Motion> motions;  // the steps' trajectories, split where the hand takes or lets go
     std::optional<Failure> note;  // carried out of the workspace
   };
   using Key = std::pair<std::vector<ObjectIndex>, std::uint64_t>;

@@ -37,14 +37,25 @@ CLUTTERTAMP_API Eigen::Vector3d cabinet_size(const ShelfSpec& spec);
 /// the objects do not fit after many attempts.
 CLUTTERTAMP_API Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed);
 
+/// How an occlusion shelf is laid out.
+enum class OcclusionLayout {
+  /// Columns of cylinders, each on a line from the camera so that each object is hidden
+  /// by the one in front of it (the paper's "each object is occluded by the object in
+  /// front of it"); the front row is larger (radius 4.5 cm, 33 cm tall) and is all the
+  /// camera sees at first; the target is at the back of a column drawn by the seed.
+  columns,
+  /// The cylinders of a Table I shelf (generate_shelf_scene, no minimum gap) drawn at
+  /// random; the target is the hidden object nearest the middle of the back wall.
+  random,
+};
+
 /// A shelf where objects hide one another from the camera (Tian et al., Section V-A,
-/// Fig. 7 and Table II): `columns` rows of `rows` standing cylinders, each column on a
-/// line from the camera, so that each object is hidden by the one in front of it; the
-/// front row is larger (radius 4.5 cm, 33 cm tall) and is all the camera sees at first.
-/// The target is at the back of a column drawn by the seed. The camera stands 0.5 m
-/// behind the robot at the height of the objects, looking into the cabinet.
+/// Fig. 7 and Table II). The camera stands 0.5 m behind the robot at the height of the
+/// objects (15 cm above the floor), looking into the cabinet.
 struct OcclusionSpec {
-  int columns = 3;
+  OcclusionLayout layout = OcclusionLayout::columns;
+  int objects = 12;  ///< random layout: how many cylinders (the cabinet as for a Table I shelf)
+  int columns = 3;   ///< columns layout: columns × rows cylinders
   int rows = 4;
   double column_spacing = 0.14;  ///< m between the front objects
   double row_spacing = 0.16;     ///< m along x
@@ -74,7 +85,8 @@ CLUTTERTAMP_API Scene generate_table_scene(const TableSpec& spec, std::uint64_t 
 
 /// The occlusion shelf of `spec` (same seed, same scene): objects "o1".. and "target".
 /// Throws std::runtime_error for fewer than 1 column or 2 rows, or when the camera
-/// would see more than the front row (a check of the layout).
+/// would see more than the front row (a check of the columns layout); in the random
+/// layout, when the camera sees every object (nothing hides a target).
 CLUTTERTAMP_API Scene generate_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed);
 
 }  // namespace cluttertamp::scenes
