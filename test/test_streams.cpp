@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/pddl/validator.hpp"
+#include "cluttertamp/stream/scene_facts.hpp"
 #include "cluttertamp/stream/stream_file.hpp"
 #include "cluttertamp/stream/stream_search.hpp"
 #include "stream/fact_base.hpp"
@@ -121,9 +123,16 @@ TEST(StreamFile, FunctionsAndFluentsAreCheckedAgainstTheDomain) {
 )",
                               "s.pddl", &d);
   });
-  EXPECT_TRUE(test::has_error(errors, 2, 14, "function 'length' is not declared in (:functions ...)"));
   EXPECT_TRUE(test::has_error(errors, 3, 78, "'conf' in :fluents of stream 'm' is never changed by an action"));
   EXPECT_TRUE(test::has_error(errors, 3, 83, "'nothing' in :fluents of stream 'm' is not a predicate"));
+  EXPECT_EQ(errors.size(), 2u) << errors.str();
+  // A :function the domain does not declare is the stream file's own, as PDDLStream
+  // reads it: accepted with a located warning (the domain never uses its values).
+  const stream::StreamFile own = stream::parse_stream_file("(define (stream s)\n  (:function (Length ?q) (Conf ?q)))", "s.pddl", &d);
+  ASSERT_EQ(own.warnings.size(), 1u);
+  EXPECT_EQ(own.warnings[0].location.line, 2u);
+  EXPECT_EQ(own.warnings[0].location.column, 14u);
+  EXPECT_NE(own.warnings[0].message.find("function 'length' is not declared in (:functions ...)"), std::string::npos);
 }
 
 TEST(StreamFile, TheBundledStreamFilesLoadAgainstTheirDomains) {
@@ -358,6 +367,33 @@ class BlocksLineFluents : public BlocksLine {
     problem_.bindings["test-free"] = &sampler_;
   }
 };
+
+// A pruner's obstacles stay where they stand: no Object, Pose or AtPose fact, so no
+// action moves them and no test is asked about them; movable objects and the target
+// keep theirs, and every object of the scene is still named.
+TEST(SceneFacts, ObstaclesHaveNoPoseFacts) {
+  const Scene scene = io::load_scene(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/scene8.yaml");
+  std::vector<bool> movable(scene.objects.size(), false);
+  movable[*scene.find_object("lid")] = movable[*scene.find_object("front_left")] = true;
+  const stream::SceneProblem sp = stream::scene_problem(scene, movable, "clutter-streams");
+  auto has = [&](const std::string& predicate, const std::string& object) {
+    return std::any_of(sp.problem.init.begin(), sp.problem.init.end(), [&](const pddl::Atom& a) {
+      return a.predicate == predicate && !a.args.empty() && a.args.front().name == object;
+    });
+  };
+  for (const char* name : {"lid", "front_left", "target"}) {
+    EXPECT_TRUE(has("object", name) && has("pose", name) && has("atpose", name)) << name;
+  }
+  for (const char* name : {"front_right", "side_1", "side_4"}) {
+    EXPECT_FALSE(has("object", name) || has("pose", name) || has("atpose", name)) << name;
+    EXPECT_EQ(sp.objects.count(name), 1u) << name;
+  }
+  EXPECT_TRUE(has("on", "lid"));  // what rests on an obstacle still says so
+  const stream::SceneProblem all = stream::scene_problem(scene, {}, "clutter-streams");
+  EXPECT_TRUE(std::all_of(scene.objects.begin(), scene.objects.end(),
+                          [&](const SceneObject& o) { return std::any_of(all.problem.init.begin(), all.problem.init.end(),
+                                                                         [&](const pddl::Atom& a) { return a.predicate == "atpose" && a.args.front().name == o.id; }); }));
+}
 
 TEST(FactBase, AFactCertifiedInAStateHoldsInThatStateOnlyAndStaysOutOfTheSearch) {
   const pddl::Domain d = domain();

@@ -105,14 +105,20 @@ int bench_pddl(const BenchArgs& args) {
         const auto t0 = std::chrono::steady_clock::now();
         search::GroundingStats stats;
         search::Task task;
-        try {
-          task = search::ground(domain, problem, &stats, args.time_limit);  // the limit holds grounding too
-        } catch (const search::TimeLimit&) {
+        const auto stopped = [&](std::string reason) {  // grounding's failure is this instance's result
           last = {};
-          last.reason = "time limit (grounding)";
+          last.reason = std::move(reason);
           ground_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
           search_s.push_back(0.0);
           total_s.push_back(ground_s.back());
+        };
+        try {
+          task = search::ground(domain, problem, &stats, args.time_limit);  // the limit holds grounding too
+        } catch (const search::TimeLimit&) {
+          stopped("time limit (grounding)");
+          break;
+        } catch (const search::TooLarge& e) {
+          stopped(std::string("grounding: ") + e.what());
           break;
         }
         search::SearchOptions options;

@@ -166,8 +166,16 @@ std::optional<std::string> repeat_difference(const Problem& problem, const plugi
 
 }  // namespace
 
+std::vector<Diagnostic> check_pddl_task(const Problem& problem);
+
 int plan(const PlanArgs& args) {
   Problem problem = io::load_problem(args.problem);
+  try {  // warnings about the PDDL files; their errors the planner reports as it always has
+    for (const Diagnostic& w : check_pddl_task(problem)) {
+      if (args.verbosity != Verbosity::quiet) std::cerr << w.str() << "\n";
+    }
+  } catch (const InputError&) {
+  }
   if (args.planner && *args.planner != problem.planner.name) problem.planner = PluginChoice{*args.planner, {}, {"--planner", 0, 0}};
   run::RunOptions options;
   if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
@@ -274,13 +282,16 @@ void print_objects(std::ostream& out, const Scene& scene) {
 
 // The PDDL files of a `task: pddl` problem, and its stream bindings against the stream
 // file: each declaration (rules aside) bound, each binding naming a declaration.
-void check_pddl_task(const Problem& problem) {
+// Returns the files' warnings.
+std::vector<Diagnostic> check_pddl_task(const Problem& problem) {
   const auto* task = std::get_if<PddlTask>(&problem.task);
-  if (!task) return;
+  if (!task) return {};
   const pddl::Domain domain = pddl::load_domain(task->domain);
   if (task->problem) pddl::load_problem(*task->problem, domain);
-  if (!task->streams) return;
+  if (!task->streams) return domain.warnings;
   const stream::StreamFile streams = stream::load_stream_file(*task->streams, &domain);
+  std::vector<Diagnostic> warnings = domain.warnings;
+  warnings.insert(warnings.end(), streams.warnings.begin(), streams.warnings.end());
   std::set<std::string> bound;  // PDDL names ignore case
   for (const auto& [name, choice] : problem.streams) bound.insert(pddl::lower_name(name));
   Diagnostics d;
@@ -294,6 +305,7 @@ void check_pddl_task(const Problem& problem) {
     if (!streams.find(pddl::lower_name(name))) d.error(choice.where, "stream '" + name + "' is not declared in " + task->streams->string());
   }
   d.throw_if_any();
+  return warnings;
 }
 
 int validate(const ValidateArgs& args) {
@@ -302,7 +314,9 @@ int validate(const ValidateArgs& args) {
     try {
       if (io::detect_file_kind(file) == io::FileKind::problem) {
         const Problem problem = io::load_problem(file);
-        check_pddl_task(problem);
+        for (const Diagnostic& w : check_pddl_task(problem)) {
+          if (args.verbosity != Verbosity::quiet) std::cerr << w.str() << "\n";
+        }
         if (!args.skip_plugins) {
           run::RunOptions options;
           options.plugin_paths = args.plugin_paths;

@@ -27,6 +27,9 @@ int pddl(const PddlArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   const pddl::Domain domain = pddl::load_domain(args.domain);
   const pddl::Problem problem = pddl::load_problem(args.problem, domain);
+  if (args.verbosity != Verbosity::quiet) {
+    for (const Diagnostic& w : domain.warnings) std::cerr << w.str() << "\n";
+  }
   // The time limit counts from the start: parsing is part of it.
   const double parsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (args.verbosity == Verbosity::verbose) {
@@ -38,6 +41,9 @@ int pddl(const PddlArgs& args) {
   try {
     if (parsed >= args.time_limit) throw search::TimeLimit("time limit (parsing)");
     task = search::ground(domain, problem, &grounding, args.time_limit - parsed);
+  } catch (const search::TooLarge& e) {
+    std::cerr << "no plan: grounding: " << e.what() << "\n";
+    return run::ExitCode::no_plan;
   } catch (const search::TimeLimit& e) {
     if (args.verbosity == Verbosity::verbose) {
       std::cerr << "stopped after " << number(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())

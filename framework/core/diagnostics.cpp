@@ -14,14 +14,19 @@ std::string SourceLocation::str() const {
   return out;
 }
 
-std::string Diagnostic::str() const { return location.str() + ": error: " + message; }
+std::string Diagnostic::str() const { return location.str() + (warning ? ": warning: " : ": error: ") + message; }
 
 void Diagnostics::error(SourceLocation location, std::string message) {
   items_.push_back({std::move(location), std::move(message)});
 }
 
+void Diagnostics::warning(SourceLocation location, std::string message) {
+  warnings_.push_back({std::move(location), std::move(message), true});
+}
+
 void Diagnostics::append(const Diagnostics& other) {
   items_.insert(items_.end(), other.items_.begin(), other.items_.end());
+  warnings_.insert(warnings_.end(), other.warnings_.begin(), other.warnings_.end());
 }
 
 std::string Diagnostics::str() const {

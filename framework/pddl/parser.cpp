@@ -42,6 +42,9 @@ class Reader {
   void error(const SourceLocation& where, const std::string& message) {
     diagnostics_.error(where, source_.with_excerpt(where, message));
   }
+  void warning(const SourceLocation& where, const std::string& message) {
+    diagnostics_.warning(where, source_.with_excerpt(where, message));
+  }
   void finish() const { diagnostics_.throw_if_any(); }
   const SourceText& source() const { return source_; }
 
@@ -237,7 +240,10 @@ class Reader {
 
 class Checker {
  public:
-  Checker(const Domain& domain, Reader& reader) : domain_(domain), reader_(reader) {}
+  // `declaring`: the domain being read, where a cost function used without a
+  // declaration is declared by that use; null when reading a problem.
+  Checker(const Domain& domain, Reader& reader, Domain* declaring = nullptr)
+      : domain_(domain), reader_(reader), declaring_(declaring) {}
 
   using Scope = std::map<std::string, std::vector<std::string>>;  // variable -> types
 
@@ -374,7 +380,10 @@ class Checker {
           reader_.error(e.where, "(increase (total-cost) ...) inside (when ...) or (forall ...) is not supported; "
                                  "an action's cost must not depend on the state");
         }
-        if (!e.cost.number && !e.cost.function.predicate.empty()) check_atom(e.cost.function, scope, objects, false, true);
+        if (!e.cost.number && !e.cost.function.predicate.empty()) {
+          declare_by_use(e.cost.function);
+          check_atom(e.cost.function, scope, objects, false, true);
+        }
         break;
       case Effect::Kind::conjunction:
         for (const Effect& c : e.children) check_effect(c, scope, objects, derived, nested);
@@ -383,8 +392,21 @@ class Checker {
   }
 
  private:
+  // A cost function used in (increase (total-cost) ...) without a declaration: as
+  // PDDLStream reads it, declared by its first use (a stream file's :function may
+  // compute it), with a warning.
+  void declare_by_use(const Atom& f) {
+    if (!declaring_ || declaring_->functions.count(f.predicate)) return;
+    PredicateDecl decl{f.predicate, {}, f.where};
+    for (std::size_t i = 0; i < f.args.size(); ++i) decl.parameters.push_back({"?x" + std::to_string(i + 1), {"object"}, f.where});
+    declaring_->functions[f.predicate] = decl;
+    reader_.warning(f.where, "function '" + f.predicate + "' is not declared in (:functions ...); declared here by its use, with " +
+                                 std::to_string(f.args.size()) + " argument(s) of any type");
+  }
+
   const Domain& domain_;
   Reader& reader_;
+  Domain* declaring_ = nullptr;
 };
 
 // ------------------------------------------------------------------------------------
@@ -424,20 +446,40 @@ class DomainReader : public Reader {
     }
     // (total-cost) needs no declaration, as in Fast Downward and PDDLStream's domains.
     if (!domain_.functions.count("total-cost")) domain_.functions["total-cost"] = PredicateDecl{"total-cost", {}, def.where};
-    Checker checker(domain_, *this);
+    Checker checker(domain_, *this, &domain_);
     checker.check_types_exist(domain_.constants);
     for (const auto& [name, decl] : domain_.predicates) checker.check_types_exist(decl.parameters);
     for (const auto& [name, decl] : domain_.functions) checker.check_types_exist(decl.parameters);
     for (const TypedName& c : domain_.constants) objects_[c.name] = c.types;
+    for (const SExpr* d : derived) declare_derived_head(*d);
     std::set<std::string> derived_names;
     for (const SExpr* d : derived) read_derived(*d, checker, derived_names);
     for (const SExpr* a : actions) read_action(*a, checker, derived_names);
     check_stratified();
     finish();
+    domain_.warnings = diagnostics_.warnings();
     return domain_;
   }
 
  private:
+  // A derived predicate missing from :predicates is declared by its rule's head, as
+  // Fast Downward's translator (and so PDDLStream) reads it, with a warning.
+  void declare_derived_head(const SExpr& section) {
+    if (section.items.size() < 2 || !section.items[1].is_list || section.items[1].items.empty() ||
+        !section.items[1].items[0].is_atom()) {
+      return;  // read_derived reports it
+    }
+    const SExpr& head = section.items[1];
+    if (domain_.predicates.count(head.items[0].text)) return;
+    Diagnostics quiet;  // the head's own errors are read_derived's to report
+    std::swap(quiet, diagnostics_);
+    PredicateDecl decl{head.items[0].text, typed_list(head.items, 1, true, "the head of (:derived ...)"), head.where};
+    std::swap(quiet, diagnostics_);
+    if (!quiet.empty()) return;
+    domain_.predicates[decl.name] = decl;
+    warning(head.where, "derived predicate '" + decl.name + "' is not declared in :predicates; declared here by its rule");
+  }
+
   void requirements(const SExpr& section) {
     for (std::size_t i = 1; i < section.items.size(); ++i) {
       const SExpr& r = section.items[i];
@@ -499,7 +541,18 @@ class DomainReader : public Reader {
       }
       PredicateDecl decl{d.items[0].text, typed_list(d.items, 1, true, std::string("the ") + what + " '" + d.items[0].text + "'"), d.where};
       if (decl.name == "=") error(d.where, "'=' is built in and cannot be declared");
-      if (table.count(decl.name)) error(d.where, std::string(what) + " '" + decl.name + "' is declared twice");
+      if (const auto first = table.find(decl.name); first != table.end()) {
+        // PDDLStream's own domains repeat a declaration; the same arity is harmless.
+        const std::string again = std::string(what) + " '" + decl.name + "' is declared twice (first at line " +
+                                  std::to_string(first->second.where.line) + ")";
+        if (first->second.parameters.size() != decl.parameters.size()) {
+          error(d.where, again + " with " + std::to_string(first->second.parameters.size()) + " and " +
+                             std::to_string(decl.parameters.size()) + " parameters");
+        } else {
+          warning(d.where, again + "; the first declaration is kept");
+        }
+        continue;
+      }
       table[decl.name] = decl;
     }
   }

@@ -135,7 +135,7 @@ class Grounder {
   Condition condition(const std::vector<Lit>& conjunction);
   std::vector<int> stratify();
   [[noreturn]] void too_many(const SourceLocation& where, const std::string& what) const {
-    throw InputError(where, what + " has more than 10000 disjuncts in disjunctive normal form");
+    throw TooLarge(where.str() + ": " + what + " has more than 10000 disjuncts in disjunctive normal form");
   }
 
   const pddl::Domain& domain_;
@@ -598,6 +598,11 @@ void Grounder::explore() {
 }
 
 Grounder::Dnf Grounder::conjoin(const Dnf& a, const Dnf& b) {
+  // A disjunction holding the empty conjunction is true whatever else it holds: the
+  // other side alone (a forall of implications with statically true consequents would
+  // otherwise multiply out to 2^k disjuncts).
+  if (is_true(a)) return b;
+  if (is_true(b)) return a;
   Dnf out;
   for (const auto& x : a) {
     for (const auto& y : b) {
@@ -667,7 +672,9 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
       // (imply A B) = (or (not A) B); negated: (and A (not B)).
       if (negated) return conjoin(dnf(f.children[0], b, false), dnf(f.children[1], b, true));
       Dnf out = dnf(f.children[0], b, true);
+      if (is_true(out)) return truth;  // the condition is statically false
       Dnf then = dnf(f.children[1], b, false);
+      if (is_true(then)) return truth;  // the consequent is statically true
       out.insert(out.end(), then.begin(), then.end());
       if (out.size() > kMaxDisjuncts) throw TooManyDisjuncts();
       return out;

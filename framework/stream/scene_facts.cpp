@@ -38,7 +38,8 @@ SceneProblem scene_problem(const Scene& scene, const std::vector<bool>& movable,
     declare(pose);
     out.objects[name] = i;
     out.values[pose] = o.world_T_object;
-    if (i == scene.target || (i < movable.size() && movable[i])) p.init.push_back(atom("object", {name}));
+    if (i != scene.target && i < movable.size() && !movable[i]) continue;  // an obstacle: fixed geometry to the streams
+    p.init.push_back(atom("object", {name}));
     p.init.push_back(atom("pose", {name, pose}));
     p.init.push_back(atom("atpose", {name, pose}));
   }

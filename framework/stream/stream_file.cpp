@@ -50,12 +50,16 @@ class StreamReader {
     file_.where = def.where;
     for (std::size_t i = 2; i < def.items.size(); ++i) declaration(def.items[i]);
     diagnostics_.throw_if_any();
+    file_.warnings = diagnostics_.warnings();
     return file_;
   }
 
  private:
   void error(const SourceLocation& where, const std::string& message) {
     diagnostics_.error(where, source_.with_excerpt(where, message));
+  }
+  void warning(const SourceLocation& where, const std::string& message) {
+    diagnostics_.warning(where, source_.with_excerpt(where, message));
   }
 
   void declaration(const SExpr& e) {
@@ -210,7 +214,9 @@ class StreamReader {
     if (function && domain_) {
       const auto f = domain_->functions.find(s.name);
       if (f == domain_->functions.end()) {
-        error(head->where, what + " is not declared in (:functions ...) of domain '" + domain_->name + "'");
+        // PDDLStream lets the stream file declare it; the domain then has no use for it.
+        warning(head->where, what + " is not declared in (:functions ...) of domain '" + domain_->name +
+                                 "', which never uses it: its values will not count");
       } else if (f->second.parameters.size() != head->args.size()) {
         error(head->where, what + " takes " + std::to_string(f->second.parameters.size()) + " argument(s) in domain '" +
                                domain_->name + "'");
@@ -268,7 +274,11 @@ class StreamReader {
                          std::to_string(a.args.size()));
     }
     if (changed_.count(a.predicate)) {
-      error(a.where, "'" + a.predicate + "' in " + what + " is changed by actions; streams work on static facts only");
+      // PDDLStream makes such a stream exogenous (its facts observed in the state, not
+      // certified once); the searches here certify static facts only.
+      error(a.where, "'" + a.predicate + "' in " + what + " is changed by actions: PDDLStream treats such a stream as "
+                                                           "exogenous, which is not supported (streams certify static "
+                                                           "facts; a stream may read fluents through :fluents)");
     } else if (derived_.count(a.predicate)) {
       error(a.where, "'" + a.predicate + "' in " + what + " is derived; streams work on static facts only");
     }

@@ -135,6 +135,8 @@ class StreamSearch {
       else adaptive();
     } catch (const search::TimeLimit&) {
       out_.reason = "time limit reached";
+    } catch (const search::TooLarge& e) {
+      out_.reason = std::string("grounding: ") + e.what();
     }
     if (!out_.solved && out_.reason.empty()) out_.reason = "time limit reached";
     return std::move(out_);

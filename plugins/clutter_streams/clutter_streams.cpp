@@ -9,8 +9,10 @@
 // A pick is planned among the other objects where the scene file has them, ignoring
 // those that blocked the tries before (so a trajectory passes through as few of them as
 // it can), at last among the fixed geometry alone; a placement among the fixed geometry
-// alone. The tests then say which objects are in the way where they actually stand,
-// so the symbolic search can move them.
+// alone. Objects that are not movable (a pruner's obstacles, which stay where they
+// stand) count as fixed geometry: every motion and placement avoids them, and no test
+// is asked about them. The tests then say which movable objects are in the way where
+// they actually stand, so the symbolic search can move them.
 // Successive calls of a generator draw afresh (seeds derived from the run's) and try
 // the grasps in another order.
 
@@ -130,6 +132,8 @@ class Streams {
     empty_ = WorldState::initial(scene);
     empty_.robot_configuration = home_;
     std::fill(empty_.removed.begin(), empty_.removed.end(), true);
+    fixed_ = empty_;
+    for (ObjectIndex o = 0; o < scene.objects.size(); ++o) fixed_.removed[o] = scene.objects[o].movable;
   }
 
   ObjectIndex object(const plugin::PlanningContext& context, const StreamValue& v) const {
@@ -140,13 +144,12 @@ class Streams {
     throw std::invalid_argument("clutter_streams: '" + name + "' is no object of the scene");
   }
 
-  /// Only `object` in the world, at `pose`; the robot at home.
-  WorldState alone(ObjectIndex object, const Eigen::Isometry3d& pose) const {
-    WorldState s = empty_;
-    s.removed[object] = false;
-    s.world_T_objects[object] = pose;
-    return s;
-  }
+  /// Only `object` in the world, at `pose`; the robot at home (what a test checks against).
+  WorldState alone(ObjectIndex object, const Eigen::Isometry3d& pose) const { return with(empty_, object, pose); }
+
+  /// `object` at `pose` among the objects that never move; the robot at home (where a
+  /// motion is planned when no movable object counts).
+  WorldState among_fixed(ObjectIndex object, const Eigen::Isometry3d& pose) const { return with(fixed_, object, pose); }
 
   /// `object` at `pose`, the others where the scene has them unless `ignored` or resting,
   /// directly or through others, on `object` or an ignored object: the domain lets
@@ -157,7 +160,7 @@ class Streams {
     gone[object] = true;
     for (ObjectIndex o : ignored) gone[o] = true;
     scene.mark_what_rests_on(gone);
-    WorldState s = alone(object, pose);
+    WorldState s = among_fixed(object, pose);
     for (ObjectIndex o = 0; o < scene.objects.size(); ++o) {
       if (!gone[o]) s.removed[o] = false;
     }
@@ -203,9 +206,16 @@ class Streams {
   const Settings& settings() const { return settings_; }
 
  private:
+  static WorldState with(WorldState s, ObjectIndex object, const Eigen::Isometry3d& pose) {
+    s.removed[object] = false;
+    s.world_T_objects[object] = pose;
+    return s;
+  }
+
   const Settings& settings_;
   Eigen::VectorXd home_;
-  WorldState empty_;
+  WorldState empty_;  // no object
+  WorldState fixed_;  // the objects that are not movable, where they stand
 };
 
 std::optional<Failure> failure_of(const manipulation::ActionOutcome& o, const std::string& fallback) {
@@ -235,7 +245,7 @@ class PlanPick final : public plugin::StreamGenerator {
       if (picked.failure) ignored.insert(picked.failure->blocking_objects.begin(), picked.failure->blocking_objects.end());
       if (ignored.size() == before) break;
     }
-    if (!picked.ok && !c.stopped()) picked = manipulation::pick(c, streams_->alone(object_, pose_), object_);
+    if (!picked.ok && !c.stopped()) picked = manipulation::pick(c, streams_->among_fixed(object_, pose_), object_);
     std::optional<Failure> why;
     if (!picked.ok || !picked.grasp || !streams_->return_home(c, picked, why)) {
       batch.failure = picked.ok ? why : failure_of(picked, "no pick");
@@ -272,7 +282,7 @@ class PlanPlace final : public plugin::StreamGenerator {
     plugin::Samplers samplers = context.samplers;
     plugin::PlanningContext c = streams_->call_context(context, samplers, mix(seed_, calls_++));
     auto checker = c.world->make_context();
-    WorldState state = streams_->alone(object_, Eigen::Isometry3d::Identity());
+    WorldState state = streams_->among_fixed(object_, Eigen::Isometry3d::Identity());
     state.world_T_objects[object_] = c.world->tool_pose(streams_->home(), *checker) * grasp_->gripper_T_object();
     state.held = object_;
     manipulation::ActionOutcome placed = manipulation::place(c, state, region_);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 
 #include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/core/geometry.hpp"
@@ -78,10 +79,14 @@ class StreamPlanner final : public plugin::TaskPlanner {
     stream::StreamProblem sp;
     std::map<std::string, ObjectIndex> scene_objects;
     bool pruned_to_nothing = false;  // the pruner's sequences named no object to move
+    // The problem with the pruner's obstacles not movable, and a context over it.
+    std::optional<Problem> pruned_problem;
+    std::optional<plugin::PlanningContext> pruned_context;
     if (task->problem) {
       problem = pddl::load_problem(*task->problem, domain);
     } else {
-      std::vector<bool> movable(context.scene().objects.size(), true);
+      std::vector<bool> movable;
+      for (const SceneObject& o : context.scene().objects) movable.push_back(o.movable);
       if (prune_ && context.samplers.object_pruner) {
         const plugin::PruneAnswer pruned = context.samplers.object_pruner->prune(context, initial);
         if (pruned.failure) result.failures.push_back(*pruned.failure);
@@ -95,6 +100,16 @@ class StreamPlanner final : public plugin::TaskPlanner {
         result.counters["movable_objects"] = n;
         pruned_to_nothing = n == 0;
       }
+      if (std::find(movable.begin(), movable.end(), false) != movable.end()) {
+        // The obstacles stay where they stand: the streams see them as not movable, so
+        // they plan around them instead of asking a test about each.
+        pruned_problem.emplace(context.problem);
+        for (ObjectIndex o = 0; o < movable.size(); ++o) {
+          if (!movable[o] && o != context.scene().target) pruned_problem->scene.objects[o].movable = false;
+        }
+        pruned_context.emplace(plugin::PlanningContext{*pruned_problem, context.deadline, context.seed, context.counters,
+                                                        context.samplers, context.world, context.checks_until, context.phases});
+      }
       stream::SceneProblem derived = stream::scene_problem(context.scene(), movable, domain.name);
       problem = std::move(derived.problem);
       sp.values = std::move(derived.values);
@@ -106,7 +121,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
     sp.streams = &streams;
     for (const auto& [name, sampler] : context.samplers.streams) sp.bindings[pddl::lower_name(name)] = sampler.get();
 
-    const stream::StreamSolution s = stream::solve(sp, context, options_);
+    const stream::StreamSolution s = stream::solve(sp, pruned_context ? *pruned_context : context, options_);
     result.solved = s.solved;
     result.reason = s.reason;
     result.failures.insert(result.failures.end(), s.failures.begin(), s.failures.end());

@@ -24,8 +24,10 @@ struct SourceLocation {
 struct Diagnostic {
   SourceLocation location;
   std::string message;
+  /// Suspect but accepted (as PDDLStream or Fast Downward would accept it), not an error.
+  bool warning = false;
 
-  /// "file:line:column: error: message".
+  /// "file:line:column: error: message" ("warning:" for a warning).
   std::string str() const;
 };
 
@@ -33,7 +35,11 @@ struct Diagnostic {
 class CLUTTERTAMP_API Diagnostics {
  public:
   void error(SourceLocation location, std::string message);
+  /// Records something suspect that is accepted: kept apart from the errors, never thrown.
+  void warning(SourceLocation location, std::string message);
   void append(const Diagnostics& other);
+  /// The warnings, in the order recorded.
+  const std::vector<Diagnostic>& warnings() const { return warnings_; }
 
   bool empty() const { return items_.empty(); }
   std::size_t size() const { return items_.size(); }
@@ -47,6 +53,7 @@ class CLUTTERTAMP_API Diagnostics {
 
  private:
   std::vector<Diagnostic> items_;
+  std::vector<Diagnostic> warnings_;
 };
 
 /// Bad input from a user: a file that does not parse, does not validate, a plugin

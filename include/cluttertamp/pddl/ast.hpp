@@ -94,6 +94,9 @@ struct Domain {
   std::vector<Action> actions;
   std::vector<DerivedRule> derived;
   SourceLocation where;
+  /// What was suspect but accepted (a predicate declared twice, a cost function used
+  /// without a declaration), located; the caller decides whether to show them.
+  std::vector<Diagnostic> warnings;
 
   const Action* find_action(const std::string& name) const;
   /// True when `type` equals `ancestor` or descends from it.

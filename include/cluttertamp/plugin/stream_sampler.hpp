@@ -54,7 +54,10 @@ class CLUTTERTAMP_API StreamGenerator {
 };
 
 /// Binds a stream of a user's stream file to code: certifies facts by producing
-/// outputs for given inputs (PDDLStream's generators and tests).
+/// outputs for given inputs (PDDLStream's generators and tests). Scene objects that are
+/// not movable (context.scene().objects[o].movable false: declared so, or left out by
+/// stream_planner's object pruner) have no pose facts in a scene-derived problem, so no
+/// test is asked about them: a sampler must treat them as fixed geometry.
 class CLUTTERTAMP_API StreamSampler : public Plugin {
  public:
   ~StreamSampler() override;

@@ -21,11 +21,13 @@ struct SceneProblem {
   std::map<std::string, ObjectIndex> objects;
 };
 
-/// The facts of a scene: (Object o) for every movable object (`movable[o]`, the target
-/// always), (Pose o p0-o) and (AtPose o p0-o) for every object, (On o s) for each
-/// support s of o, (Region r) for every region, (HandEmpty); the goal (Holding target).
-/// Objects that are not movable stay where they are, as obstacles. Throws InputError
-/// when two ids differ only in case.
+/// The facts of a scene: (Object o), (Pose o p0-o) and (AtPose o p0-o) for every movable
+/// object (`movable[o]`, all when `movable` is empty; the target always), (On o s) for
+/// each support s of o, (Region r) for every region, (HandEmpty); the goal (Holding
+/// target). Objects that are not movable stay where they are, as obstacles, and have no
+/// pose fact: no action moves them and no test is asked about them, so the streams must
+/// treat them as fixed geometry (give them `movable: false` in the scene the streams
+/// see, as stream_planner does). Throws InputError when two ids differ only in case.
 CLUTTERTAMP_API SceneProblem scene_problem(const Scene& scene, const std::vector<bool>& movable,
                                            const std::string& domain_name);
 

@@ -40,6 +40,8 @@ struct StreamFile {
   std::string file;
   std::vector<StreamDecl> streams;
   SourceLocation where;
+  /// What was suspect but accepted (a :function the domain does not declare), located.
+  std::vector<Diagnostic> warnings;
 
   /// The declaration named `name`, or null.
   const StreamDecl* find(const std::string& name) const;
@@ -52,7 +54,7 @@ struct StreamFile {
 /// :domain and :certified, is static (no action changes it, it is not derived);
 /// predicates the domain does not declare are the streams' own (as in PDDLStream);
 /// :fluents names predicates that actions change; a :function's head is declared in
-/// (:functions ...). Throws InputError listing every problem (file:line:column, what
+/// (:functions ...) or else is accepted with a warning. Throws InputError listing every problem (file:line:column, what
 /// is wrong, an excerpt with a caret). `:optimizer` and other PDDLStream extensions
 /// are refused by name.
 CLUTTERTAMP_API StreamFile parse_stream_file(const std::string& text, const std::string& file,
