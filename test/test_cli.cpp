@@ -325,6 +325,12 @@ TEST_F(Cli, StackedObjectsAreMovedInOrderWithStreams) {
     }
     EXPECT_GT(json["counters"]["stream_calls"].get<int>(), 0);
     EXPECT_EQ(json["counters"]["movable_objects"], 3);
+    // The symbolic arguments of each step, in result.json and on the terminal.
+    const auto& first = json["plan"][0]["arguments"];
+    ASSERT_EQ(first.size(), 4u) << json["plan"][0];  // (pick ?o ?p ?g ?t)
+    EXPECT_EQ(first[0], "lid");
+    EXPECT_EQ(first[1], "p0-lid");
+    EXPECT_NE(r.output.find("1. pick lid p0-lid "), std::string::npos) << r.output;
   }
 }
 

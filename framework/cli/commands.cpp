@@ -63,8 +63,14 @@ void print_summary(std::ostream& out, const Problem& problem, const run::RunOutc
   if (r.solved) {
     out << "result    SOLVED: " << r.plan.size() << " steps, " << r.moved_objects.size() << " objects moved\n";
     for (std::size_t i = 0; i < r.plan.size(); ++i) {
-      out << "  " << std::setw(3) << i + 1 << ". " << r.plan[i].action << " "
-          << object_names(problem.scene, r.plan[i].objects) << "\n";
+      const PlanStep& step = r.plan[i];
+      out << "  " << std::setw(3) << i + 1 << ". " << step.action << " ";
+      if (!step.arguments.empty()) {  // a symbolic step says what it was given
+        for (std::size_t a = 0; a < step.arguments.size(); ++a) out << (a ? " " : "") << step.arguments[a];
+      } else {
+        out << object_names(problem.scene, step.objects);
+      }
+      out << "\n";
     }
     out << "moved     " << object_names(problem.scene, r.moved_objects) << "\n";
   } else {

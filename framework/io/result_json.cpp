@@ -41,7 +41,8 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
   Json plan = Json::array();
   for (std::size_t i = 0; i < result.plan.size(); ++i) {
     const PlanStep& step = result.plan[i];
-    Json s{{"index", i}, {"action", step.action}, {"objects", names(scene, step.objects)}, {"values", step.values}};
+    Json s{{"index", i}, {"action", step.action}, {"arguments", step.arguments}, {"objects", names(scene, step.objects)},
+           {"values", step.values}};
     s["trajectory"] = step.trajectory ? trajectory_json(*step.trajectory) : Json(nullptr);
     plan.push_back(std::move(s));
   }

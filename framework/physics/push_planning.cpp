@@ -589,7 +589,9 @@ PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldStat
     t.positions.push_back(path.states[i].gripper);
     t.times.push_back(i == 0 ? 0.0 : t.times.back() + path.controls[i - 1].duration);
   }
-  PlanStep step{"push", {}, {}, t};
+  PlanStep step;
+  step.action = "push";
+  step.trajectory = t;
   // The controls themselves and the step they were propagated in: replaying them
   // through the physics from the start checks the plan (replay()).
   step.values["step"] = {path.step};

@@ -152,6 +152,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
                      const std::map<std::string, ObjectIndex>& scene_objects, Result& result) const {
     PlanStep out;
     out.action = step.action;
+    out.arguments = step.arguments;
     for (std::size_t i = 0; i < step.arguments.size(); ++i) {
       const std::string& arg = step.arguments[i];
       if (const auto o = scene_objects.find(arg); o != scene_objects.end()) {

@@ -34,6 +34,9 @@ struct Failure {
 /// (poses as [x y z qx qy qz qw], configurations, grasps).
 struct PlanStep {
   std::string action;
+  /// The step's symbolic arguments in order, as the task planner names them (a PDDL
+  /// action's objects and stream values, e.g. "o1", "#g0"); empty when it has none.
+  std::vector<std::string> arguments;
   std::vector<ObjectIndex> objects;
   std::map<std::string, std::vector<double>> values;
   std::optional<Trajectory> trajectory;
