@@ -1120,9 +1120,11 @@ TEST_F(Cli, PddlThatOutgrowsTheGrounderIsAFailureAndDuplicatesAreWarnings) {
   std::string objects;
   for (int i = 0; i < 120; ++i) objects += " o" + std::to_string(i);
   std::ofstream(dir_ / "x.pddl") << "(define (domain x) (:requirements :adl) (:predicates (p ?a) (r ?a) (q) (q))\n"
-                                    "(:action a :parameters () :precondition (forall (?x) (or (p ?x) (r ?x))) :effect (q))\n"
-                                    "(:action b :parameters (?x) :precondition () :effect (and (p ?x) (r ?x))))";
-  std::ofstream(dir_ / "y.pddl") << "(define (problem y) (:domain x) (:objects" << objects << ") (:init (p o1)) (:goal (q)))";
+                                    "(:action a :parameters () :precondition (not (exists (?x) (and (p ?x) (r ?x)))) :effect (q))\n"
+                                    "(:action b :parameters (?x) :precondition () :effect (and (not (p ?x)) (not (r ?x)))))";
+  std::string init;
+  for (int i = 0; i < 120; ++i) init += " (p o" + std::to_string(i) + ") (r o" + std::to_string(i) + ")";
+  std::ofstream(dir_ / "y.pddl") << "(define (problem y) (:domain x) (:objects" << objects << ") (:init" << init << ") (:goal (q)))";
   const CliRun r = run("pddl " + (dir_ / "x.pddl").string() + " " + (dir_ / "y.pddl").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("no plan: grounding: " + (dir_ / "x.pddl").string() + ":2:1: the precondition of 'a' has more than 10000"),

@@ -59,3 +59,73 @@ TEST(PlanningContextTest, WorkBudgetsNestAndNeverGrow) {
 
 }  // namespace
 }  // namespace cluttertamp
+
+namespace cluttertamp {
+namespace {
+
+TEST(Parameters, MapsAndListsAreValuesWithLocations) {
+  Parameters p;
+  Value::Map workspace{{"min_x", Value(std::int64_t{-2}, {"p.yaml", 3, 20})}, {"max_x", Value(2.5, {"p.yaml", 3, 31})}};
+  p.set("workspace", Value(std::move(workspace), {"p.yaml", 3, 12}));
+  const Value* w = p.get("workspace", "where the tip reaches");
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->find("min_x")->number(), -2.0);
+  EXPECT_EQ(w->find("max_x")->where().column, 31u);
+  EXPECT_EQ(w->find("absent"), nullptr);
+  EXPECT_TRUE(p.unused().empty());
+  // A map where a number is asked for is refused at the map's place.
+  const Diagnostics d = test::expect_input_error([&] { p.get_double("workspace", 0); });
+  EXPECT_TRUE(test::has_error(d, 3, 12, "parameter 'workspace' must be a number, not a map"));
+  // A list of numbers serves get_vector, a list of anything else does not.
+  p.set("xs", std::vector<double>{1, 2});
+  EXPECT_EQ(p.get_vector("xs", {}), (std::vector<double>{1, 2}));
+  p.set("names", Value(Value::List{Value(std::string("a"))}, {"p.yaml", 5, 8}));
+  EXPECT_TRUE(test::has_error(test::expect_input_error([&] { p.get_vector("names", {}); }), 5, 8,
+                              "must be a list of numbers, not a list"));
+}
+
+// What configure() asks is what `plugins -v` lists: key, type, default and help, once each.
+TEST(Parameters, GettersDeclareWhatTheyRead) {
+  const Parameters none;
+  none.get_double("step", 0.1, "m between checks");
+  none.get_int("tries", 3);
+  none.get_vector("heights", {0.5, 0.25});
+  none.get_string("planner", "rrt");
+  none.get_bool("trace", false);
+  none.get("shape", "any YAML");
+  none.get_double("step", 0.2);  // asked again: declared once
+  const auto& d = none.declarations();
+  ASSERT_EQ(d.size(), 6u);
+  EXPECT_EQ(d[0].key, "step");
+  EXPECT_EQ(d[0].type, "number");
+  EXPECT_EQ(d[0].fallback, "0.1");
+  EXPECT_EQ(d[0].help, "m between checks");
+  EXPECT_EQ(d[1].fallback, "3");
+  EXPECT_EQ(d[2].type, "list of numbers");
+  EXPECT_EQ(d[2].fallback, "[0.5, 0.25]");
+  EXPECT_EQ(d[3].fallback, "rrt");
+  EXPECT_EQ(d[4].fallback, "false");
+  EXPECT_EQ(d[5].type, "any");
+}
+
+// Every plugin object is configured from a fresh copy: one problem's parameters can
+// configure many objects, each seeing every key unread.
+TEST(Parameters, AFreshCopyHasNothingRead) {
+  Parameters p;
+  p.set("a", 1.0);
+  p.get_double("a", 0);
+  EXPECT_TRUE(p.unused().empty());
+  const Parameters copy = p.fresh();
+  EXPECT_EQ(copy.unused(), std::vector<std::string>{"a"});
+  EXPECT_TRUE(copy.declarations().empty());
+  EXPECT_EQ(copy.to_yaml(), "{a: 1.0}");
+}
+
+TEST(ValueTest, YamlTextReadsBackAsTheSameKinds) {
+  Value::Map m{{"s", Value(std::string("true"))}, {"e", Value(std::string(""))}, {"n", Value()},
+               {"x", Value(0.1)}, {"i", Value(std::int64_t{7})}, {"colon", Value(std::string("a: b"))}};
+  EXPECT_EQ(Value(std::move(m)).to_yaml(), "{s: \"true\", e: \"\", n: null, x: 0.1, i: 7, colon: \"a: b\"}");
+}
+
+}  // namespace
+}  // namespace cluttertamp

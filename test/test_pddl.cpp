@@ -393,6 +393,51 @@ TEST(PddlSearch, SamePlanEveryTime) {
   EXPECT_EQ(first.plan, second.plan);
 }
 
+// A forall whose body branches on fluents is a derived predicate checked on the state,
+// not 2^k disjuncts: 120 objects, each red or blue, ground to a few hundred operators.
+TEST(PddlRegressions, AForallOverFluentDisjunctionsIsAnAxiom) {
+  std::string objects, init;
+  for (int i = 0; i < 120; ++i) {
+    objects += " o" + std::to_string(i);
+    if (i % 3 == 0) init += " (blue o" + std::to_string(i) + ")";
+  }
+  const Domain d = parse_domain(
+      "(define (domain paint) (:requirements :adl)\n"
+      "  (:predicates (item ?x) (red ?x) (blue ?x) (done) (ready))\n"
+      "  (:action paint :parameters (?x) :precondition (and (item ?x) (not (blue ?x))) :effect (red ?x))\n"
+      "  (:action finish :parameters ()\n"
+      "    :precondition (and (ready) (forall (?x) (imply (item ?x) (or (red ?x) (blue ?x)))))\n"
+      "    :effect (done)))",
+      "paint.pddl");
+  std::string items;
+  for (int i = 0; i < 120; ++i) items += " (item o" + std::to_string(i) + ")";
+  const Problem p = parse_problem("(define (problem all) (:domain paint) (:objects" + objects + ") (:init (ready)" + items +
+                                      init + ") (:goal (done)))",
+                                  "all.pddl", d);
+  search::GroundingStats stats;
+  const search::Task task = search::ground(d, p, &stats);
+  EXPECT_LT(stats.operators, 200u) << "80 paint operators and one finish";
+  search::SearchOptions options;
+  const search::SearchResult r = search::plan(task, options);
+  ASSERT_TRUE(r.solved) << r.reason;
+  EXPECT_EQ(r.plan.size(), 81u) << "the 80 items that are not blue painted, then finish";
+  std::vector<PlanStep> steps;
+  for (search::OperatorId op : r.plan) {
+    std::istringstream name(task.operators[op].name.substr(1, task.operators[op].name.size() - 2));
+    PlanStep step;
+    name >> step.action;
+    for (std::string a; name >> a;) step.args.push_back(a);
+    steps.push_back(step);
+  }
+  const PlanValidation v = validate_plan(d, p, steps);
+  EXPECT_TRUE(v.valid) << v.reason;
+  // Without the paint actions the forall does not hold: no plan, told as such.
+  Domain stuck = d;
+  stuck.actions.erase(stuck.actions.begin());
+  const search::SearchResult none = search::plan(search::ground(stuck, p), options);
+  EXPECT_FALSE(none.solved);
+}
+
 }  // namespace
 }  // namespace cluttertamp::pddl
 
@@ -483,10 +528,12 @@ TEST(PddlRegressions, TooManyDisjunctsIsALocatedFailure) {
   std::string objects;
   for (int i = 0; i < 120; ++i) objects += " o" + std::to_string(i);
   const Domain d = parse_domain("(define (domain x) (:requirements :adl) (:predicates (p ?a) (r ?a) (q))\n"
-                                "(:action a :parameters () :precondition (forall (?x) (or (p ?x) (r ?x))) :effect (q))\n"
-                                "(:action b :parameters (?x) :precondition () :effect (and (p ?x) (r ?x))))",
+                                "(:action a :parameters () :precondition (not (exists (?x) (and (p ?x) (r ?x)))) :effect (q))\n"
+                                "(:action b :parameters (?x) :precondition () :effect (and (not (p ?x)) (not (r ?x)))))",
                                 "x.pddl");
-  const Problem p = parse_problem("(define (problem y) (:domain x) (:objects" + objects + ") (:init (p o1)) (:goal (q)))",
+  std::string init;
+  for (int i = 0; i < 120; ++i) init += " (p o" + std::to_string(i) + ") (r o" + std::to_string(i) + ")";
+  const Problem p = parse_problem("(define (problem y) (:domain x) (:objects" + objects + ") (:init" + init + ") (:goal (q)))",
                                   "y.pddl", d);
   try {
     search::ground(d, p);

@@ -103,3 +103,45 @@ TEST(ProblemIo, PddlTaskWithStreamsAndEveryPluginRole) {
 
 }  // namespace
 }  // namespace cluttertamp
+
+namespace cluttertamp {
+namespace {
+
+// A PDDL task with its own problem file needs no scene and no robot; its objects'
+// values and its plugins' parameters are any YAML, nested, each part located.
+TEST(ProblemIo, ASymbolicStreamProblemHasValuesAndNestedParameters) {
+  const Problem p = io::load_problem(test::data("problems/symbolic_values.yaml"));
+  EXPECT_TRUE(p.scene.objects.empty());
+  EXPECT_FALSE(p.robot.loaded);
+  const auto& task = std::get<PddlTask>(p.task);
+  ASSERT_EQ(task.values.size(), 3u);
+  const Value& o1 = task.values.at("o1");
+  ASSERT_NE(o1.map(), nullptr);
+  EXPECT_EQ(*o1.find("width")->integer(), 2);
+  const Value::List& corners = *o1.find("corners")->list();
+  ASSERT_EQ(corners.size(), 2u);
+  EXPECT_EQ(corners[1].numbers(), (std::vector<double>{1, 0.5}));
+  EXPECT_EQ(*o1.find("label")->string(), "a b");
+  EXPECT_EQ(o1.where().line, 7u);
+  EXPECT_EQ(o1.find("corners")->where().column, 31u);
+  EXPECT_EQ(task.values.at("p0").numbers(), (std::vector<double>{0.5, -1}));
+  EXPECT_EQ(task.values.at("home").number(), 3.0);
+  EXPECT_EQ(o1.to_yaml(), "{width: 2, corners: [[0, 0], [1, 0.5]], label: a b}");
+  // Aliases give both bindings the same choice (so the runner shares one object).
+  const Value* shape = p.streams.at("b").parameters.get("shape");
+  ASSERT_NE(shape, nullptr);
+  EXPECT_EQ(shape->find("radii")->numbers(), (std::vector<double>{1, 2}));
+  EXPECT_EQ(p.streams.at("a").parameters.to_yaml(), p.streams.at("b").parameters.to_yaml());
+}
+
+TEST(ProblemIo, BadValuesAndAMissingSceneAreLocated) {
+  const Diagnostics d = test::expect_input_error([] { io::load_problem(test::data("problems/bad_values.yaml")); });
+  EXPECT_TRUE(test::has_error(d, 7, 13, "task pddl values need a PDDL problem")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 8, 60, "planner parameters.nested.a must be a finite number, not .inf")) << d.str();
+  const Diagnostics e = test::expect_input_error([] { io::load_problem(test::data("problems/no_scene_retrieve.yaml")); });
+  EXPECT_TRUE(test::has_error(e, 1, 1, "missing the required key 'scene'")) << e.str();
+  EXPECT_TRUE(test::has_error(e, 1, 1, "missing the required key 'robot'")) << e.str();
+}
+
+}  // namespace
+}  // namespace cluttertamp

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cluttertamp/run/runner.hpp"
+
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
@@ -46,6 +48,39 @@ TEST(Registry, CreatesConfiguredObjectsOfTheRightInterface) {
   ASSERT_NE(planner, nullptr);
   auto grasps = registry.create<plugin::GraspSampler>("test_grasp");
   EXPECT_NE(dynamic_cast<plugin::GraspSampler*>(grasps.get()), nullptr);
+}
+
+// The problem's parameters serve every object made from them: each is configured from a
+// fresh copy, so a second object sees the same keys unread (compare, bench).
+TEST(Registry, EveryObjectReadsItsParametersAfresh) {
+  const Registry registry({plugin_dir("good")});
+  Parameters unknown;
+  unknown.set("outcome", std::string("solve"));
+  unknown.set("outcom", std::string("solve"), {"p.yaml", 10, 3});
+  for (int run = 0; run < 2; ++run) {
+    const Diagnostics d = test::expect_input_error([&] { registry.create<plugin::TaskPlanner>("test_planner", unknown); });
+    EXPECT_TRUE(test::has_error(d, 10, 3, "unknown parameter 'outcom'")) << "run " << run;
+  }
+  const auto declared = registry.declared_parameters(plugin::Kind::task_planner, "test_planner");
+  ASSERT_FALSE(declared.empty());
+  EXPECT_EQ(declared[0].key, "outcome");
+  EXPECT_EQ(declared[0].type, "string");
+  EXPECT_EQ(declared[0].fallback, "fail");
+}
+
+// Stream bindings naming the same plugin with the same parameters share one object.
+TEST(Registry, StreamBindingsWithOneChoiceShareAnObject) {
+  const Registry registry({plugin_dir("good")});
+  Problem problem;
+  problem.planner.name = "test_planner";
+  PluginChoice rings{"toy_stream", {}, {}};
+  rings.parameters.set("rings", std::int64_t{3});
+  problem.streams["a"] = rings;
+  problem.streams["b"] = rings;
+  problem.streams["c"] = PluginChoice{"toy_stream", {}, {}};
+  const run::Plugins plugins = run::create_plugins(problem, registry);
+  EXPECT_EQ(plugins.samplers.streams.at("a"), plugins.samplers.streams.at("b"));
+  EXPECT_NE(plugins.samplers.streams.at("a"), plugins.samplers.streams.at("c"));
 }
 
 TEST(Registry, PluginParameterErrorsAreInputErrors) {

@@ -218,7 +218,7 @@ class BlocksLine : public ::testing::Test {
 
   stream::StreamSolution solve(stream::Algorithm algorithm, std::uint64_t seed, double seconds = 30) {
     plugin::PlanningContext context{core_problem_, plugin::Deadline::after(seconds), seed, counters_, samplers_};
-    stream::StreamSearchOptions options;
+    stream::StreamSearchOptions options = options_;
     options.algorithm = algorithm;
     if (std::getenv("STREAM_TRACE")) options.trace = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
     return stream::solve(problem_, context, options);
@@ -256,6 +256,7 @@ class BlocksLine : public ::testing::Test {
   stream::StreamFile streams_;
   stream::StreamProblem problem_;
   LineStreams sampler_;
+  stream::StreamSearchOptions options_;
   Problem core_problem_;
   std::map<std::string, std::uint64_t> counters_;
   plugin::Samplers samplers_;
@@ -332,6 +333,25 @@ TEST_F(BlocksLine, AnImpossibleGoalEndsWithAReasonNotAHang) {
                                                                  : "time limit reached");
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.5);
   }
+}
+
+TEST_F(BlocksLine, StreamOptionsAreCheckedAgainstTheStreamFile) {
+  options_.streams["no-such-stream"] = {};
+  EXPECT_TRUE(test::has_error(test::expect_input_error([&] { solve(stream::Algorithm::adaptive, 1); }), 2, 1,
+                              "stream options name 'no-such-stream', which this stream file does not declare"));
+  options_.streams.clear();
+  options_.streams["test-cfree"].optimistic_value = 3;
+  EXPECT_TRUE(test::has_error(test::expect_input_error([&] { solve(stream::Algorithm::adaptive, 1); }), 8, 3,
+                              "'test-cfree' is not a function: only a function has an optimistic value"));
+  // An eager test is evaluated on every pair of real poses at once: more calls, the same kind of plan.
+  options_.streams.clear();
+  const stream::StreamSolution lazy = solve(stream::Algorithm::adaptive, 1);
+  options_.streams["test-cfree"].eager = true;
+  const stream::StreamSolution eager = solve(stream::Algorithm::adaptive, 1);
+  ASSERT_TRUE(lazy.solved && eager.solved) << lazy.reason << " / " << eager.reason;
+  EXPECT_GT(eager.statistics.calls_per_stream.at("test-cfree"), lazy.statistics.calls_per_stream.at("test-cfree"));
+  expect_geometrically_valid(eager);
+  expect_valid_pddl(eager);
 }
 
 TEST_F(BlocksLine, AStreamWithoutCodeIsBadInput) {

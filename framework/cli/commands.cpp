@@ -48,9 +48,28 @@ std::string object_names(const Scene& scene, const std::vector<ObjectIndex>& obj
 
 std::string describe_scene(const Scene& scene) {
   std::ostringstream out;
+  if (scene.objects.empty()) return "(none)";
   out << scene.name << ": " << scene.objects.size() << " objects (target '" << scene.objects.at(scene.target).id
       << "'), " << scene.fixed.size() << " fixed bodies, " << scene.regions.size() << " regions";
   return out.str();
+}
+
+// The values bound to a symbolic step's arguments, short ones in full:
+// "  p0=(1, 0) #t4=(42 numbers)".
+void print_values(std::ostream& out, const PlanStep& step) {
+  const char* sep = "   ";
+  for (const std::string& arg : step.arguments) {
+    const auto v = step.values.find(arg);
+    if (v == step.values.end()) continue;
+    out << sep << arg << "=(";
+    sep = " ";
+    if (v->second.size() > 7) {
+      out << v->second.size() << " numbers)";
+      continue;
+    }
+    for (std::size_t k = 0; k < v->second.size(); ++k) out << (k ? ", " : "") << v->second[k];
+    out << ")";
+  }
 }
 
 void print_summary(std::ostream& out, const Problem& problem, const run::RunOutcome& outcome,
@@ -61,18 +80,21 @@ void print_summary(std::ostream& out, const Problem& problem, const run::RunOutc
       << "planner   " << outcome.info.planner << " (seed " << outcome.info.seed << ", time limit "
       << outcome.info.time_limit << " s)\n";
   if (r.solved) {
-    out << "result    SOLVED: " << r.plan.size() << " steps, " << r.moved_objects.size() << " objects moved\n";
+    out << "result    SOLVED: " << r.plan.size() << " steps";
+    if (!problem.scene.objects.empty()) out << ", " << r.moved_objects.size() << " objects moved";
+    out << "\n";
     for (std::size_t i = 0; i < r.plan.size(); ++i) {
       const PlanStep& step = r.plan[i];
       out << "  " << std::setw(3) << i + 1 << ". " << step.action << " ";
       if (!step.arguments.empty()) {  // a symbolic step says what it was given
         for (std::size_t a = 0; a < step.arguments.size(); ++a) out << (a ? " " : "") << step.arguments[a];
+        print_values(out, step);
       } else {
         out << object_names(problem.scene, step.objects);
       }
       out << "\n";
     }
-    out << "moved     " << object_names(problem.scene, r.moved_objects) << "\n";
+    if (!problem.scene.objects.empty()) out << "moved     " << object_names(problem.scene, r.moved_objects) << "\n";
   } else {
     std::string reason = r.reason;
     if (auto nl = reason.find('\n'); nl != std::string::npos) reason = reason.substr(0, nl) + " (details above)";
@@ -354,6 +376,26 @@ int validate(const ValidateArgs& args) {
   return exit_code;
 }
 
+namespace {
+
+// A plugin's parameters as its configure() reads them; a plugin that cannot be
+// created says why instead (the listing goes on).
+void print_parameters(const plugin::Registry& registry, const plugin::PluginDescriptor& d) {
+  try {
+    const auto declared = registry.declared_parameters(d.kind, d.name);
+    if (declared.empty()) std::cout << "    parameters: none\n";
+    else std::cout << "    parameters:\n";
+    for (const ParameterDeclaration& p : declared) {
+      std::cout << "      " << std::setw(22) << p.key << std::setw(16) << p.type
+                << std::setw(14) << (p.fallback.empty() ? "-" : p.fallback) << p.help << "\n";
+    }
+  } catch (const std::exception& e) {
+    std::cout << "    parameters: unknown (creating it failed: " << e.what() << ")\n";
+  }
+}
+
+}  // namespace
+
 int plugins(const PluginsArgs& args) {
   const plugin::Registry registry(plugin::Registry::default_search_paths(args.plugin_paths));
   const auto& found = registry.plugins();
@@ -363,7 +405,10 @@ int plugins(const PluginsArgs& args) {
     for (const plugin::PluginDescriptor& d : found) {
       std::cout << std::setw(18) << plugin::kind_name(d.kind) << std::setw(22) << d.name << std::setw(9) << d.version
                 << std::setw(5) << d.abi_version << d.description << "\n";
-      if (args.verbosity == Verbosity::verbose) std::cout << "    " << d.library.string() << "\n";
+      if (args.verbosity == Verbosity::verbose) {
+        std::cout << "    " << d.library.string() << "\n";
+        print_parameters(registry, d);
+      }
     }
     if (found.empty()) std::cout << "(no plugins found)\n";
     std::cout << "\n" << registry.describe_search();

@@ -2,6 +2,7 @@
 // V-C, Table IV): {adaptive, incremental} x {pruned by the object pruner, all objects
 // movable} on each problem, with N seeds each.
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -34,6 +35,7 @@ struct Run {
   bool solved = false;
   double seconds = 0;
   std::uint64_t stream_calls = 0, motion_calls = 0, plan_length = 0, moved = 0;
+  std::string reason;  ///< why not solved (first line)
 };
 
 struct Row {
@@ -121,6 +123,34 @@ void write_svg(const std::vector<Row>& rows, const std::filesystem::path& file) 
   out << "</svg>\n";
 }
 
+// Why the runs of a row failed: each distinct reason with its count.
+std::map<std::string, int> reasons(const Row& row) {
+  std::map<std::string, int> out;
+  for (const Run& r : row.runs) {
+    if (!r.solved) ++out[r.reason.empty() ? "(no reason given)" : r.reason];
+  }
+  return out;
+}
+
+void print_failures(const std::vector<Row>& rows) {
+  bool header = false;
+  for (const Row& r : rows) {
+    for (const auto& [reason, count] : reasons(r)) {
+      if (!header) std::cout << "Failed runs:\n";
+      header = true;
+      std::cout << "  " << r.problem << ", " << r.setting.label() << ": " << count << "x " << reason << "\n";
+    }
+  }
+}
+
+// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string csv_text(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 }  // namespace
 
 int compare(const CompareArgs& args) {
@@ -133,7 +163,7 @@ int compare(const CompareArgs& args) {
   if (args.csv) {
     csv.open(*args.csv);
     if (!csv) throw InputError({args.csv->string(), 0, 0}, "cannot write the CSV file");
-    csv << "problem,objects,algorithm,pruned,seed,solved,time_s,stream_calls,motion_planning_calls,plan_length,objects_moved\n";
+    csv << "problem,objects,algorithm,pruned,seed,solved,time_s,stream_calls,motion_planning_calls,plan_length,objects_moved,reason\n";
   }
   for (std::size_t p = 0; p < problems.size(); ++p) {
     Problem problem = problems[p];
@@ -145,7 +175,13 @@ int compare(const CompareArgs& args) {
     options.time_limit = args.time_limit;
     options.plugin_paths = args.plugin_paths;
     const plugin::Registry registry(run::plugin_search_paths(problem, options));
+    // Pruning chooses among a scene's objects; a PDDL problem file fixes its facts.
+    const bool scene_facts = !std::get<PddlTask>(problem.task).problem;
     for (const Setting& setting : kSettings) {
+      if (setting.prune && !scene_facts) {
+        done += static_cast<std::size_t>(args.runs);
+        continue;
+      }
       Row row{problem.name, problem.scene.objects.size(), setting, {}};
       problem.planner.parameters = Parameters{};
       problem.planner.parameters.set("algorithm", setting.algorithm);
@@ -159,12 +195,12 @@ int compare(const CompareArgs& args) {
         const run::RunOutcome outcome = run::plan(problem, registry, options);
         const Result& r = outcome.result;
         Run run{r.solved, r.time.total, counter(r, "stream_calls"), counter(r, counter::motion_planning_calls),
-                r.plan.size(), r.moved_objects.size()};
+                r.plan.size(), r.moved_objects.size(), r.solved ? "" : r.reason.substr(0, r.reason.find('\n'))};
         row.runs.push_back(run);
         if (csv) {
           csv << problem.name << ',' << row.objects << ',' << setting.algorithm << ',' << setting.prune << ','
               << *options.seed << ',' << run.solved << ',' << run.seconds << ',' << run.stream_calls << ','
-              << run.motion_calls << ',' << run.plan_length << ',' << run.moved << '\n';
+              << run.motion_calls << ',' << run.plan_length << ',' << run.moved << ',' << csv_text(run.reason) << '\n';
         }
       }
       rows.push_back(std::move(row));
@@ -172,14 +208,16 @@ int compare(const CompareArgs& args) {
   }
   if (args.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(70, ' ') << "\r";
 
-  std::cout << std::left << std::setw(12) << "problem" << std::setw(27) << "setting" << std::setw(9) << "success"
+  int name_width = 12;  // the longest problem name and a space
+  for (const Row& r : rows) name_width = std::max(name_width, static_cast<int>(r.problem.size()) + 1);
+  std::cout << std::left << std::setw(name_width) << "problem" << std::setw(27) << "setting" << std::setw(9) << "success"
             << std::setw(9) << "median" << std::setw(15) << "mean(std) s" << std::setw(8) << "paper" << std::setw(9)
             << "streams" << std::setw(8) << "motion" << std::setw(7) << "steps" << "moved\n";
   nlohmann::json json = nlohmann::json::array();
   for (const Row& r : rows) {
     const auto t = field(r, &Run::seconds);
     const std::string mean_std = fixed(mean(t)) + "(" + fixed(stddev(t)) + ")";
-    std::cout << std::left << std::setw(12) << r.problem << std::setw(27) << r.setting.label() << std::setw(9)
+    std::cout << std::left << std::setw(name_width) << r.problem << std::setw(27) << r.setting.label() << std::setw(9)
               << (fixed(success(r), 0) + "%") << std::setw(9) << fixed(median(t)) << std::setw(15) << mean_std
               << std::setw(8) << paper_time(r.objects, r.setting.prune) << std::setw(9)
               << fixed(mean(field(r, &Run::stream_calls)), 1) << std::setw(8)
@@ -196,8 +234,10 @@ int compare(const CompareArgs& args) {
                     {"motion_planning_calls_mean", mean(field(r, &Run::motion_calls))},
                     {"plan_length_mean", mean(field(r, &Run::plan_length))},
                     {"objects_moved_mean", mean(field(r, &Run::moved))},
-                    {"paper_mean_time_s", paper_time(r.objects, r.setting.prune)}});
+                    {"paper_mean_time_s", paper_time(r.objects, r.setting.prune)},
+                    {"failure_reasons", reasons(r)}});
   }
+  print_failures(rows);
   std::cout << "Times of solved runs; paper: Tian et al. Table IV, mean time (their 4- and 8-object scenes).\n";
   if (args.json) write_json_file(*args.json, json);
   if (args.svg) write_svg(rows, *args.svg);

@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
       ->expected(1)
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  add_verbosity(*plugins, plugins_args.verbosity, "Also print each plugin's library path");
+  add_verbosity(*plugins, plugins_args.verbosity, "Also print each plugin's library path and the parameters it reads (key, type, default, help)");
 
   cli::PddlArgs pddl_args;
   auto* pddl = app.add_subcommand("pddl", "Plan a PDDL domain and problem; print the plan in IPC format");

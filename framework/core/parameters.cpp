@@ -1,73 +1,107 @@
 #include "cluttertamp/core/parameters.hpp"
 
+#include <algorithm>
+
 namespace cluttertamp {
 
 namespace {
-const char* type_name(const ParameterValue& value) {
-  switch (value.index()) {
-    case 0: return "a boolean";
-    case 1: return "an integer";
-    case 2: return "a number";
-    case 3: return "a string";
-    default: return "a list of numbers";
-  }
+
+Value to_value(ParameterValue value, SourceLocation where) {
+  return std::visit(
+      [&](auto&& v) -> Value {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::vector<double>>) {
+          Value::List list;
+          for (double x : v) list.emplace_back(x, where);
+          return Value(std::move(list), where);
+        } else {
+          return Value(std::move(v), where);
+        }
+      },
+      std::move(value));
 }
+
+std::string yaml_of(const std::vector<double>& numbers) {
+  Value::List list;
+  for (double x : numbers) list.emplace_back(x);
+  return Value(std::move(list)).to_yaml();
+}
+
+[[noreturn]] void wrong_type(const std::string& key, const Value& got, const char* wanted) {
+  throw InputError(got.where(), "parameter '" + key + "' must be " + wanted + ", not " + got.kind_name());
+}
+
 }  // namespace
 
 void Parameters::set(std::string key, ParameterValue value, SourceLocation where) {
-  values_[std::move(key)] = Entry{std::move(value), std::move(where)};
+  set(std::move(key), to_value(std::move(value), std::move(where)));
 }
+
+void Parameters::set(std::string key, Value value) { values_[std::move(key)] = std::move(value); }
 
 bool Parameters::contains(const std::string& key) const { return values_.count(key) > 0; }
 
-const Parameters::Entry* Parameters::find(const std::string& key) const {
+std::vector<std::string> Parameters::keys() const {
+  std::vector<std::string> out;
+  for (const auto& [key, value] : values_) out.push_back(key);
+  return out;
+}
+
+std::string Parameters::to_yaml() const {
+  Value::Map map;
+  for (const auto& [key, value] : values_) map.emplace_back(key, value);
+  return Value(std::move(map)).to_yaml();
+}
+
+const Value* Parameters::find(const std::string& key, const char* type, std::string fallback,
+                              std::string_view help) const {
+  const bool declared = std::any_of(declarations_.begin(), declarations_.end(),
+                                    [&](const ParameterDeclaration& d) { return d.key == key; });
+  if (!declared) declarations_.push_back({key, type, std::move(fallback), std::string(help)});
   auto it = values_.find(key);
   if (it == values_.end()) return nullptr;
   used_.insert(key);
   return &it->second;
 }
 
-namespace {
-[[noreturn]] void wrong_type(const std::string& key, const SourceLocation& where, const char* wanted,
-                             const ParameterValue& got) {
-  throw InputError(where, "parameter '" + key + "' must be " + wanted + ", not " + type_name(got));
-}
-}  // namespace
-
-double Parameters::get_double(const std::string& key, double fallback) const {
-  const Entry* e = find(key);
-  if (!e) return fallback;
-  if (const auto* d = std::get_if<double>(&e->value)) return *d;
-  if (const auto* i = std::get_if<std::int64_t>(&e->value)) return static_cast<double>(*i);
-  wrong_type(key, e->where, "a number", e->value);
+double Parameters::get_double(const std::string& key, double fallback, std::string_view help) const {
+  const Value* v = find(key, "number", Value(fallback).to_yaml(), help);
+  if (!v) return fallback;
+  if (const auto x = v->number()) return *x;
+  wrong_type(key, *v, "a number");
 }
 
-std::int64_t Parameters::get_int(const std::string& key, std::int64_t fallback) const {
-  const Entry* e = find(key);
-  if (!e) return fallback;
-  if (const auto* i = std::get_if<std::int64_t>(&e->value)) return *i;
-  wrong_type(key, e->where, "an integer", e->value);
+std::int64_t Parameters::get_int(const std::string& key, std::int64_t fallback, std::string_view help) const {
+  const Value* v = find(key, "integer", std::to_string(fallback), help);
+  if (!v) return fallback;
+  if (const std::int64_t* i = v->integer()) return *i;
+  wrong_type(key, *v, "an integer");
 }
 
-bool Parameters::get_bool(const std::string& key, bool fallback) const {
-  const Entry* e = find(key);
-  if (!e) return fallback;
-  if (const auto* b = std::get_if<bool>(&e->value)) return *b;
-  wrong_type(key, e->where, "a boolean", e->value);
+bool Parameters::get_bool(const std::string& key, bool fallback, std::string_view help) const {
+  const Value* v = find(key, "boolean", fallback ? "true" : "false", help);
+  if (!v) return fallback;
+  if (const bool* b = v->boolean()) return *b;
+  wrong_type(key, *v, "a boolean");
 }
 
-std::string Parameters::get_string(const std::string& key, const std::string& fallback) const {
-  const Entry* e = find(key);
-  if (!e) return fallback;
-  if (const auto* s = std::get_if<std::string>(&e->value)) return *s;
-  wrong_type(key, e->where, "a string", e->value);
+std::string Parameters::get_string(const std::string& key, const std::string& fallback, std::string_view help) const {
+  const Value* v = find(key, "string", Value(fallback).to_yaml(), help);
+  if (!v) return fallback;
+  if (const std::string* s = v->string()) return *s;
+  wrong_type(key, *v, "a string");
 }
 
-std::vector<double> Parameters::get_vector(const std::string& key, const std::vector<double>& fallback) const {
-  const Entry* e = find(key);
-  if (!e) return fallback;
-  if (const auto* v = std::get_if<std::vector<double>>(&e->value)) return *v;
-  wrong_type(key, e->where, "a list of numbers", e->value);
+std::vector<double> Parameters::get_vector(const std::string& key, const std::vector<double>& fallback,
+                                           std::string_view help) const {
+  const Value* v = find(key, "list of numbers", yaml_of(fallback), help);
+  if (!v) return fallback;
+  if (auto numbers = v->numbers()) return *numbers;
+  wrong_type(key, *v, "a list of numbers");
+}
+
+const Value* Parameters::get(const std::string& key, std::string_view help) const {
+  return find(key, "any", "", help);
 }
 
 void Parameters::require(bool ok, const std::string& key, const std::string& what) const {
@@ -76,7 +110,7 @@ void Parameters::require(bool ok, const std::string& key, const std::string& wha
 
 std::vector<std::string> Parameters::unused() const {
   std::vector<std::string> keys;
-  for (const auto& [key, entry] : values_) {
+  for (const auto& [key, value] : values_) {
     if (!used_.count(key)) keys.push_back(key);
   }
   return keys;
@@ -84,7 +118,13 @@ std::vector<std::string> Parameters::unused() const {
 
 SourceLocation Parameters::location(const std::string& key) const {
   auto it = values_.find(key);
-  return it == values_.end() ? SourceLocation{} : it->second.where;
+  return it == values_.end() ? SourceLocation{} : it->second.where();
+}
+
+Parameters Parameters::fresh() const {
+  Parameters copy;
+  copy.values_ = values_;
+  return copy;
 }
 
 }  // namespace cluttertamp

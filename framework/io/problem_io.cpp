@@ -1,5 +1,7 @@
 #include "cluttertamp/io/problem_io.hpp"
 
+#include <utility>
+
 #include "cluttertamp/robot/robot_description.hpp"
 #include "io/readers.hpp"
 #include "io/yaml_reader.hpp"
@@ -57,8 +59,10 @@ class ProblemReader {
   Problem read();
 
  private:
+  bool symbolic_task(const MapReader& top) const;
   void read_robot(const YAML::Node& node);
   void read_task(const YAML::Node& node);
+  void read_values(const YAML::Node& node, PddlTask& task);
   void read_planner(const YAML::Node& node);
   void read_plugins(const YAML::Node& node);
   void check_target();
@@ -85,8 +89,11 @@ Problem ProblemReader::read() {
   if (top.has("name")) {
     if (auto name = file_.string(top.optional("name"), "name")) problem_.name = *name;
   }
-  const YAML::Node scene = top.required("scene");
-  if (scene.IsDefined()) {
+  // A PDDL task with its own problem file may leave out the scene and the robot (a
+  // purely symbolic stream problem); every other task needs both.
+  const bool symbolic = symbolic_task(top);
+  const YAML::Node scene = symbolic ? top.optional("scene") : top.required("scene");
+  if (scene.IsDefined() && !scene.IsNull()) {
     if (auto path = existing_file(file_, scene, "scene file")) {
       problem_.scene_file = *path;
       const std::size_t before = diagnostics_.size();
@@ -94,7 +101,7 @@ Problem ProblemReader::read() {
       scene_ok_ = diagnostics_.size() == before;
     }
   }
-  read_robot(top.required("robot"));
+  read_robot(symbolic ? top.optional("robot") : top.required("robot"));
   read_task(top.required("task"));
   read_planner(top.required("planner"));
   if (top.has("plugins")) read_plugins(top.optional("plugins"));
@@ -102,8 +109,15 @@ Problem ProblemReader::read() {
   return problem_;
 }
 
+bool ProblemReader::symbolic_task(const MapReader& top) const {
+  const YAML::Node task = top.optional("task");
+  if (!task.IsMap()) return false;
+  const YAML::Node pddl = std::as_const(task)["pddl"];  // const: a missing key is an undefined node
+  return pddl.IsDefined() && pddl.IsMap() && std::as_const(pddl)["problem"].IsDefined();
+}
+
 void ProblemReader::read_robot(const YAML::Node& node) {
-  if (!node.IsDefined()) return;
+  if (!node.IsDefined() || node.IsNull()) return;
   MapReader map(file_, node, "robot", {"description", "configuration"});
   if (!map.valid()) return;
   problem_.robot.where = file_.at(node);
@@ -158,13 +172,29 @@ void ProblemReader::read_task(const YAML::Node& node) {
     else problem_.task = RetrievalTask{target};
     return;
   }
-  MapReader pddl(file_, map.optional("pddl"), "task pddl", {"domain", "problem", "streams"});
+  MapReader pddl(file_, map.optional("pddl"), "task pddl", {"domain", "problem", "streams", "values"});
   if (!pddl.valid()) return;
   PddlTask task;
   if (const YAML::Node n = pddl.required("domain"); n.IsDefined()) task.domain = existing_file(file_, n, "PDDL domain").value_or("");
   if (pddl.has("problem")) task.problem = existing_file(file_, pddl.optional("problem"), "PDDL problem");
   if (pddl.has("streams")) task.streams = existing_file(file_, pddl.optional("streams"), "stream file");
+  if (pddl.has("values")) read_values(pddl.optional("values"), task);
   problem_.task = task;
+}
+
+void ProblemReader::read_values(const YAML::Node& node, PddlTask& task) {
+  if (!node.IsMap()) {
+    file_.error(node, "task pddl values must map PDDL objects to values (any YAML), not " +
+                          std::string(node.IsSequence() ? "a list" : "a scalar"));
+    return;
+  }
+  if (!task.problem) {
+    file_.error(node, "task pddl values need a PDDL problem (its objects); without one the facts come from the scene");
+    return;
+  }
+  const auto values = file_.value(node, "task pddl values");
+  if (!values) return;
+  for (const auto& [object, value] : *values->map()) task.values.emplace(object, value);
 }
 
 void ProblemReader::read_planner(const YAML::Node& node) {

@@ -202,6 +202,61 @@ void YamlFile::check_version(const YAML::Node& version, const std::string& forma
   }
 }
 
+std::optional<Value> YamlFile::value(const YAML::Node& node, const std::string& what) const {
+  const SourceLocation where = at(node);
+  if (!node.IsDefined() || node.IsNull()) return Value({}, where);
+  if (node.IsScalar()) {
+    long long i = 0;
+    double d = 0;
+    bool b = false;
+    if (quoted(node)) return Value(node.Scalar(), where);
+    if (decimal_integer(node.Scalar()) && YAML::convert<long long>::decode(node, i)) {
+      return Value(static_cast<std::int64_t>(i), where);
+    }
+    if (YAML::convert<double>::decode(node, d)) {
+      if (std::isfinite(d)) return Value(d, where);
+      error(node, what + " must be a finite number, not " + node.Scalar());
+      return std::nullopt;
+    }
+    if (YAML::convert<bool>::decode(node, b)) return Value(b, where);
+    return Value(node.Scalar(), where);
+  }
+  if (node.IsSequence()) {
+    Value::List list;
+    bool ok = true;
+    for (std::size_t k = 0; k < node.size(); ++k) {
+      auto v = value(node[k], what + "[" + std::to_string(k) + "]");
+      if (v) list.push_back(std::move(*v)); else ok = false;
+    }
+    if (!ok) return std::nullopt;
+    return Value(std::move(list), where);
+  }
+  if (node.IsMap()) {
+    Value::Map map;
+    std::set<std::string> seen;
+    bool ok = true;
+    for (const auto& item : node) {
+      if (!item.first.IsScalar()) {
+        error(item.first, what + ": keys must be plain strings");
+        ok = false;
+        continue;
+      }
+      const std::string key = item.first.Scalar();
+      if (!seen.insert(key).second) {
+        error(item.first, what + ": duplicate key '" + key + "'");
+        ok = false;
+        continue;
+      }
+      auto v = value(item.second, what + "." + key);
+      if (v) map.emplace_back(key, std::move(*v)); else ok = false;
+    }
+    if (!ok) return std::nullopt;
+    return Value(std::move(map), where);
+  }
+  error(node, what + " must be a value, not " + describe(node));
+  return std::nullopt;
+}
+
 Parameters YamlFile::parameters(const YAML::Node& node, const std::string& what) const {
   Parameters params;
   if (!node.IsDefined() || node.IsNull()) return params;
@@ -209,46 +264,11 @@ Parameters YamlFile::parameters(const YAML::Node& node, const std::string& what)
     error(node, what + " must be a mapping of names to values, not " + describe(node));
     return params;
   }
-  std::set<std::string> seen;
-  for (const auto& item : node) {
-    if (!item.first.IsScalar()) {
-      error(item.first, what + ": parameter names must be plain strings");
-      continue;
-    }
-    const std::string key = item.first.Scalar();
-    if (!seen.insert(key).second) {
-      error(item.first, what + ": duplicate parameter '" + key + "'");
-      continue;
-    }
-    const YAML::Node& value = item.second;
-    const SourceLocation where = at(value);
-    if (value.IsScalar()) {
-      long long i = 0;
-      double d = 0;
-      bool b = false;
-      if (quoted(value)) {
-        params.set(key, value.Scalar(), where);
-      } else if (decimal_integer(value.Scalar()) && YAML::convert<long long>::decode(value, i)) {
-        params.set(key, static_cast<std::int64_t>(i), where);
-      } else if (YAML::convert<double>::decode(value, d)) {
-        if (std::isfinite(d)) params.set(key, d, where);
-        else error(value, "parameter '" + key + "' must be a finite number, not " + value.Scalar());
-      } else if (YAML::convert<bool>::decode(value, b)) {
-        params.set(key, b, where);
-      } else {
-        params.set(key, value.Scalar(), where);
-      }
-    } else if (value.IsSequence()) {
-      std::vector<double> numbers;
-      bool ok = true;
-      for (const YAML::Node& x : value) {
-        auto n = number(x, "each entry of parameter '" + key + "'");
-        if (n) numbers.push_back(*n); else ok = false;
-      }
-      if (ok) params.set(key, numbers, where);
-    } else {
-      error(value, "parameter '" + key + "' must be a number, boolean, string or list of numbers, not " + describe(value));
-    }
+  const auto all = value(node, what);
+  if (!all) return params;
+  for (const auto& [key, v] : *all->map()) {
+    if (v.is_null()) error(v.where(), "parameter '" + key + "' has no value (leave it out for its default)");
+    else params.set(key, v);
   }
   return params;
 }

@@ -62,7 +62,10 @@ class YamlFile {
   /// Reports a `version` node that is not the integer `expected`, naming the `format`
   /// ("scene", "problem", ...); a missing node (undefined) is left to the caller.
   void check_version(const YAML::Node& version, const std::string& format, int expected) const;
-  /// A map of plugin parameters: numbers, integers, booleans, strings, number lists.
+  /// Any YAML value as a Value tree (scalars typed as Value documents); reports
+  /// duplicate or non-string keys and non-finite numbers.
+  std::optional<Value> value(const YAML::Node& node, const std::string& what) const;
+  /// A map of plugin parameters, each any Value but null.
   Parameters parameters(const YAML::Node& node, const std::string& what) const;
 
  private:

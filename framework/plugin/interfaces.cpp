@@ -27,6 +27,26 @@ StreamSampler::~StreamSampler() = default;
 StreamPayload::~StreamPayload() = default;
 const Trajectory* StreamPayload::trajectory() const { return nullptr; }
 std::vector<double> StreamPayload::numbers() const { return {}; }
+
+ValuePayload::ValuePayload(Value value) : value_(std::move(value)) {}
+ValuePayload::~ValuePayload() = default;
+std::vector<double> ValuePayload::numbers() const { return value_.numbers().value_or(std::vector<double>{}); }
+
+const Value* as_value(const StreamValue& v) {
+  const auto* payload = std::get_if<std::shared_ptr<const StreamPayload>>(&v);
+  if (!payload) return nullptr;
+  const auto* value = dynamic_cast<const ValuePayload*>(payload->get());
+  return value ? &value->value() : nullptr;
+}
+
+StreamValue stream_value(const Value& value) {
+  if (const auto x = value.number()) return *x;
+  if (const auto numbers = value.numbers(); numbers && !numbers->empty()) {
+    return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(numbers->data(), static_cast<Eigen::Index>(numbers->size())));
+  }
+  if (const std::string* s = value.string()) return *s;
+  return std::make_shared<const ValuePayload>(value);
+}
 StreamGenerator::~StreamGenerator() = default;
 
 namespace {

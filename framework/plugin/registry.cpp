@@ -286,8 +286,8 @@ std::string Registry::describe_search() const {
   return out.str();
 }
 
-std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const Parameters& parameters,
-                                         const SourceLocation& where) const {
+std::shared_ptr<Plugin> Registry::make(Kind kind, std::string_view name, const SourceLocation& where,
+                                       std::string& who) const {
   const PluginDescriptor* descriptor = find(kind, name);
   const PluginEntry* entry = nullptr;
   {
@@ -302,7 +302,7 @@ std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const
     throw InputError(where, std::string("no usable ") + kind_name(kind) + " plugin named '" + std::string(name) +
                                 "'\n" + text);
   }
-  const std::string who = std::string(kind_name(kind)) + " '" + std::string(name) + "' (" +
+  who = std::string(kind_name(kind)) + " '" + std::string(name) + "' (" +
                           descriptor->library.filename().string() + ")";
   std::shared_ptr<Plugin> object;
   try {
@@ -315,8 +315,26 @@ std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const
   if (!object || !implements(kind, object.get())) {
     throw std::runtime_error("the factory of " + who + " did not create a " + kind_name(kind));
   }
+  return object;
+}
+
+std::vector<ParameterDeclaration> Registry::declared_parameters(Kind kind, std::string_view name) const {
+  std::string who;
+  const std::shared_ptr<Plugin> object = make(kind, name, {}, who);
+  const Parameters none;
+  object->configure(none);
+  return none.declarations();
+}
+
+std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const Parameters& parameters,
+                                         const SourceLocation& where) const {
+  std::string who;
+  std::shared_ptr<Plugin> object = make(kind, name, where, who);
+  // A fresh copy: what this object reads is checked alone, however often the problem's
+  // parameters are used (compare, bench and sessions create plugins once per run).
+  const Parameters given = parameters.fresh();
   try {
-    object->configure(parameters);
+    object->configure(given);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
@@ -324,11 +342,11 @@ std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const
   } catch (...) {
     throw InputError(where, who + " rejected its parameters (non-standard exception)");
   }
-  const std::vector<std::string> unknown = parameters.unused();
+  const std::vector<std::string> unknown = given.unused();
   if (!unknown.empty()) {
     Diagnostics diagnostics;
     for (const std::string& key : unknown) {
-      diagnostics.error(parameters.location(key), std::string("unknown parameter '") + key + "' for " +
+      diagnostics.error(given.location(key), std::string("unknown parameter '") + key + "' for " +
                                                       kind_name(kind) + " '" + std::string(name) + "'");
     }
     throw InputError(diagnostics);

@@ -41,8 +41,13 @@ plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem
   samplers.motion = create_role<plugin::MotionSampler>(registry, problem, SamplerRole::motion);
   samplers.push = create_role<plugin::PushSampler>(registry, problem, SamplerRole::push);
   samplers.object_pruner = create_role<plugin::ObjectPruner>(registry, problem, SamplerRole::object_pruner);
+  // Bindings naming the same plugin with the same parameters share one object, so a
+  // plugin serving several streams keeps one state (caches, a shared world model).
+  std::map<std::string, std::shared_ptr<plugin::StreamSampler>> by_choice;
   for (const auto& [stream, choice] : problem.streams) {
-    samplers.streams[stream] = registry.create<plugin::StreamSampler>(choice.name, choice.parameters, choice.where);
+    auto& shared = by_choice[choice.name + " " + choice.parameters.to_yaml()];
+    if (!shared) shared = registry.create<plugin::StreamSampler>(choice.name, choice.parameters, choice.where);
+    samplers.streams[stream] = shared;
   }
   return samplers;
 }

@@ -12,6 +12,7 @@
 #include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/core/free_beside.hpp"
+#include "search/universal.hpp"
 
 namespace cluttertamp::search {
 
@@ -31,6 +32,10 @@ struct CTerm {
   bool variable = false;
   int value = 0;  // slot or object
 };
+
+// A variable term of a Schema::core atom that matches any object: a variable
+// quantified inside the precondition, which enumerate() does not bind.
+constexpr int kWildcard = -1;
 
 struct CAtom {
   int predicate = -1;  // -1: equality
@@ -277,10 +282,19 @@ void Grounder::collect_core(const CFormula& f, std::vector<CAtom>& core, std::ve
     quantified.insert(quantified.end(), f.slots.begin(), f.slots.end());
     collect_core(f.children.at(0), core, quantified);
   } else if (f.kind == Formula::Kind::atom && f.atom.predicate >= 0) {
-    const bool free = std::none_of(f.atom.args.begin(), f.atom.args.end(), [&](const CTerm& t) {
-      return t.variable && std::find(quantified.begin(), quantified.end(), t.value) != quantified.end();
-    });
-    if (free) core.push_back(f.atom);
+    // A quantified variable matches any value (kWildcard): (Contained ?b ?p ?r) inside
+    // In's (exists (?p) ...) still binds ?b and ?r from the reached Contained atoms,
+    // instead of every pair of objects being tried.
+    CAtom a = f.atom;
+    bool binds = false, wild = false;
+    for (CTerm& t : a.args) {
+      if (!t.variable) continue;
+      const bool q = std::find(quantified.begin(), quantified.end(), t.value) != quantified.end();
+      if (q) t.value = kWildcard;
+      binds = binds || !q;
+      wild = wild || q;
+    }
+    if (binds || !wild) core.push_back(std::move(a));
   }
 }
 
@@ -490,6 +504,8 @@ void Grounder::enumerate(const Schema& s, std::size_t k, std::vector<int>& bindi
         const CTerm& term = a.args[i];
         if (!term.variable) {
           ok = term.value == tuple[i];
+        } else if (term.value == kWildcard) {
+          continue;
         } else if (bound[term.value]) {
           ok = binding[term.value] == tuple[i];
         } else {
@@ -1017,7 +1033,9 @@ Task Grounder::run(GroundingStats* stats) {
 }  // namespace
 
 Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats, double time_limit) {
-  auto grounder = std::make_unique<Grounder>(domain, problem, time_limit);
+  // Foralls that would multiply out in disjunctive normal form become derived predicates.
+  const std::optional<pddl::Domain> compiled = detail::with_universal_axioms(domain);
+  auto grounder = std::make_unique<Grounder>(compiled ? *compiled : domain, problem, time_limit);
   try {
     return grounder->run(stats);
   } catch (const TimeLimit&) {

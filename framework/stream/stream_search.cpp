@@ -160,13 +160,33 @@ class StreamSearch {
           }
         }
       }
+      if (const auto o = options_.streams.find(s.name); o != options_.streams.end()) {
+        if (o->second.eager && s.kind == StreamDecl::Kind::function) {
+          d.error(s.where, "'" + s.name + "' is a function: functions are evaluated at once anyway, 'eager' is for tests and generators");
+        }
+        if (o->second.optimistic_value != 0.0 && s.kind != StreamDecl::Kind::function) {
+          d.error(s.where, "'" + s.name + "' is not a function: only a function has an optimistic value");
+        }
+      }
       if (s.kind == StreamDecl::Kind::rule) continue;
       const auto it = problem_.bindings.find(s.name);
       if (it == problem_.bindings.end() || !it->second) {
         d.error(s.where, "'" + s.name + "' has no code behind it: bind it to a stream_sampler plugin under plugins: streams:");
       }
     }
+    for (const auto& [name, unused] : options_.streams) {
+      const auto& declared = problem_.streams->streams;
+      if (std::none_of(declared.begin(), declared.end(), [&](const StreamDecl& s) { return s.name == name; })) {
+        d.error(problem_.streams->where, "stream options name '" + name + "', which this stream file does not declare");
+      }
+    }
     d.throw_if_any();
+  }
+
+  const StreamOptions& stream_options(const StreamDecl& d) const {
+    static const StreamOptions defaults;
+    const auto it = options_.streams.find(d.name);
+    return it == options_.streams.end() ? defaults : it->second;
   }
 
   void load_initial() {
@@ -325,9 +345,12 @@ class StreamSearch {
       changed = false;
       for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
         const StreamDecl& d = base_.decl(s);
-        if (d.kind != StreamDecl::Kind::rule && d.kind != StreamDecl::Kind::function) continue;
+        const bool eager = stream_options(d).eager;
+        if (d.kind != StreamDecl::Kind::rule && d.kind != StreamDecl::Kind::function && !eager) continue;
         for (int id : real_instances(s)) {
-          if (!base_.instance_at(id).exhausted) changed |= call(id) && d.kind == StreamDecl::Kind::rule;
+          const Instance& inst = base_.instance_at(id);
+          if (inst.exhausted || (eager && inst.calls > 0)) continue;  // an eager stream: once each
+          changed |= call(id) && (d.kind == StreamDecl::Kind::rule || (eager && !d.is_test()));
         }
       }
     }
@@ -345,8 +368,9 @@ class StreamSearch {
   // ---- symbolic search --------------------------------------------------------
 
   // Plans with the real facts, and the optimistic ones if asked.
-  std::optional<std::vector<Step>> plan_symbolic(bool optimistic) {
-    const auto start = Clock::now();
+  // The PDDL problem of the facts so far: the real ones, and the optimistic ones too
+  // when `optimistic`.
+  pddl::Problem symbolic_problem(bool optimistic) {
     pddl::Problem p = *problem_.problem;
     p.objects.clear();
     p.init.clear();
@@ -357,19 +381,26 @@ class StreamSearch {
       if ((o.optimistic && !optimistic) || constants.count(o.name)) continue;
       p.objects.push_back({o.name, o.types, {}});
     }
+    for (const FactKey& f : initial_state_) p.init.push_back(atom_of(f));
+    for (const auto& [fact, info] : base_.facts()) {
+      keep_time_limit();
+      // Predicates the domain does not declare are the streams' own: not for the search.
+      if ((!info.optimistic || optimistic) && domain_.predicates.count(base_.predicate_name(fact[0]))) {
+        p.init.push_back(atom_of(fact));
+      }
+    }
+    add_function_values(p, optimistic);
+    return p;
+  }
+
+  std::optional<std::vector<Step>> plan_symbolic(bool optimistic) {
+    const auto start = Clock::now();
+    pddl::Problem p;
     std::optional<std::vector<Step>> steps;
     // The optimistic problem may hold millions of facts: a time limit reached while it
     // is built or searched leaves it (and the grounded task) to be freed beside.
     try {
-      for (const FactKey& f : initial_state_) p.init.push_back(atom_of(f));
-      for (const auto& [fact, info] : base_.facts()) {
-        keep_time_limit();
-        // Predicates the domain does not declare are the streams' own: not for the search.
-        if ((!info.optimistic || optimistic) && domain_.predicates.count(base_.predicate_name(fact[0]))) {
-          p.init.push_back(atom_of(fact));
-        }
-      }
-      add_function_values(p, optimistic);
+      p = symbolic_problem(optimistic);
       ++out_.statistics.searches;
       search::GroundingStats grounding;
       search::Task task = search::ground(domain_, p, &grounding, context_.deadline.remaining());
@@ -396,6 +427,53 @@ class StreamSearch {
     return steps;
   }
 
+  // Once a plan is found: a cost-aware search (`polish_search`, within
+  // `polish_expansions`) on the real facts, whose plan replaces it when cheaper (action
+  // costs and function values; steps without a metric) and valid. The first plan of a
+  // greedy search may take detours (a pick and place to get the hand free, a value from
+  // an earlier skeleton) that cost nothing to find and much to run.
+  std::vector<Step> cheaper_plan(std::vector<Step> steps) {
+    if (options_.polish_search.empty() || context_.deadline.expired()) return steps;
+    const auto start = Clock::now();
+    close_real();  // every cost function on the real values
+    if (context_.deadline.expired()) return steps;
+    try {
+      const pddl::Problem p = symbolic_problem(false);
+      const search::Task task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
+      std::map<std::string, double> cost_of;
+      for (const search::Operator& op : task.operators) cost_of.emplace(op.name, op.cost);
+      double before = 0;
+      for (const Step& step : steps) {
+        const auto it = cost_of.find(name_of(step));
+        before += it == cost_of.end() ? std::numeric_limits<double>::infinity() : it->second;
+      }
+      search::SearchOptions so;
+      so.algorithm = options_.polish_search;
+      so.time_limit = context_.deadline.remaining();
+      so.max_expansions = options_.polish_expansions;
+      const search::SearchResult r = search::plan(task, so);
+      ++out_.statistics.searches;
+      if (r.solved && r.cost < before - 1e-9) {
+        std::vector<Step> cheaper;
+        for (search::OperatorId op : r.plan) cheaper.push_back(step_of(task.operators[static_cast<std::size_t>(op)].name));
+        if (verify(cheaper)) steps = std::move(cheaper);
+      }
+    } catch (const search::TimeLimit&) {
+      // The plan in hand stands.
+    } catch (const InputError&) {
+      // A function without a value (its call failed): the plan in hand stands.
+    }
+    out_.statistics.search_seconds += since(start);
+    return steps;
+  }
+
+  std::string name_of(const Step& step) const {
+    std::string name = "(" + step.action->name;
+    for (ObjectId o : step.args) name += " " + base_.object(o).name;
+    return name + ")";
+  }
+
+
   // Function values: real ones where evaluated, 0 (a lower bound) where optimistic.
   void add_function_values(pddl::Problem& p, bool optimistic) {
     for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
@@ -408,7 +486,7 @@ class StreamSearch {
         pddl::NumericFact f;
         f.function.predicate = d.name;
         for (ObjectId o : inputs) f.function.args.push_back({base_.object(o).name, false, {}});
-        f.value = inst.value.value_or(0.0);
+        f.value = inst.value.value_or(stream_options(d).optimistic_value);
         p.numeric_init.push_back(f);
       });
     }
@@ -518,7 +596,37 @@ class StreamSearch {
     return std::nullopt;
   }
 
-  void solved(const std::vector<Step>& steps) {
+  // Greedy action elimination: while dropping one action, or two (a place and the pick
+  // that undoes it need not be neighbours), leaves a plan that holds with real facts,
+  // drop them; singles before pairs, earliest first, so a plan always shortens the same
+  // way. The searches are not cost-optimal and the incremental one plans with every
+  // value it has, so such detours do occur.
+  std::vector<Step> without_pointless_steps(std::vector<Step> steps) {
+    auto without = [&](std::size_t i, std::size_t j) {
+      std::vector<Step> fewer;
+      for (std::size_t k = 0; k < steps.size(); ++k) {
+        if (k != i && k != j) fewer.push_back(steps[k]);
+      }
+      return fewer;
+    };
+    for (bool shorter = true; shorter && !context_.deadline.expired();) {
+      shorter = false;
+      // Gap 0: one action; then two, nearest pairs first.
+      for (std::size_t gap = 0; gap < steps.size() && !shorter; ++gap) {
+        for (std::size_t i = 0; i + gap < steps.size() && !shorter; ++i) {
+          std::vector<Step> fewer = without(i, i + gap);
+          if (verify(fewer)) {
+            steps = std::move(fewer);
+            shorter = true;
+          }
+        }
+      }
+    }
+    return steps;
+  }
+
+  void solved(std::vector<Step> steps) {
+    steps = without_pointless_steps(cheaper_plan(std::move(steps)));
     out_.solved = true;
     out_.reason.clear();
     for (const Step& s : steps) {

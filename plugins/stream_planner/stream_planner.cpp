@@ -7,13 +7,16 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <optional>
+#include <set>
 
 #include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/pddl/sexpr.hpp"
+#include "cluttertamp/search/planner.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/object_pruner.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -38,27 +41,48 @@ std::vector<double> numbers_of(const plugin::StreamValue& v) {
   return {};
 }
 
+const plugin::StreamValue* find_value(const std::map<std::string, plugin::StreamValue>& values, const std::string& name) {
+  const auto it = values.find(name);
+  return it == values.end() ? nullptr : &it->second;
+}
+
 class StreamPlanner final : public plugin::TaskPlanner {
  public:
   void configure(const Parameters& p) override {
-    const std::string algorithm = p.get_string("algorithm", "adaptive");
+    const std::string algorithm = p.get_string("algorithm", "adaptive", "adaptive (focused) or incremental");
     const auto a = stream::algorithm_from_name(algorithm);
     p.require(a.has_value(), "algorithm", "must be adaptive or incremental");
     if (a) options_.algorithm = *a;
-    options_.search = p.get_string("search", options_.search);
-    options_.sampling_ratio = p.get_double("sampling_ratio", options_.sampling_ratio);
-    options_.call_cost = p.get_double("call_cost", options_.call_cost);
-    options_.search_cost = p.get_double("search_cost", options_.search_cost);
-    options_.min_sampling = p.get_double("min_sampling", options_.min_sampling);
+    options_.search = p.get_string("search", options_.search, "the symbolic search (cluttertamp pddl --help lists them)");
+    options_.sampling_ratio = p.get_double("sampling_ratio", options_.sampling_ratio, "adaptive: stream work per unit of search work");
+    options_.call_cost = p.get_double("call_cost", options_.call_cost, "work units per stream call");
+    options_.search_cost = p.get_double("search_cost", options_.search_cost, "work units per search");
+    options_.min_sampling = p.get_double("min_sampling", options_.min_sampling, "adaptive: work units of sampling at least, each time");
     p.require(options_.sampling_ratio > 0, "sampling_ratio", "must be positive");
     p.require(options_.call_cost >= 0, "call_cost", "must not be negative (work units per stream call)");
     p.require(options_.search_cost >= 0, "search_cost", "must not be negative (work units per search)");
     p.require(options_.min_sampling > 0, "min_sampling", "must be positive (work units per sampling pass)");
-    const std::int64_t growth = p.get_int("plan_growth", options_.plan_growth);
+    const std::int64_t growth = p.get_int("plan_growth", options_.plan_growth, "adaptive: actions a plan may grow per level");
     p.require(growth >= 1 && growth <= 1000, "plan_growth", "must be in [1, 1000] (actions per level)");
     options_.plan_growth = static_cast<int>(growth);
-    prune_ = p.get_bool("prune", prune_);
-    if (p.get_bool("trace", false)) {
+    options_.polish_search = p.get_string("polish_search", options_.polish_search,
+                                          "once solved, a cost-aware search for a cheaper plan (\"\": none)");
+    const std::int64_t polish = p.get_int("polish_expansions", static_cast<std::int64_t>(options_.polish_expansions),
+                                          "expansions of that search at most");
+    p.require(polish >= 0, "polish_expansions", "must not be negative");
+    const auto& names = search::search_names();
+    std::string known;
+    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+    for (const auto& [key, value] : {std::pair{"search", options_.search}, std::pair{"polish_search", options_.polish_search}}) {
+      const bool ok = std::find(names.begin(), names.end(), value) != names.end() || (value.empty() && key == std::string("polish_search"));
+      p.require(ok, key, "must be one of " + known);
+    }
+    options_.polish_expansions = static_cast<std::uint64_t>(polish);
+    if (const Value* streams = p.get("streams", "per stream: {NAME: {eager: bool, optimistic: number}}")) {
+      options_.streams = stream_options(*streams);
+    }
+    prune_ = p.get_bool("prune", prune_, "scene facts: only the object pruner's objects are movable");
+    if (p.get_bool("trace", false, "a line per search iteration on stderr")) {
       options_.trace = [](const std::string& line) { std::fprintf(stderr, "stream search: %s\n", line.c_str()); };
     }
   }
@@ -84,6 +108,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
     std::optional<plugin::PlanningContext> pruned_context;
     if (task->problem) {
       problem = pddl::load_problem(*task->problem, domain);
+      sp.values = object_values(*task, domain, problem);
     } else {
       std::vector<bool> movable;
       for (const SceneObject& o : context.scene().objects) movable.push_back(o.movable);
@@ -132,7 +157,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
                                  "(with parameter prune: false every object is movable)",
                                  {}});
     }
-    for (const stream::StreamPlanStep& step : s.plan) result.plan.push_back(plan_step(step, s, scene_objects, result));
+    for (const stream::StreamPlanStep& step : s.plan) result.plan.push_back(plan_step(step, s, sp.values, scene_objects, result));
     const auto& st = s.statistics;
     result.counters["stream_calls"] = st.stream_calls;
     result.counters["stream_instances"] = st.stream_instances;
@@ -148,7 +173,53 @@ class StreamPlanner final : public plugin::TaskPlanner {
   }
 
  private:
+  // `streams: {test-region: {eager: true}, dist: {optimistic: 10}}`, each error at its value.
+  static std::map<std::string, stream::StreamOptions> stream_options(const Value& streams) {
+    const Value::Map* entries = streams.map();
+    if (!entries) throw InputError(streams.where(), "parameter 'streams' must map stream names to {eager, optimistic}, not " + std::string(streams.kind_name()));
+    std::map<std::string, stream::StreamOptions> out;
+    Diagnostics d;
+    for (const auto& [name, settings] : *entries) {
+      stream::StreamOptions& o = out[pddl::lower_name(name)];
+      if (!settings.map()) {
+        d.error(settings.where(), "stream '" + name + "': options must be a map {eager: bool, optimistic: number}");
+        continue;
+      }
+      for (const auto& [key, value] : *settings.map()) {
+        if (key == "eager" && value.boolean()) o.eager = *value.boolean();
+        else if (key == "optimistic" && value.number() && std::isfinite(*value.number())) o.optimistic_value = *value.number();
+        else if (key == "eager" || key == "optimistic") d.error(value.where(), "stream '" + name + "': '" + key + "' must be " + (key == "eager" ? "a boolean" : "a number") + ", not " + value.kind_name());
+        else d.error(value.where(), "stream '" + name + "': unknown option '" + key + "' (eager, optimistic)");
+      }
+    }
+    d.throw_if_any();
+    return out;
+  }
+
+  // The problem file's `values:`, checked against the PDDL problem's objects and the
+  // domain's constants (case-insensitive, as PDDL names are).
+  static std::map<std::string, plugin::StreamValue> object_values(const PddlTask& task, const pddl::Domain& domain,
+                                                                  const pddl::Problem& problem) {
+    std::set<std::string> names;
+    for (const pddl::TypedName& o : problem.objects) names.insert(pddl::lower_name(o.name));
+    for (const pddl::TypedName& c : domain.constants) names.insert(pddl::lower_name(c.name));
+    Diagnostics diagnostics;
+    std::map<std::string, plugin::StreamValue> values;
+    for (const auto& [object, value] : task.values) {
+      const std::string name = pddl::lower_name(object);
+      if (!names.count(name)) {
+        diagnostics.error(value.where(), "values: '" + object + "' is not an object of PDDL problem " + problem.file +
+                                             " nor a constant of its domain");
+        continue;
+      }
+      values[name] = plugin::stream_value(value);
+    }
+    diagnostics.throw_if_any();
+    return values;
+  }
+
   PlanStep plan_step(const stream::StreamPlanStep& step, const stream::StreamSolution& s,
+                     const std::map<std::string, plugin::StreamValue>& given,
                      const std::map<std::string, ObjectIndex>& scene_objects, Result& result) const {
     PlanStep out;
     out.action = step.action;
@@ -160,11 +231,12 @@ class StreamPlanner final : public plugin::TaskPlanner {
         if (i == 0 && step.action == "pick") result.moved_objects.push_back(o->second);
         continue;
       }
-      const auto v = s.values.find(arg);
-      if (v == s.values.end()) continue;
-      const std::vector<double> numbers = numbers_of(v->second);
+      const plugin::StreamValue* value = find_value(s.values, arg);
+      if (!value) value = find_value(given, pddl::lower_name(arg));
+      if (!value) continue;
+      const std::vector<double> numbers = numbers_of(*value);
       if (!numbers.empty()) out.values[arg] = numbers;
-      if (const auto* payload = std::get_if<std::shared_ptr<const plugin::StreamPayload>>(&v->second)) {
+      if (const auto* payload = std::get_if<std::shared_ptr<const plugin::StreamPayload>>(value)) {
         if (*payload && (*payload)->trajectory()) out.trajectory = *(*payload)->trajectory();
       }
     }

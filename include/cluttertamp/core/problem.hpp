@@ -32,6 +32,10 @@ struct PddlTask {
   /// Absent: the facts are derived from the scene (stream::scene_problem).
   std::optional<std::filesystem::path> problem;
   std::optional<std::filesystem::path> streams;  ///< PDDLStream-style stream file
+  /// Values of the PDDL problem's objects (`values:`), by object name as written; the
+  /// stream search hands them to streams (numbers, lists of numbers and strings as
+  /// such, anything else as a plugin::ValuePayload).
+  std::map<std::string, Value> values;
 };
 
 /// Reach the scene's target with the gripper moving in the shelf plane, pushing what is

@@ -11,12 +11,13 @@ namespace cluttertamp::plugin {
 
 /// Raised whenever an interface in include/cluttertamp/plugin/, a type it passes by
 /// value, or a core class plugins build on their own stack (such as the pushing goals)
-/// changes layout. The registry refuses plugins built against another value. 9: work
+/// changes layout. The registry refuses plugins built against another value. 13:
+/// Parameters hold Value trees (maps, lists), PddlTask::values. 9: work
 /// budgets (PlanningContext::checks_until, PushQuery::max_propagations,
 /// KinodynamicSettings::max_propagations; PlanningContext::within is gone).
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>_<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 12
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 13
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.

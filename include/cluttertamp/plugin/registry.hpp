@@ -88,10 +88,16 @@ class CLUTTERTAMP_API Registry {
     return std::static_pointer_cast<Interface>(create(KindOf<Interface>::value, name, parameters, where));
   }
 
+  /// The parameters the plugin reads (key, type, default, help), found by configuring a
+  /// new object with none set. A parameter read only when another has some value is
+  /// not seen. Throws as create() does.
+  std::vector<ParameterDeclaration> declared_parameters(Kind kind, std::string_view name) const;
+
   /// A multi-line report of the search, for errors and `cluttertamp plugins`.
   std::string describe_search() const;
 
  private:
+  std::shared_ptr<Plugin> make(Kind kind, std::string_view name, const SourceLocation& where, std::string& who) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "cluttertamp/core/result.hpp"
+#include "cluttertamp/core/value.hpp"
 #include "cluttertamp/plugin/context.hpp"
 #include "cluttertamp/plugin/plugin.hpp"
 
@@ -26,10 +27,32 @@ class CLUTTERTAMP_API StreamPayload {
   virtual std::vector<double> numbers() const;
 };
 
+/// A problem object's value from the problem file (`task: pddl: values:`) that is not a
+/// number, a list of numbers or a string: a map, a nested list. The stream receives it
+/// as this payload; as_value() unwraps it.
+class CLUTTERTAMP_API ValuePayload final : public StreamPayload {
+ public:
+  explicit ValuePayload(Value value);
+  ~ValuePayload() override;
+  const Value& value() const { return value_; }
+  /// The value's numbers if it is a list of numbers, else none.
+  std::vector<double> numbers() const override;
+
+ private:
+  Value value_;
+};
+
 /// A value flowing through streams: a PDDL object name, a number, a vector (a
 /// configuration), a pose, or a payload.
 using StreamValue =
     std::variant<std::string, double, Eigen::VectorXd, Eigen::Isometry3d, std::shared_ptr<const StreamPayload>>;
+
+/// The problem file's Value behind `v` when it is a ValuePayload; nullptr otherwise.
+CLUTTERTAMP_API const Value* as_value(const StreamValue& v);
+
+/// `value` as streams receive it: an integer or a number as a double, a list of numbers
+/// as an Eigen::VectorXd, a string as a std::string, anything else as a ValuePayload.
+CLUTTERTAMP_API StreamValue stream_value(const Value& value);
 
 /// What one call of a generator produced.
 struct StreamBatch {

@@ -31,6 +31,19 @@ enum class Algorithm { adaptive, incremental };
 CLUTTERTAMP_API const char* algorithm_name(Algorithm algorithm);
 CLUTTERTAMP_API std::optional<Algorithm> algorithm_from_name(std::string_view name);
 
+/// How the searches treat one stream of the stream file (PDDLStream's StreamInfo and
+/// FunctionInfo, the parts that apply here).
+struct StreamOptions {
+  /// A test or generator: every instance whose inputs are real values is called once as
+  /// soon as it exists, instead of waiting for a plan to need it (cheap tests, e.g. a
+  /// region check). Functions are always evaluated on real values at once.
+  bool eager = false;
+  /// A function: its value where not yet evaluated, in the adaptive search's optimistic
+  /// plans (PDDLStream's opt_fn as a constant). A lower bound keeps plans cost-aware
+  /// without ruling any out; 0 by default.
+  double optimistic_value = 0.0;
+};
+
 struct StreamSearchOptions {
   Algorithm algorithm = Algorithm::adaptive;
   /// The symbolic search (search::search_names()).
@@ -50,6 +63,15 @@ struct StreamSearchOptions {
   /// again first. 2 lets a pick-and-place domain add one removal (a pick and a place)
   /// per level.
   int plan_growth = 2;
+  /// Once a plan is found, a cost-aware search on the real facts (search::search_names();
+  /// empty: none) within `polish_expansions` expansions; its plan replaces the first
+  /// when cheaper (action costs and function values; steps without a metric). Then
+  /// single actions and pairs whose removal leaves a valid plan are dropped.
+  std::string polish_search = "wastar-ff";
+  std::uint64_t polish_expansions = 100000;
+  /// Per stream, by name as the stream file declares it (lower case); streams not
+  /// named take the defaults. A name the stream file lacks is an InputError.
+  std::map<std::string, StreamOptions> streams;
   /// Called with a line per search iteration (level, plan found, queue, calls), if set.
   std::function<void(const std::string&)> trace;
 };

@@ -1,0 +1,11 @@
+; Both blocks into the red region, which is just wide enough for the two side by side.
+(define (problem blocks-2d-tight)
+  (:domain blocks-2d)
+  (:objects b0 b1 grey red p0 p1 q0)
+  (:init (Block b0) (Block b1) (Region grey) (Region red)
+         (Placeable b0 grey) (Placeable b0 red) (Placeable b1 grey) (Placeable b1 red)
+         (Pose b0 p0) (AtPose b0 p0) (Pose b1 p1) (AtPose b1 p1)
+         (Conf q0) (AtConf q0) (HandEmpty) (CanMove)
+         (= (total-cost) 0))
+  (:goal (and (In b0 red) (In b1 red) (AtConf q0)))
+  (:metric minimize (total-cost)))
