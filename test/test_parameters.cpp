@@ -123,8 +123,11 @@ TEST(Parameters, AFreshCopyHasNothingRead) {
 
 TEST(ValueTest, YamlTextReadsBackAsTheSameKinds) {
   Value::Map m{{"s", Value(std::string("true"))}, {"e", Value(std::string(""))}, {"n", Value()},
-               {"x", Value(0.1)}, {"i", Value(std::int64_t{7})}, {"colon", Value(std::string("a: b"))}};
-  EXPECT_EQ(Value(std::move(m)).to_yaml(), "{s: \"true\", e: \"\", n: null, x: 0.1, i: 7, colon: \"a: b\"}");
+               {"x", Value(0.1)}, {"i", Value(std::int64_t{7})}, {"colon", Value(std::string("a: b"))},
+               {"on", Value(std::string("Yes"))}, {"word", Value(std::string("plain words"))}};
+  // The problem reader takes YAML 1.1's y/n/yes/no/on/off as booleans: such strings, keys too, are quoted.
+  EXPECT_EQ(Value(std::move(m)).to_yaml(),
+            "{s: \"true\", e: \"\", \"n\": null, x: 0.1, i: 7, colon: \"a: b\", \"on\": \"Yes\", word: plain words}");
 }
 
 }  // namespace

@@ -14,7 +14,7 @@
 //    problem file (`values:`; numbers, lists of numbers, strings as such, maps as a
 //    ValuePayload), a generated object's value as this plugin made it.
 //  - Same seed, same values: every random draw comes from the run's seed and the
-//    instance's inputs, never from the clock.
+//    order in which the search makes generators, never from the clock or addresses.
 
 #include <algorithm>
 #include <cmath>
@@ -191,8 +191,12 @@ class Blocks2d final : public plugin::StreamSampler {
   }
 
   static std::uint64_t seed(const plugin::PlanningContext& context, std::string_view stream, std::uint64_t n) {
-    const std::uint64_t h = fnv(1469598103934665603ull ^ context.seed, stream.data(), stream.size());
-    return fnv(h, &n, sizeof n);
+    std::uint64_t h = fnv(1469598103934665603ull ^ context.seed, stream.data(), stream.size());
+    for (int byte = 0; byte < 8; ++byte) {  // little end first, whatever the machine's order
+      const unsigned char b = static_cast<unsigned char>(n >> (8 * byte));
+      h = fnv(h, &b, 1);
+    }
+    return h;
   }
 
   double carry_height_ = 5.0;

@@ -183,7 +183,10 @@ int compare(const CompareArgs& args) {
         continue;
       }
       Row row{problem.name, problem.scene.objects.size(), setting, {}};
-      problem.planner.parameters = Parameters{};
+      // The problem's own stream_planner parameters stay (stream options, polish); the
+      // setting decides the algorithm and pruning.
+      problem.planner.parameters = problems[p].planner.name == "stream_planner" ? problems[p].planner.parameters.fresh()
+                                                                                : Parameters{};
       problem.planner.parameters.set("algorithm", setting.algorithm);
       problem.planner.parameters.set("prune", setting.prune);
       for (int k = 0; k < args.runs; ++k) {

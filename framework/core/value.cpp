@@ -1,6 +1,7 @@
 #include "cluttertamp/core/value.hpp"
 
 #include <charconv>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -54,7 +55,13 @@ namespace {
 // Plain scalars that YAML would read back as something other than this string.
 bool needs_quotes(const std::string& s) {
   if (s.empty()) return true;
-  if (s == "true" || s == "false" || s == "null" || s == "~") return true;
+  // Words YAML reads as booleans or null (the problem reader takes YAML 1.1's yes/no/on/off
+  // too), in any of their spellings.
+  std::string lower;
+  for (char c : s) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* word : {"true", "false", "null", "~", "yes", "no", "on", "off", "y", "n", ".inf", "-.inf", ".nan"}) {
+    if (lower == word) return true;
+  }
   char* end = nullptr;
   std::strtod(s.c_str(), &end);
   if (end && *end == '\0') return true;

@@ -322,7 +322,11 @@ std::vector<ParameterDeclaration> Registry::declared_parameters(Kind kind, std::
   std::string who;
   const std::shared_ptr<Plugin> object = make(kind, name, {}, who);
   const Parameters none;
-  object->configure(none);
+  try {
+    object->configure(none);
+  } catch (...) {
+    // A plugin that needs some parameter stops here: what it read so far is still its list.
+  }
   return none.declarations();
 }
 

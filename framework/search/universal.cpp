@@ -128,7 +128,7 @@ class Compiler {
     for (auto it = scope_.rbegin(); it != scope_.rend(); ++it) {
       if (it->name == name) return *it;
     }
-    static const pddl::TypedName untyped{};
+    static const pddl::TypedName untyped{};  // types {"object"}
     return untyped;  // a variable the parser let through unbound: any object
   }
 
@@ -188,7 +188,7 @@ class Compiler {
   std::vector<Formula> context_on(const std::vector<std::string>& free) const {
     std::vector<Formula> out;
     for (const pddl::Atom& a : context_) {
-      if (a.predicate == "=") continue;
+      if (a.predicate == "=" || shadowed(a)) continue;
       std::vector<pddl::TypedName> others;
       bool relevant = false;
       for (const pddl::Term& t : a.args) {
@@ -210,6 +210,15 @@ class Compiler {
       out.push_back(std::move(held));
     }
     return out;
+  }
+
+  // True when a quantifier around the forall rebinds a variable of the action-level atom
+  // `a`: there the name means another variable, and the atom says nothing about it.
+  bool shadowed(const pddl::Atom& a) const {
+    return std::any_of(a.args.begin(), a.args.end(), [&](const pddl::Term& t) {
+      if (!t.variable) return false;
+      return std::count_if(scope_.begin(), scope_.end(), [&](const pddl::TypedName& v) { return v.name == t.name; }) > 1;
+    });
   }
 
   // The positive atoms of a conjunction (or an atom) that no action changes.

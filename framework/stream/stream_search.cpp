@@ -436,7 +436,7 @@ class StreamSearch {
     if (options_.polish_search.empty() || context_.deadline.expired()) return steps;
     const auto start = Clock::now();
     close_real();  // every cost function on the real values
-    if (context_.deadline.expired()) return steps;
+    if (context_.deadline.expired() || !every_function_valued()) return steps;
     try {
       const pddl::Problem p = symbolic_problem(false);
       const search::Task task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
@@ -460,11 +460,21 @@ class StreamSearch {
       }
     } catch (const search::TimeLimit&) {
       // The plan in hand stands.
-    } catch (const InputError&) {
-      // A function without a value (its call failed): the plan in hand stands.
     }
     out_.statistics.search_seconds += since(start);
     return steps;
+  }
+
+  // False when a function on real values has none (its call failed): the real
+  // problem could not be costed.
+  bool every_function_valued() {
+    for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
+      if (base_.decl(s).kind != StreamDecl::Kind::function) continue;
+      for (int id : real_instances(s)) {
+        if (!base_.instance_at(id).value) return false;
+      }
+    }
+    return true;
   }
 
   std::string name_of(const Step& step) const {
@@ -612,8 +622,8 @@ class StreamSearch {
     for (bool shorter = true; shorter && !context_.deadline.expired();) {
       shorter = false;
       // Gap 0: one action; then two, nearest pairs first.
-      for (std::size_t gap = 0; gap < steps.size() && !shorter; ++gap) {
-        for (std::size_t i = 0; i + gap < steps.size() && !shorter; ++i) {
+      for (std::size_t gap = 0; gap < steps.size() && !shorter && !context_.deadline.expired(); ++gap) {
+        for (std::size_t i = 0; i + gap < steps.size() && !shorter && !context_.deadline.expired(); ++i) {
           std::vector<Step> fewer = without(i, i + gap);
           if (verify(fewer)) {
             steps = std::move(fewer);

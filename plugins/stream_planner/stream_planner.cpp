@@ -180,6 +180,10 @@ class StreamPlanner final : public plugin::TaskPlanner {
     std::map<std::string, stream::StreamOptions> out;
     Diagnostics d;
     for (const auto& [name, settings] : *entries) {
+      if (out.count(pddl::lower_name(name))) {
+        d.error(settings.where(), "stream '" + name + "' is named twice (stream names are case-insensitive)");
+        continue;
+      }
       stream::StreamOptions& o = out[pddl::lower_name(name)];
       if (!settings.map()) {
         d.error(settings.where(), "stream '" + name + "': options must be a map {eager: bool, optimistic: number}");
@@ -187,8 +191,8 @@ class StreamPlanner final : public plugin::TaskPlanner {
       }
       for (const auto& [key, value] : *settings.map()) {
         if (key == "eager" && value.boolean()) o.eager = *value.boolean();
-        else if (key == "optimistic" && value.number() && std::isfinite(*value.number())) o.optimistic_value = *value.number();
-        else if (key == "eager" || key == "optimistic") d.error(value.where(), "stream '" + name + "': '" + key + "' must be " + (key == "eager" ? "a boolean" : "a number") + ", not " + value.kind_name());
+        else if (key == "optimistic" && value.number() && *value.number() >= 0) o.optimistic_value = *value.number();
+        else if (key == "eager" || key == "optimistic") d.error(value.where(), "stream '" + name + "': '" + key + "' must be " + (key == "eager" ? "a boolean" : "a number >= 0 (a cost's lower bound)") + ", not " + value.to_yaml());
         else d.error(value.where(), "stream '" + name + "': unknown option '" + key + "' (eager, optimistic)");
       }
     }
@@ -207,6 +211,10 @@ class StreamPlanner final : public plugin::TaskPlanner {
     std::map<std::string, plugin::StreamValue> values;
     for (const auto& [object, value] : task.values) {
       const std::string name = pddl::lower_name(object);
+      if (values.count(name)) {
+        diagnostics.error(value.where(), "values: '" + object + "' is given twice (PDDL names are case-insensitive)");
+        continue;
+      }
       if (!names.count(name)) {
         diagnostics.error(value.where(), "values: '" + object + "' is not an object of PDDL problem " + problem.file +
                                              " nor a constant of its domain");

@@ -18,8 +18,9 @@ namespace cluttertamp {
 /// freely, each part remembering where it was written so that a plugin can reject it
 /// with file, line and column (`throw InputError(value.where(), "...")`).
 ///
-/// Scalars are typed as YAML 1.2's core schema reads them: `3` an integer, `3.0` a
-/// number, `true` a boolean, `"3"` (quoted) and anything else a string.
+/// Scalars are typed as the problem reader reads them: `3` an integer, `3.0` a number,
+/// `true`, `false` (and YAML 1.1's `yes`, `no`, `on`, `off`) a boolean, `~` or nothing
+/// null, `"3"` (quoted) and anything else a string.
 class CLUTTERTAMP_API Value {
  public:
   using List = std::vector<Value>;

@@ -89,8 +89,9 @@ class CLUTTERTAMP_API Registry {
   }
 
   /// The parameters the plugin reads (key, type, default, help), found by configuring a
-  /// new object with none set. A parameter read only when another has some value is
-  /// not seen. Throws as create() does.
+  /// new object with none set (when configure() then throws, what it read before). A
+  /// parameter read only when another has some value is not seen. Throws as create()
+  /// does when the plugin cannot be found or made.
   std::vector<ParameterDeclaration> declared_parameters(Kind kind, std::string_view name) const;
 
   /// A multi-line report of the search, for errors and `cluttertamp plugins`.
