@@ -493,3 +493,65 @@ TEST_F(BlocksLineFluents, AFluentTestOfANegatedFactIsRefused) {
 
 }  // namespace
 }  // namespace cluttertamp
+
+namespace cluttertamp {
+namespace {
+
+// Two generators a plan needs side by side: gen-b (declared first, so planned first)
+// always yields, gen-a never does. Deferring gen-b evaluates gen-a first, and the
+// skeleton it rules out never pays for gen-b.
+class PairStreams final : public plugin::StreamSampler {
+ public:
+  std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext&, std::string_view stream,
+                                                       const std::vector<plugin::StreamValue>&,
+                                                       const std::vector<plugin::StreamFact>&) override {
+    struct Generator final : plugin::StreamGenerator {
+      bool yields;
+      explicit Generator(bool y) : yields(y) {}
+      plugin::StreamBatch next(plugin::PlanningContext&) override {
+        plugin::StreamBatch batch;
+        if (yields) batch.outputs.push_back({1.0});
+        else batch.failure = Failure{"gen-a", "never", {}};
+        batch.exhausted = !yields;
+        return batch;
+      }
+    };
+    return std::make_unique<Generator>(stream == "gen-b");
+  }
+};
+
+TEST(StreamOptions, ADeferredStreamWaitsForTheOthersOfItsSkeleton) {
+  const pddl::Domain domain = pddl::parse_domain(
+      "(define (domain pair) (:requirements :strips)\n"
+      "  (:predicates (Thing ?x) (A ?x ?a) (B ?x ?b) (Done ?x))\n"
+      "  (:action finish :parameters (?x ?a ?b) :precondition (and (Thing ?x) (A ?x ?a) (B ?x ?b)) :effect (Done ?x)))",
+      "pair.pddl");
+  const pddl::Problem problem =
+      pddl::parse_problem("(define (problem p) (:domain pair) (:objects t) (:init (Thing t)) (:goal (Done t)))", "p.pddl", domain);
+  const stream::StreamFile streams = stream::parse_stream_file(
+      "(define (stream pair)\n"
+      "  (:stream gen-b :inputs (?x) :domain (Thing ?x) :outputs (?b) :certified (B ?x ?b))\n"
+      "  (:stream gen-a :inputs (?x) :domain (Thing ?x) :outputs (?a) :certified (A ?x ?a)))",
+      "pair-stream.pddl", &domain);
+  PairStreams sampler;
+  stream::StreamProblem sp{&domain, &problem, &streams, {}, {{"gen-a", &sampler}, {"gen-b", &sampler}}};
+  auto run = [&](bool defer) {
+    Problem core;
+    std::map<std::string, std::uint64_t> counters;
+    plugin::Samplers samplers;
+    plugin::PlanningContext context{core, plugin::Deadline::after(30), 0, counters, samplers};
+    stream::StreamSearchOptions options;
+    options.streams["gen-b"].defer = defer;
+    return stream::solve(sp, context, options);
+  };
+  const stream::StreamSolution eager = run(false), deferred = run(true);
+  EXPECT_FALSE(eager.solved);
+  EXPECT_FALSE(deferred.solved);
+  EXPECT_EQ(deferred.reason, "no plan exists: not even with optimistic stream outputs");
+  EXPECT_GE(eager.statistics.calls_per_stream.count("gen-b"), 1u) << "gen-b, planned first, is called";
+  EXPECT_EQ(deferred.statistics.calls_per_stream.count("gen-b"), 0u) << "deferred: gen-a fails first";
+  EXPECT_EQ(deferred.statistics.calls_per_stream.at("gen-a"), 1u);
+}
+
+}  // namespace
+}  // namespace cluttertamp

@@ -831,8 +831,15 @@ class StreamSearch {
       }
       sk.stream_plan.push_back(p);
     };
-    for (const auto& [id, at] : std::map<int, std::set<int>>(needed)) {
-      for (const PlannedInstance& e : entries(id, false)) place(e);
+    // Deferred streams (expensive ones, e.g. motion planning) after the others, unless
+    // another needs their outputs first: a skeleton that fails in a cheap stream then
+    // never pays for them.
+    const std::map<int, std::set<int>> all_needed(needed);
+    for (const bool deferred : {false, true}) {
+      for (const auto& [id, at] : all_needed) {
+        if (stream_options(base_.decl(base_.instance_at(id).stream)).defer != deferred) continue;
+        for (const PlannedInstance& e : entries(id, false)) place(e);
+      }
     }
     for (const FactKey& f : support->negated) {
       if (const auto id = test_instance(f)) place({*id, true, -1});

@@ -78,7 +78,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
       p.require(ok, key, "must be one of " + known);
     }
     options_.polish_expansions = static_cast<std::uint64_t>(polish);
-    if (const Value* streams = p.get("streams", "per stream: {NAME: {eager: bool, optimistic: number}}")) {
+    if (const Value* streams = p.get("streams", "per stream: {NAME: {eager: bool, defer: bool, optimistic: number}}")) {
       options_.streams = stream_options(*streams);
     }
     prune_ = p.get_bool("prune", prune_, "scene facts: only the object pruner's objects are movable");
@@ -176,7 +176,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
   // `streams: {test-region: {eager: true}, dist: {optimistic: 10}}`, each error at its value.
   static std::map<std::string, stream::StreamOptions> stream_options(const Value& streams) {
     const Value::Map* entries = streams.map();
-    if (!entries) throw InputError(streams.where(), "parameter 'streams' must map stream names to {eager, optimistic}, not " + std::string(streams.kind_name()));
+    if (!entries) throw InputError(streams.where(), "parameter 'streams' must map stream names to {eager, defer, optimistic}, not " + std::string(streams.kind_name()));
     std::map<std::string, stream::StreamOptions> out;
     Diagnostics d;
     for (const auto& [name, settings] : *entries) {
@@ -186,14 +186,14 @@ class StreamPlanner final : public plugin::TaskPlanner {
       }
       stream::StreamOptions& o = out[pddl::lower_name(name)];
       if (!settings.map()) {
-        d.error(settings.where(), "stream '" + name + "': options must be a map {eager: bool, optimistic: number}");
+        d.error(settings.where(), "stream '" + name + "': options must be a map {eager: bool, defer: bool, optimistic: number}");
         continue;
       }
       for (const auto& [key, value] : *settings.map()) {
-        if (key == "eager" && value.boolean()) o.eager = *value.boolean();
+        if ((key == "eager" || key == "defer") && value.boolean()) (key == "eager" ? o.eager : o.defer) = *value.boolean();
         else if (key == "optimistic" && value.number() && *value.number() >= 0) o.optimistic_value = *value.number();
-        else if (key == "eager" || key == "optimistic") d.error(value.where(), "stream '" + name + "': '" + key + "' must be " + (key == "eager" ? "a boolean" : "a number >= 0 (a cost's lower bound)") + ", not " + value.to_yaml());
-        else d.error(value.where(), "stream '" + name + "': unknown option '" + key + "' (eager, optimistic)");
+        else if (key == "eager" || key == "defer" || key == "optimistic") d.error(value.where(), "stream '" + name + "': '" + key + "' must be " + (key == "optimistic" ? "a number >= 0 (a cost's lower bound)" : "a boolean") + ", not " + value.to_yaml());
+        else d.error(value.where(), "stream '" + name + "': unknown option '" + key + "' (eager, defer, optimistic)");
       }
     }
     d.throw_if_any();

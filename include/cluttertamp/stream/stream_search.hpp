@@ -42,6 +42,10 @@ struct StreamOptions {
   /// plans (PDDLStream's opt_fn as a constant). A lower bound keeps plans cost-aware
   /// without ruling any out; 0 by default.
   double optimistic_value = 0.0;
+  /// The adaptive search evaluates a skeleton's instances of this stream after its
+  /// other streams, unless those need its outputs (PDDLStream's defer_fn, simplified):
+  /// an expensive stream is then not called for a skeleton a cheap one rules out.
+  bool defer = false;
 };
 
 struct StreamSearchOptions {
