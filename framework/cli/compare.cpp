@@ -188,6 +188,7 @@ int compare(const CompareArgs& args) {
       problem.planner.parameters = problems[p].planner.name == "stream_planner" ? problems[p].planner.parameters.fresh()
                                                                                 : Parameters{};
       problem.planner.parameters.set("algorithm", setting.algorithm);
+      problem.planner.parameters.set("trace", false);  // a line per iteration would bury the table
       problem.planner.parameters.set("prune", setting.prune);
       for (int k = 0; k < args.runs; ++k) {
         options.seed = args.seed + static_cast<std::uint64_t>(k);

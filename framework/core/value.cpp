@@ -59,7 +59,7 @@ bool needs_quotes(const std::string& s) {
   // too), in any of their spellings.
   std::string lower;
   for (char c : s) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (const char* word : {"true", "false", "null", "~", "yes", "no", "on", "off", "y", "n", ".inf", "-.inf", ".nan"}) {
+  for (const char* word : {"true", "false", "null", "~", "yes", "no", "on", "off", "y", "n", ".inf", "+.inf", "-.inf", ".nan"}) {
     if (lower == word) return true;
   }
   char* end = nullptr;

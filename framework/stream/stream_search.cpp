@@ -164,6 +164,9 @@ class StreamSearch {
         if (o->second.eager && s.kind == StreamDecl::Kind::function) {
           d.error(s.where, "'" + s.name + "' is a function: functions are evaluated at once anyway, 'eager' is for tests and generators");
         }
+        if (o->second.defer && s.kind == StreamDecl::Kind::function) {
+          d.error(s.where, "'" + s.name + "' is a function: functions are evaluated at once, 'defer' is for tests and generators");
+        }
         if (o->second.optimistic_value != 0.0 && s.kind != StreamDecl::Kind::function) {
           d.error(s.where, "'" + s.name + "' is not a function: only a function has an optimistic value");
         }
@@ -439,7 +442,14 @@ class StreamSearch {
     if (context_.deadline.expired() || !every_function_valued()) return steps;
     try {
       const pddl::Problem p = symbolic_problem(false);
-      const search::Task task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
+      search::Task task;
+      try {
+        task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
+      } catch (const InputError&) {
+        // A cost with no value: a function whose domain holds only optimistically for
+        // some real values. The real problem cannot be costed; the plan in hand stands.
+        return steps;
+      }
       std::map<std::string, double> cost_of;
       for (const search::Operator& op : task.operators) cost_of.emplace(op.name, op.cost);
       double before = 0;
@@ -834,15 +844,18 @@ class StreamSearch {
     // Deferred streams (expensive ones, e.g. motion planning) after the others, unless
     // another needs their outputs first: a skeleton that fails in a cheap stream then
     // never pays for them.
+    // Negated tests come after the streams of their pass.
     const std::map<int, std::set<int>> all_needed(needed);
+    auto deferred_stream = [&](int id) { return stream_options(base_.decl(base_.instance_at(id).stream)).defer; };
     for (const bool deferred : {false, true}) {
       for (const auto& [id, at] : all_needed) {
-        if (stream_options(base_.decl(base_.instance_at(id).stream)).defer != deferred) continue;
+        if (deferred_stream(id) != deferred) continue;
         for (const PlannedInstance& e : entries(id, false)) place(e);
       }
-    }
-    for (const FactKey& f : support->negated) {
-      if (const auto id = test_instance(f)) place({*id, true, -1});
+      for (const FactKey& f : support->negated) {
+        const auto id = test_instance(f);
+        if (id && deferred_stream(*id) == deferred) place({*id, true, -1});
+      }
     }
     std::ostringstream key;
     for (const Step& s : steps) {

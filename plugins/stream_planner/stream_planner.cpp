@@ -191,7 +191,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
       }
       for (const auto& [key, value] : *settings.map()) {
         if ((key == "eager" || key == "defer") && value.boolean()) (key == "eager" ? o.eager : o.defer) = *value.boolean();
-        else if (key == "optimistic" && value.number() && *value.number() >= 0) o.optimistic_value = *value.number();
+        else if (key == "optimistic" && value.number() && std::isfinite(*value.number()) && *value.number() >= 0) o.optimistic_value = *value.number();
         else if (key == "eager" || key == "defer" || key == "optimistic") d.error(value.where(), "stream '" + name + "': '" + key + "' must be " + (key == "optimistic" ? "a number >= 0 (a cost's lower bound)" : "a boolean") + ", not " + value.to_yaml());
         else d.error(value.where(), "stream '" + name + "': unknown option '" + key + "' (eager, defer, optimistic)");
       }
