@@ -106,3 +106,32 @@ list(GET lengths 1 raw)
 if(NOT polished EQUAL 9 OR NOT raw GREATER 9)
   message(FATAL_ERROR "incremental plan lengths: ${polished} polished (expected 9), ${raw} without (expected more)")
 endif()
+
+# success_cost: below the first plan's cost the adaptive search goes on for cheaper
+# plans (within improve_work, counted work: the same plans on any machine) and returns
+# the cheapest it found.
+foreach(success_cost IN ITEMS "" ", success_cost: 0")
+  string(REPLACE "algorithm: adaptive}" "algorithm: adaptive${success_cost}}" variant "${yaml}")
+  file(WRITE "${BINARY}/success_cost.yaml" "${variant}")
+  run(0 plan "${BINARY}/success_cost.yaml" --plugin-path "${plugins}" -o "${BINARY}/success_cost")
+  expect(", cost ")
+  file(READ "${BINARY}/success_cost/result.json" json)
+  string(JSON cost GET "${json}" cost)
+  string(JSON plans GET "${json}" counters plans_found)
+  list(APPEND costs "${cost}")
+  list(APPEND plan_counts "${plans}")
+endforeach()
+list(GET costs 0 first_cost)
+list(GET costs 1 best_cost)
+list(GET plan_counts 0 first_plans)
+list(GET plan_counts 1 best_plans)
+if(NOT first_plans EQUAL 1 OR NOT best_plans GREATER 1 OR NOT best_cost LESS first_cost)
+  message(FATAL_ERROR "success_cost: first plan cost ${first_cost} (${first_plans} found), with success_cost 0 ${best_cost} (${best_plans} found)")
+endif()
+
+# Stream options out of range are bad input at their line.
+string(REPLACE "algorithm: adaptive}" "algorithm: adaptive, streams: {test-cfree: {p_success: 2}}}" variant "${yaml}")
+file(WRITE "${BINARY}/p_success.yaml" "${variant}")
+run(2 plan "${BINARY}/p_success.yaml" --plugin-path "${plugins}" -o "${BINARY}/p_success")
+expect("p_success.yaml:27:")
+expect("stream 'test-cfree': 'p_success' must be a probability in [0, 1], not 2")

@@ -280,6 +280,41 @@ TEST(PddlSearch, ImplicationsWithAStaticallyTrueConsequentDoNotExplode) {
   EXPECT_LT(when("b1"), when("b2"));  // b1 cannot come after b2
 }
 
+// The roads of the test below: bounded below 10 (the one-step road) every search finds
+// the three-step road (cost 6), and bounded at 6 none finds a plan.
+TEST(PddlSearch, ACostBoundLeavesOnlyCheaperPlans) {
+  const Domain d = parse_domain(R"((define (domain roads)
+    (:requirements :strips :action-costs)
+    (:predicates (at ?c) (road ?a ?b))
+    (:functions (total-cost) - number (length ?a ?b) - number)
+    (:action drive :parameters (?a ?b)
+      :precondition (and (at ?a) (road ?a ?b))
+      :effect (and (not (at ?a)) (at ?b) (increase (total-cost) (length ?a ?b))))))",
+                                "roads.pddl");
+  const Problem p = parse_problem(R"((define (problem trip) (:domain roads)
+    (:objects a b c d)
+    (:init (at a) (road a d) (road a b) (road b c) (road c d)
+           (= (length a d) 10) (= (length a b) 2) (= (length b c) 2) (= (length c d) 2) (= (total-cost) 0))
+    (:goal (at d)) (:metric minimize (total-cost))))",
+                                  "trip.pddl", d);
+  const search::Task task = search::ground(d, p);
+  const Loaded l{d, p};
+  for (const std::string& algorithm : search::search_names()) {
+    search::SearchOptions options;
+    options.algorithm = algorithm;
+    options.cost_bound = 10;
+    const search::SearchResult r = search::plan(task, options);
+    ASSERT_TRUE(r.solved) << algorithm << ": " << r.reason;
+    EXPECT_DOUBLE_EQ(r.cost, 6.0) << algorithm;
+    const PlanValidation v = validate_plan(d, p, steps(task, r, l));
+    EXPECT_TRUE(v.valid) << algorithm << ": " << v.reason;
+    options.cost_bound = 6;
+    const search::SearchResult none = search::plan(task, options);
+    EXPECT_FALSE(none.solved) << algorithm;
+    EXPECT_EQ(none.reason, "no plan cheaper than the cost bound") << algorithm;
+  }
+}
+
 TEST(PddlSearch, ActionCostsPickTheCheaperLongerPlan) {
   const Domain d = parse_domain(R"((define (domain roads)
     (:requirements :strips :typing :action-costs)

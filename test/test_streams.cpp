@@ -2,6 +2,7 @@
 // pure-symbolic domain with a toy sampler: blocks on a line.
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -498,7 +499,7 @@ namespace cluttertamp {
 namespace {
 
 // Two generators a plan needs side by side: gen-b (declared first, so planned first)
-// always yields, gen-a never does. Deferring gen-b evaluates gen-a first, and the
+// yields one value, gen-a none. Deferring gen-b evaluates gen-a first, and the
 // skeleton it rules out never pays for gen-b.
 class PairStreams final : public plugin::StreamSampler {
  public:
@@ -512,7 +513,7 @@ class PairStreams final : public plugin::StreamSampler {
         plugin::StreamBatch batch;
         if (yields) batch.outputs.push_back({1.0});
         else batch.failure = Failure{"gen-a", "never", {}};
-        batch.exhausted = !yields;
+        batch.exhausted = true;  // one output at most: every search ends with a reason
         return batch;
       }
     };
@@ -520,37 +521,149 @@ class PairStreams final : public plugin::StreamSampler {
   }
 };
 
-TEST(StreamOptions, ADeferredStreamWaitsForTheOthersOfItsSkeleton) {
-  const pddl::Domain domain = pddl::parse_domain(
-      "(define (domain pair) (:requirements :strips)\n"
-      "  (:predicates (Thing ?x) (A ?x ?a) (B ?x ?b) (Done ?x))\n"
-      "  (:action finish :parameters (?x ?a ?b) :precondition (and (Thing ?x) (A ?x ?a) (B ?x ?b)) :effect (Done ?x)))",
-      "pair.pddl");
-  const pddl::Problem problem =
-      pddl::parse_problem("(define (problem p) (:domain pair) (:objects t) (:init (Thing t)) (:goal (Done t)))", "p.pddl", domain);
-  const stream::StreamFile streams = stream::parse_stream_file(
-      "(define (stream pair)\n"
-      "  (:stream gen-b :inputs (?x) :domain (Thing ?x) :outputs (?b) :certified (B ?x ?b))\n"
-      "  (:stream gen-a :inputs (?x) :domain (Thing ?x) :outputs (?a) :certified (A ?x ?a)))",
-      "pair-stream.pddl", &domain);
-  PairStreams sampler;
-  stream::StreamProblem sp{&domain, &problem, &streams, {}, {{"gen-a", &sampler}, {"gen-b", &sampler}}};
-  auto run = [&](bool defer) {
+// A symbolic stream problem solved with a fresh context each time.
+struct SymbolicStreams {
+  SymbolicStreams(const char* domain_text, const char* problem_text, const char* streams_text)
+      : domain(pddl::parse_domain(domain_text, "domain.pddl")),
+        problem(pddl::parse_problem(problem_text, "problem.pddl", domain)),
+        streams(stream::parse_stream_file(streams_text, "stream.pddl", &domain)) {}
+
+  stream::StreamSolution solve(plugin::StreamSampler& sampler, const stream::StreamSearchOptions& options) const {
+    stream::StreamProblem sp{&domain, &problem, &streams, {}, {}};
+    for (const StreamDecl& d : streams.streams) sp.bindings[d.name] = &sampler;
     Problem core;
     std::map<std::string, std::uint64_t> counters;
     plugin::Samplers samplers;
     plugin::PlanningContext context{core, plugin::Deadline::after(30), 0, counters, samplers};
-    stream::StreamSearchOptions options;
-    options.streams["gen-b"].defer = defer;
     return stream::solve(sp, context, options);
-  };
-  const stream::StreamSolution eager = run(false), deferred = run(true);
+  }
+
+  pddl::Domain domain;
+  pddl::Problem problem;
+  stream::StreamFile streams;
+};
+
+// The pair problem: (finish t) needs a value of gen-b and one of gen-a.
+stream::StreamSolution solve_pair(const std::map<std::string, stream::StreamOptions>& stream_options) {
+  static const SymbolicStreams pair(
+      "(define (domain pair) (:requirements :strips)\n"
+      "  (:predicates (Thing ?x) (A ?x ?a) (B ?x ?b) (Done ?x))\n"
+      "  (:action finish :parameters (?x ?a ?b) :precondition (and (Thing ?x) (A ?x ?a) (B ?x ?b)) :effect (Done ?x)))",
+      "(define (problem p) (:domain pair) (:objects t) (:init (Thing t)) (:goal (Done t)))",
+      "(define (stream pair)\n"
+      "  (:stream gen-b :inputs (?x) :domain (Thing ?x) :outputs (?b) :certified (B ?x ?b))\n"
+      "  (:stream gen-a :inputs (?x) :domain (Thing ?x) :outputs (?a) :certified (A ?x ?a)))");
+  PairStreams sampler;
+  stream::StreamSearchOptions options;
+  options.streams = stream_options;
+  return pair.solve(sampler, options);
+}
+
+TEST(StreamOptions, ADeferredStreamWaitsForTheOthersOfItsSkeleton) {
+  stream::StreamOptions deferring;
+  deferring.defer = true;
+  const stream::StreamSolution eager = solve_pair({}), deferred = solve_pair({{"gen-b", deferring}});
   EXPECT_FALSE(eager.solved);
   EXPECT_FALSE(deferred.solved);
   EXPECT_EQ(deferred.reason, "no plan exists: not even with optimistic stream outputs");
   EXPECT_GE(eager.statistics.calls_per_stream.count("gen-b"), 1u) << "gen-b, planned first, is called";
   EXPECT_EQ(deferred.statistics.calls_per_stream.count("gen-b"), 0u) << "deferred: gen-a fails first";
   EXPECT_EQ(deferred.statistics.calls_per_stream.at("gen-a"), 1u);
+}
+
+// p_success and overhead order a skeleton's streams: gen-a (likely to fail, cheap)
+// before gen-b, which the stream plan would call first. p_success 0: gen-a is never
+// assumed; eager, it is called once on the real input, and with its fact missing no
+// optimistic plan exists, so gen-b is never called.
+TEST(StreamOptions, PSuccessOrdersTheStreamsAndZeroMeansOnlyRealFacts) {
+  stream::StreamOptions likely_to_fail;
+  likely_to_fail.p_success = 0.5;
+  stream::StreamOptions dear_and_likely_to_fail = likely_to_fail;
+  dear_and_likely_to_fail.overhead = 100;
+  const stream::StreamSolution by_default = solve_pair({}), ordered = solve_pair({{"gen-a", likely_to_fail}});
+  EXPECT_GE(by_default.statistics.calls_per_stream.count("gen-b"), 1u) << "gen-b, planned first, is called";
+  EXPECT_EQ(ordered.statistics.calls_per_stream.count("gen-b"), 0u) << "gen-a is tried first and fails";
+  EXPECT_EQ(ordered.reason, "no plan exists: not even with optimistic stream outputs");
+  // Both may fail: the cheaper failure first (1 / 0.5 = 2 against 100 / 0.5 = 200).
+  const stream::StreamSolution both = solve_pair({{"gen-a", likely_to_fail}, {"gen-b", dear_and_likely_to_fail}});
+  EXPECT_EQ(both.statistics.calls_per_stream.count("gen-b"), 0u);
+  const stream::StreamSolution reversed = solve_pair({{"gen-a", dear_and_likely_to_fail}, {"gen-b", likely_to_fail}});
+  EXPECT_GE(reversed.statistics.calls_per_stream.count("gen-b"), 1u);
+
+  stream::StreamOptions never_assumed;
+  never_assumed.p_success = 0;
+  const Diagnostics errors = test::expect_input_error([&] { solve_pair({{"gen-a", never_assumed}}); });
+  EXPECT_TRUE(test::has_error(errors, 3, 3, "'gen-a' has p_success 0 (never assumed optimistically) and is not eager"));
+  never_assumed.eager = true;
+  const stream::StreamSolution real_only = solve_pair({{"gen-a", never_assumed}});
+  EXPECT_FALSE(real_only.solved);
+  EXPECT_EQ(real_only.reason, "no plan exists: not even with optimistic stream outputs");
+  EXPECT_EQ(real_only.statistics.calls_per_stream.at("gen-a"), 1u) << "called at once on the real input";
+  EXPECT_EQ(real_only.statistics.calls_per_stream.count("gen-b"), 0u);
+}
+
+// A far road costs 10 in one step, a near one 1 + 1 in two steps through a waypoint a
+// stream makes. The greedy search finds the far road first; with success_cost the
+// searches go on below its cost, and both algorithms return the near road (cost 2).
+// Below 2 nothing cheaper exists: the search says so and keeps the best plan.
+class WaypointStreams final : public plugin::StreamSampler {
+ public:
+  std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext&, std::string_view,
+                                                       const std::vector<plugin::StreamValue>&,
+                                                       const std::vector<plugin::StreamFact>&) override {
+    struct Generator final : plugin::StreamGenerator {
+      plugin::StreamBatch next(plugin::PlanningContext&) override { return {{{std::string("w")}}, true, std::nullopt}; }
+    };
+    return std::make_unique<Generator>();
+  }
+};
+
+TEST(StreamOptions, SuccessCostKeepsSearchingForACheaperPlanWithinTheWorkBudget) {
+  const SymbolicStreams roads(
+      "(define (domain roads) (:requirements :strips :action-costs)\n"
+      "  (:predicates (Start ?x) (At ?x) (Way ?x ?w) (Done))\n"
+      "  (:action far :parameters (?x) :precondition (and (Start ?x) (At ?x))\n"
+      "    :effect (and (Done) (increase (total-cost) 10)))\n"
+      "  (:action to-waypoint :parameters (?x ?w) :precondition (and (Way ?x ?w) (At ?x))\n"
+      "    :effect (and (At ?w) (not (At ?x)) (increase (total-cost) 1)))\n"
+      "  (:action from-waypoint :parameters (?x ?w) :precondition (and (Way ?x ?w) (At ?w))\n"
+      "    :effect (and (Done) (increase (total-cost) 1))))",
+      "(define (problem p) (:domain roads) (:objects s) (:init (Start s) (At s)) (:goal (Done)) (:metric minimize (total-cost)))",
+      "(define (stream roads) (:stream waypoint :inputs (?x) :domain (Start ?x) :outputs (?w) :certified (Way ?x ?w)))");
+  WaypointStreams sampler;
+  auto run = [&](stream::Algorithm algorithm, double success_cost, double improve_work = 1e6) {
+    stream::StreamSearchOptions o;
+    o.algorithm = algorithm;
+    o.polish_search.clear();  // the first plan as the search finds it
+    o.success_cost = success_cost;
+    o.improve_work = improve_work;
+    return roads.solve(sampler, o);
+  };
+  for (const stream::Algorithm algorithm : {stream::Algorithm::adaptive, stream::Algorithm::incremental}) {
+    SCOPED_TRACE(stream::algorithm_name(algorithm));
+    const stream::StreamSolution first = run(algorithm, std::numeric_limits<double>::infinity());
+    ASSERT_TRUE(first.solved) << first.reason;
+    EXPECT_EQ(first.plan.size(), 1u);
+    EXPECT_FALSE(first.cost.has_value()) << "not costed: no success_cost, no polish";
+    EXPECT_EQ(first.statistics.plans, 1u);
+    const stream::StreamSolution cheap = run(algorithm, 2);
+    ASSERT_TRUE(cheap.solved) << cheap.reason;
+    ASSERT_EQ(cheap.plan.size(), 2u);
+    EXPECT_EQ(cheap.plan[0].action, "to-waypoint");
+    ASSERT_TRUE(cheap.cost.has_value());
+    EXPECT_DOUBLE_EQ(*cheap.cost, 2.0);
+    EXPECT_EQ(cheap.statistics.plans, 2u);
+    const stream::StreamSolution unreachable = run(algorithm, 1);
+    ASSERT_TRUE(unreachable.solved) << unreachable.reason;
+    ASSERT_TRUE(unreachable.cost.has_value());
+    EXPECT_DOUBLE_EQ(*unreachable.cost, 2.0);
+    // No work allowed after the first plan: it stands, costed.
+    const stream::StreamSolution no_budget = run(algorithm, 2, 0);
+    ASSERT_TRUE(no_budget.solved) << no_budget.reason;
+    ASSERT_TRUE(no_budget.cost.has_value());
+    EXPECT_DOUBLE_EQ(*no_budget.cost, 10.0);
+    EXPECT_EQ(no_budget.statistics.plans, 1u);
+  }
 }
 
 }  // namespace

@@ -81,6 +81,7 @@ void print_summary(std::ostream& out, const Problem& problem, const run::RunOutc
       << outcome.info.time_limit << " s)\n";
   if (r.solved) {
     out << "result    SOLVED: " << r.plan.size() << " steps";
+    if (r.cost) out << ", cost " << *r.cost;
     if (!problem.scene.objects.empty()) out << ", " << r.moved_objects.size() << " objects moved";
     out << "\n";
     for (std::size_t i = 0; i < r.plan.size(); ++i) {

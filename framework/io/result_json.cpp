@@ -63,6 +63,7 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
   out["reason"] = result.solved ? Json(nullptr) : Json(result.reason);
   out["exit_code"] = run.exit_code;
   out["plan"] = plan;
+  out["cost"] = result.cost ? Json(*result.cost) : Json(nullptr);
   out["moved_objects"] = names(scene, result.moved_objects);
   out["time"] = {{"task_planning", result.time.task_planning},
                  {"motion_planning", result.time.motion_planning},

@@ -83,6 +83,7 @@ class Evaluator {
 struct Limits {
   Clock::time_point deadline;
   std::uint64_t max_expansions;
+  double cost_bound;  // a path of this cost or more is not followed
   bool exceeded(const SearchStatistics& stats, std::string& reason) const {
     if (stats.expanded >= max_expansions) {
       reason = "expansion limit";
@@ -191,6 +192,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
       for (OperatorId op : successors) {
         ++result.statistics.generated;
         const double child_g = g + space.task().operators[op].cost;
+        if (child_g >= limits.cost_bound) continue;
         const auto [child, is_new] = registry.insert(space.apply(state, op));
         Node& c = registry.node(child);
         if (!is_new && (child_g >= c.g || (c.closed && !reopen) || c.h == kInfinity)) continue;  // dead ends stay closed
@@ -221,7 +223,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
     result.reason = "time limit";
     return stopped(std::move(registry), std::move(open), result);
   }
-  result.reason = "no plan exists (every reachable state was expanded)";
+  result.reason = limits.cost_bound < kInfinity ? "no plan cheaper than the cost bound" : "no plan exists (every reachable state was expanded)";
   return result;
 }
 
@@ -269,17 +271,19 @@ SearchResult lazy(const StateSpace& space, Evaluator& h, const Limits& limits) {
     const auto [parent_h, unused, parent, op] = open.pop();
     (void)parent_h;
     (void)unused;
+    const double child_g = registry.node(parent).g + space.task().operators[op].cost;
+    if (child_g >= limits.cost_bound) continue;
     const auto [child, is_new] = registry.insert(space.apply(registry.state(parent), op));
     if (!is_new) continue;
     Node& c = registry.node(child);
     c.parent = parent;
     c.op = op;
-    c.g = registry.node(parent).g + space.task().operators[op].cost;
+    c.g = child_g;
     c.closed = true;
     if (space.is_goal(registry.state(child))) return finish(space, registry, child, result);
     expand(child);
   }
-  result.reason = "no plan exists (every reachable state was expanded)";
+  result.reason = limits.cost_bound < kInfinity ? "no plan cheaper than the cost bound" : "no plan exists (every reachable state was expanded)";
   return result;
 }
 
@@ -333,7 +337,7 @@ SearchResult plan(const Task& task, const SearchOptions& options) {
   auto space = std::make_unique<const StateSpace>(task);
   const Limits limits{start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                                   std::min(options.time_limit, 1e9))),
-                      options.max_expansions};
+                      options.max_expansions, options.cost_bound};
   SearchResult result = run_search(task, *space, options.algorithm, options.weight, limits);
   if (result.reason == "time limit") free_beside(std::move(space));
   result.statistics.seconds = std::chrono::duration<double>(Clock::now() - start).count();

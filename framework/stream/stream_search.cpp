@@ -138,6 +138,7 @@ class StreamSearch {
     } catch (const search::TooLarge& e) {
       out_.reason = std::string("grounding: ") + e.what();
     }
+    settle();  // the time limit ended the search for a cheaper plan
     if (!out_.solved && out_.reason.empty()) out_.reason = "time limit reached";
     return std::move(out_);
   }
@@ -169,6 +170,13 @@ class StreamSearch {
         }
         if (o->second.optimistic_value != 0.0 && s.kind != StreamDecl::Kind::function) {
           d.error(s.where, "'" + s.name + "' is not a function: only a function has an optimistic value");
+        }
+        if ((o->second.p_success != 1.0 || o->second.overhead != 1.0) && s.kind == StreamDecl::Kind::function) {
+          d.error(s.where, "'" + s.name + "' is a function: functions are evaluated at once, 'p_success' and 'overhead' order tests and generators");
+        }
+        if (o->second.p_success == 0.0 && !o->second.eager && s.kind != StreamDecl::Kind::function &&
+            options_.algorithm == Algorithm::adaptive) {
+          d.error(s.where, "'" + s.name + "' has p_success 0 (never assumed optimistically) and is not eager: the adaptive search would never evaluate it, so its facts could never hold");
         }
       }
       if (s.kind == StreamDecl::Kind::rule) continue;
@@ -410,8 +418,10 @@ class StreamSearch {
       search::SearchOptions so;
       so.algorithm = options_.search;
       so.time_limit = context_.deadline.remaining();
+      so.cost_bound = cost_bound();
       const search::SearchResult r = search::plan(task, so);
       last_search_work_ = options_.search_cost + 10.0 * static_cast<double>(grounding.operators + r.statistics.generated);
+      work_ += last_search_work_;
       if (r.solved) {
         steps.emplace();
         for (search::OperatorId op : r.plan) steps->push_back(step_of(task.operators[static_cast<std::size_t>(op)].name));
@@ -430,48 +440,71 @@ class StreamSearch {
     return steps;
   }
 
+  // A plan and its cost on the real values, if it could be costed.
+  struct Costed {
+    std::vector<Step> steps;
+    std::optional<double> cost;
+  };
+
   // Once a plan is found: a cost-aware search (`polish_search`, within
   // `polish_expansions`) on the real facts, whose plan replaces it when cheaper (action
-  // costs and function values; steps without a metric) and valid. The first plan of a
-  // greedy search may take detours (a pick and place to get the hand free, a value from
-  // an earlier skeleton) that cost nothing to find and much to run.
-  std::vector<Step> cheaper_plan(std::vector<Step> steps) {
-    if (options_.polish_search.empty() || context_.deadline.expired()) return steps;
+  // costs and function values; steps without a metric) and valid; then the steps whose
+  // removal leaves a valid plan go. The first plan of a greedy search may take detours
+  // (a pick and place to get the hand free, a value from an earlier skeleton) that cost
+  // nothing to find and much to run. The cost is wanted only against `success_cost`.
+  Costed polished(std::vector<Step> steps) {
+    const bool costed = options_.success_cost < std::numeric_limits<double>::infinity();
+    if ((options_.polish_search.empty() && !costed) || context_.deadline.expired()) {
+      return {without_pointless_steps(std::move(steps)), std::nullopt};
+    }
     const auto start = Clock::now();
-    close_real();  // every cost function on the real values
-    if (context_.deadline.expired() || !every_function_valued()) return steps;
+    std::map<std::string, double> cost_of;  // of every real operator
     try {
-      const pddl::Problem p = symbolic_problem(false);
-      search::Task task;
-      try {
-        task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
-      } catch (const InputError&) {
-        // A cost with no value: a function whose domain holds only optimistically for
-        // some real values. The real problem cannot be costed; the plan in hand stands.
-        return steps;
-      }
-      std::map<std::string, double> cost_of;
-      for (const search::Operator& op : task.operators) cost_of.emplace(op.name, op.cost);
-      double before = 0;
-      for (const Step& step : steps) {
-        const auto it = cost_of.find(name_of(step));
-        before += it == cost_of.end() ? std::numeric_limits<double>::infinity() : it->second;
-      }
-      search::SearchOptions so;
-      so.algorithm = options_.polish_search;
-      so.time_limit = context_.deadline.remaining();
-      so.max_expansions = options_.polish_expansions;
-      const search::SearchResult r = search::plan(task, so);
-      ++out_.statistics.searches;
-      if (r.solved && r.cost < before - 1e-9) {
-        std::vector<Step> cheaper;
-        for (search::OperatorId op : r.plan) cheaper.push_back(step_of(task.operators[static_cast<std::size_t>(op)].name));
-        if (verify(cheaper)) steps = std::move(cheaper);
+      close_real();  // every cost function on the real values
+      if (!context_.deadline.expired() && every_function_valued()) {
+        const pddl::Problem p = symbolic_problem(false);
+        search::Task task;
+        try {
+          task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
+        } catch (const InputError&) {
+          // A cost with no value: a function whose domain holds only optimistically for
+          // some real values. The real problem cannot be costed; the plan in hand stands.
+          return {without_pointless_steps(std::move(steps)), std::nullopt};
+        }
+        for (const search::Operator& op : task.operators) cost_of.emplace(op.name, op.cost);
+        if (!options_.polish_search.empty()) steps = cheaper_plan(task, cost_of, std::move(steps));
       }
     } catch (const search::TimeLimit&) {
       // The plan in hand stands.
     }
     out_.statistics.search_seconds += since(start);
+    steps = without_pointless_steps(std::move(steps));
+    if (cost_of.empty()) return {std::move(steps), std::nullopt};
+    return {steps, cost_in(cost_of, steps)};
+  }
+
+  double cost_in(const std::map<std::string, double>& cost_of, const std::vector<Step>& steps) const {
+    double total = 0;
+    for (const Step& step : steps) {
+      const auto it = cost_of.find(name_of(step));
+      total += it == cost_of.end() ? std::numeric_limits<double>::infinity() : it->second;
+    }
+    return total;
+  }
+
+  std::vector<Step> cheaper_plan(const search::Task& task, const std::map<std::string, double>& cost_of, std::vector<Step> steps) {
+    search::SearchOptions so;
+    so.algorithm = options_.polish_search;
+    so.time_limit = context_.deadline.remaining();
+    so.max_expansions = options_.polish_expansions;
+    so.cost_bound = cost_in(cost_of, steps) - 1e-9;
+    const search::SearchResult r = search::plan(task, so);
+    ++out_.statistics.searches;
+    if (r.solved) {
+      std::vector<Step> cheaper;
+      for (search::OperatorId op : r.plan) cheaper.push_back(step_of(task.operators[static_cast<std::size_t>(op)].name));
+      if (verify(cheaper)) steps = std::move(cheaper);
+    }
     return steps;
   }
 
@@ -645,8 +678,44 @@ class StreamSearch {
     return steps;
   }
 
-  void solved(std::vector<Step> steps) {
-    steps = without_pointless_steps(cheaper_plan(std::move(steps)));
+  // A plan that holds with real facts: polished, kept if the cheapest so far. Returns
+  // whether the search is done (the best plan then is the solution): its cost is at
+  // most `success_cost`, or it cannot be costed to compare.
+  bool accept(std::vector<Step> steps) {
+    ++out_.statistics.plans;
+    Costed c = polished(std::move(steps));
+    const double cost = c.cost.value_or(std::numeric_limits<double>::infinity());
+    if (!best_ || cost < best_->cost.value_or(std::numeric_limits<double>::infinity()) - 1e-9) best_ = std::move(c);
+    if (!best_->cost || *best_->cost <= options_.success_cost) {
+      solved(std::move(*best_));
+      return true;
+    }
+    if (!improve_from_) improve_from_ = work_;
+    if (options_.trace) options_.trace("plan of cost " + std::to_string(*best_->cost) + " above success_cost: looking for a cheaper one");
+    return false;
+  }
+
+  // Whether the work allowed for cheaper plans after the first is spent; then the best
+  // plan is the solution.
+  bool improved_enough() {
+    if (!improve_from_ || work_ - *improve_from_ < options_.improve_work) return false;
+    solved(std::move(*best_));
+    return true;
+  }
+
+  // The search ends without a cheaper plan: the best one found, if any, is the solution.
+  void settle() {
+    if (best_ && !out_.solved) solved(std::move(*best_));
+  }
+
+  // The symbolic searches look only for plans cheaper than the best so far.
+  double cost_bound() const {
+    return best_ && best_->cost ? *best_->cost - 1e-9 : std::numeric_limits<double>::infinity();
+  }
+
+  void solved(Costed plan) {
+    const std::vector<Step>& steps = plan.steps;
+    out_.cost = plan.cost;
     out_.solved = true;
     out_.reason.clear();
     for (const Step& s : steps) {
@@ -684,7 +753,8 @@ class StreamSearch {
     for (;;) {
       close_real();
       if (context_.deadline.expired()) return;
-      if (auto steps = plan_symbolic(false); steps && verify(*steps)) return solved(*steps);
+      if (auto steps = plan_symbolic(false); steps && verify(*steps) && accept(std::move(*steps))) return;
+      if (improved_enough()) return;
       std::vector<int> open;
       for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
         const StreamDecl::Kind kind = base_.decl(s).kind;
@@ -696,12 +766,14 @@ class StreamSearch {
       }
       if (open.empty()) {
         out_.reason = "no plan exists: every stream instance is exhausted";
-        return;
+        return settle();
       }
       ++out_.statistics.level;
       for (int id : open) {
         if (context_.deadline.expired()) return;
+        const std::uint64_t checks_before = context_.checks_done();
         call(id);
+        work_ += options_.call_cost + static_cast<double>(context_.checks_done() - checks_before);
       }
     }
   }
@@ -732,6 +804,7 @@ class StreamSearch {
         const StreamDecl& d = base_.decl(s);
         if (d.kind == StreamDecl::Kind::function) continue;
         if (d.is_test() && negated_tests_.count(d.certified.front().predicate)) continue;  // false until tested
+        if (stream_options(d).p_success == 0.0) continue;  // only real evaluations certify its facts
         std::size_t facts = 0;
         for (const pddl::Atom& a : d.domain) facts += base_.fact_count(a.predicate);
         if (std::exchange(seen[static_cast<std::size_t>(s)], facts) == facts) continue;
@@ -845,10 +918,19 @@ class StreamSearch {
     // another needs their outputs first: a skeleton that fails in a cheap stream then
     // never pays for them.
     // Negated tests come after the streams of their pass.
-    const std::map<int, std::set<int>> all_needed(needed);
+    // Within each, cheap streams likely to fail first (PDDLStream's p_success and
+    // overhead: the expected cost of a sequence of independent tests is least in
+    // increasing overhead / (1 - p_success)); a stream's inputs are placed before it.
+    std::vector<int> ordered;
+    for (const auto& [id, at] : needed) ordered.push_back(id);
+    auto failure_cost = [&](int id) {
+      const StreamOptions& o = stream_options(base_.decl(base_.instance_at(id).stream));
+      return o.p_success < 1.0 ? o.overhead / (1.0 - o.p_success) : std::numeric_limits<double>::infinity();
+    };
+    std::stable_sort(ordered.begin(), ordered.end(), [&](int a, int b) { return failure_cost(a) < failure_cost(b); });
     auto deferred_stream = [&](int id) { return stream_options(base_.decl(base_.instance_at(id).stream)).defer; };
     for (const bool deferred : {false, true}) {
-      for (const auto& [id, at] : all_needed) {
+      for (const int id : ordered) {
         if (deferred_stream(id) != deferred) continue;
         for (const PlannedInstance& e : entries(id, false)) place(e);
       }
@@ -970,8 +1052,10 @@ class StreamSearch {
       Move move = Move::moved;
       if (auto steps = advance(*it, move)) return steps;
       progress |= move == Move::called;
-      spent += 1.0 + (move == Move::called ? options_.call_cost : 0.0) +
-               static_cast<double>(context_.checks_done() - checks_before);
+      const double work = 1.0 + (move == Move::called ? options_.call_cost : 0.0) +
+                          static_cast<double>(context_.checks_done() - checks_before);
+      spent += work;
+      work_ += work;
       if (it->stack.empty()) {
         queue_.erase(it);
         waits = 0;
@@ -1006,7 +1090,10 @@ class StreamSearch {
           out_.reason = "internal error: an optimistic plan does not hold when checked";
           return;
         }
-        if (sk->stream_plan.empty() && verify(*steps)) return solved(*steps);
+        if (sk->stream_plan.empty() && verify(*steps)) {
+          if (accept(*steps)) return;
+          continue;  // the next search is bounded by its cost
+        }
         if (queued.insert(sk->key).second) {
           ++out_.statistics.skeletons;
           queue_.push_back(std::move(*sk));
@@ -1030,7 +1117,8 @@ class StreamSearch {
       }
       bool progress = false;
       const double budget = std::max(options_.min_sampling, last_search_work_ * options_.sampling_ratio);
-      if (auto done = refine(budget, progress)) return solved(*done);
+      if (auto done = refine(budget, progress); done && accept(std::move(*done))) return;
+      if (improved_enough()) return;
       if (!steps || too_long || (!fresh && !progress)) {
         bool any_disabled = false;
         for (std::size_t i = 0; i < base_.instance_count(); ++i) {
@@ -1040,7 +1128,7 @@ class StreamSearch {
         }
         if (!steps && !pruned && !any_disabled && queue_.empty()) {
           out_.reason = "no plan exists: not even with optimistic stream outputs";
-          return;
+          return settle();
         }
         ++level_;
         out_.statistics.level = static_cast<std::uint64_t>(level_);
@@ -1062,6 +1150,9 @@ class StreamSearch {
   std::optional<std::pair<std::size_t, int>> shortest_;  // adaptive: shortest plan, its level
   int level_ = 0;  // adaptive: the complexity bound of optimistic instances and calls
   int generated_ = 0;
+  double work_ = 0;  // of searches and stream evaluation so far, in StreamSearchOptions' units
+  std::optional<Costed> best_;  // the cheapest plan found
+  std::optional<double> improve_from_;  // work_ when the first plan above success_cost was found
   StreamSolution out_;
 };
 

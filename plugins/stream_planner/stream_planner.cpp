@@ -78,7 +78,13 @@ class StreamPlanner final : public plugin::TaskPlanner {
       p.require(ok, key, "must be one of " + known);
     }
     options_.polish_expansions = static_cast<std::uint64_t>(polish);
-    if (const Value* streams = p.get("streams", "per stream: {NAME: {eager: bool, defer: bool, optimistic: number}}")) {
+    options_.success_cost = p.get_double("success_cost", options_.success_cost,
+                                         "return a plan once it costs at most this (unset: the first plan)");
+    options_.improve_work = p.get_double("improve_work", options_.improve_work,
+                                         "work units spent on cheaper plans after the first above success_cost");
+    p.require(options_.improve_work >= 0 && std::isfinite(options_.improve_work), "improve_work",
+              "must be a finite number >= 0 (work units)");
+    if (const Value* streams = p.get("streams", "per stream: {NAME: {eager: bool, defer: bool, optimistic: number, p_success: [0, 1], overhead: number}}")) {
       options_.streams = stream_options(*streams);
     }
     prune_ = p.get_bool("prune", prune_, "scene facts: only the object pruner's objects are movable");
@@ -165,6 +171,8 @@ class StreamPlanner final : public plugin::TaskPlanner {
     result.counters["skeletons"] = st.skeletons;
     result.counters["level"] = st.level;
     result.counters["plan_length"] = s.plan.size();
+    result.counters["plans_found"] = st.plans;
+    result.cost = s.cost;
     for (const auto& [stream_name, calls] : st.calls_per_stream) result.counters["calls_" + stream_name] = calls;
     result.time.total = since(start);
     result.time.motion_planning = st.stream_seconds;
@@ -176,7 +184,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
   // `streams: {test-region: {eager: true}, dist: {optimistic: 10}}`, each error at its value.
   static std::map<std::string, stream::StreamOptions> stream_options(const Value& streams) {
     const Value::Map* entries = streams.map();
-    if (!entries) throw InputError(streams.where(), "parameter 'streams' must map stream names to {eager, defer, optimistic}, not " + std::string(streams.kind_name()));
+    if (!entries) throw InputError(streams.where(), "parameter 'streams' must map stream names to {eager, defer, optimistic, p_success, overhead}, not " + std::string(streams.kind_name()));
     std::map<std::string, stream::StreamOptions> out;
     Diagnostics d;
     for (const auto& [name, settings] : *entries) {
@@ -186,14 +194,20 @@ class StreamPlanner final : public plugin::TaskPlanner {
       }
       stream::StreamOptions& o = out[pddl::lower_name(name)];
       if (!settings.map()) {
-        d.error(settings.where(), "stream '" + name + "': options must be a map {eager: bool, defer: bool, optimistic: number}");
+        d.error(settings.where(), "stream '" + name + "': options must be a map {eager: bool, defer: bool, optimistic: number, p_success: number, overhead: number}");
         continue;
       }
       for (const auto& [key, value] : *settings.map()) {
+        const std::optional<double> number = value.number();
+        const bool finite = number && std::isfinite(*number);
         if ((key == "eager" || key == "defer") && value.boolean()) (key == "eager" ? o.eager : o.defer) = *value.boolean();
-        else if (key == "optimistic" && value.number() && std::isfinite(*value.number()) && *value.number() >= 0) o.optimistic_value = *value.number();
-        else if (key == "eager" || key == "defer" || key == "optimistic") d.error(value.where(), "stream '" + name + "': '" + key + "' must be " + (key == "optimistic" ? "a number >= 0 (a cost's lower bound)" : "a boolean") + ", not " + value.to_yaml());
-        else d.error(value.where(), "stream '" + name + "': unknown option '" + key + "' (eager, defer, optimistic)");
+        else if (key == "optimistic" && finite && *number >= 0) o.optimistic_value = *number;
+        else if (key == "p_success" && finite && *number >= 0 && *number <= 1) o.p_success = *number;
+        else if (key == "overhead" && finite && *number >= 0) o.overhead = *number;
+        else if (key == "eager" || key == "defer") d.error(value.where(), "stream '" + name + "': '" + key + "' must be a boolean, not " + value.to_yaml());
+        else if (key == "optimistic" || key == "overhead") d.error(value.where(), "stream '" + name + "': '" + key + "' must be a number >= 0, not " + value.to_yaml());
+        else if (key == "p_success") d.error(value.where(), "stream '" + name + "': 'p_success' must be a probability in [0, 1], not " + value.to_yaml());
+        else d.error(value.where(), "stream '" + name + "': unknown option '" + key + "' (eager, defer, optimistic, p_success, overhead)");
       }
     }
     d.throw_if_any();

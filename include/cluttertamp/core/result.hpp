@@ -81,6 +81,9 @@ struct Result {
   bool solved = false;
   std::string reason;  ///< why not solved; empty when solved
   std::vector<PlanStep> plan;
+  /// The plan's cost, where the planner reckons one (stream_planner: action costs and
+  /// function values, or its length without a metric, when it costs plans).
+  std::optional<double> cost;
   std::vector<ObjectIndex> moved_objects;  ///< in the order they were moved
   Timing time;
   std::map<std::string, std::uint64_t> counters;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,10 @@ struct SearchOptions {
   double time_limit = 1e9;              ///< seconds
   std::uint64_t max_expansions = ~0ull;
   double weight = 5.0;                  ///< wastar only
+  /// Only plans cheaper than this (in the task's action costs): a path that reaches it
+  /// is not followed. The greedy searches may then miss a cheaper plan that reaches a
+  /// state first found by a dearer path; the A* searches and wastar do not.
+  double cost_bound = std::numeric_limits<double>::infinity();
 };
 
 struct SearchStatistics {

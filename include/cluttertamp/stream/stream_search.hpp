@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -46,6 +47,16 @@ struct StreamOptions {
   /// other streams, unless those need its outputs (PDDLStream's defer_fn, simplified):
   /// an expensive stream is then not called for a skeleton a cheap one rules out.
   bool defer = false;
+  /// A test or generator: the chance that a call succeeds (PDDLStream's p_success), in
+  /// [0, 1]. The adaptive search evaluates a skeleton's instances that are ready in
+  /// increasing order of overhead / (1 - p_success), so that a cheap stream likely to
+  /// fail rules a skeleton out before dear ones run (streams at 1 keep the stream
+  /// plan's order). 0: never assumed optimistically; only real evaluations certify its
+  /// facts, so the adaptive search needs it `eager` (a region test, say).
+  double p_success = 1.0;
+  /// A test or generator: the relative cost of a call, for that order (any unit, the
+  /// same for every stream; PDDLStream's overhead). At least 0.
+  double overhead = 1.0;
 };
 
 struct StreamSearchOptions {
@@ -73,6 +84,14 @@ struct StreamSearchOptions {
   /// single actions and pairs whose removal leaves a valid plan are dropped.
   std::string polish_search = "wastar-ff";
   std::uint64_t polish_expansions = 100000;
+  /// A plan is returned once its cost (action costs and function values on the real
+  /// values; its length without a metric) is at most this (PDDLStream's success_cost).
+  /// Until then the search goes on for plans cheaper than the best so far (the symbolic
+  /// searches bounded by its cost) for `improve_work` more units of work, counted as
+  /// `sampling_ratio` counts them, and returns the best plan found when that runs out,
+  /// when no cheaper plan exists or at the time limit. Infinity: the first plan.
+  double success_cost = std::numeric_limits<double>::infinity();
+  double improve_work = 1e6;
   /// Per stream, by name as the stream file declares it (lower case); streams not
   /// named take the defaults. A name the stream file lacks is an InputError.
   std::map<std::string, StreamOptions> streams;
@@ -106,6 +125,7 @@ struct StreamStatistics {
   std::uint64_t skeletons = 0;         ///< adaptive: optimistic plans queued
   std::uint64_t level = 0;             ///< adaptive: the final level; incremental: rounds
   std::uint64_t values = 0;            ///< stream outputs made
+  std::uint64_t plans = 0;             ///< plans found that hold with real facts
   double search_seconds = 0;
   double stream_seconds = 0;
   std::map<std::string, std::uint64_t> calls_per_stream;
@@ -115,6 +135,9 @@ struct StreamSolution {
   bool solved = false;
   std::string reason;  ///< why not solved
   std::vector<StreamPlanStep> plan;
+  /// The plan's cost on the real values (action costs and function values; its length
+  /// without a metric), where it could be costed (every function in the plan valued).
+  std::optional<double> cost;
   /// The value of every generated object the plan uses.
   std::map<std::string, plugin::StreamValue> values;
   /// Every fact an evaluated stream certified (the plan's static support among them).
