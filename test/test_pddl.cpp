@@ -1,7 +1,11 @@
 // PDDL: parser errors by class, grounding and search on IPC-domain instances (optimal
 // costs matched, every plan checked by the lifted validator), costs, derived
 // predicates, quantifiers, limits.
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <random>
+#include <set>
 #include <fstream>
 #include <sstream>
 
@@ -577,6 +581,160 @@ TEST(PddlRegressions, TooManyDisjunctsIsALocatedFailure) {
     FAIL() << "grounded";
   } catch (const search::TooLarge& e) {
     EXPECT_EQ(std::string(e.what()), "x.pddl:2:1: the precondition of 'a' has more than 10000 disjuncts in disjunctive normal form");
+  }
+}
+
+// ---- grounding a sequence of problems (search::Grounding) -----------------------------
+
+// What a task can do from its initial state, by name: the operators and axioms whose
+// positive conditions are reachable in the delete relaxation, each as one line with
+// only the reachable facts (negative conditions and deletes of unreachable facts say
+// nothing), the goal's reachable disjuncts and the initial facts.
+std::set<std::string> reachable_part(const search::Task& t) {
+  std::vector<bool> reached(t.fact_count(), false);
+  for (search::FactId f : t.initial) reached[static_cast<std::size_t>(f)] = true;
+  auto holds = [&](const search::Condition& c) {
+    return std::all_of(c.positive.begin(), c.positive.end(), [&](search::FactId f) { return reached[static_cast<std::size_t>(f)]; });
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    auto reach = [&](search::FactId f) {
+      if (!reached[static_cast<std::size_t>(f)]) changed = reached[static_cast<std::size_t>(f)] = true;
+    };
+    for (const search::Operator& op : t.operators) {
+      if (!holds(op.precondition)) continue;
+      for (search::FactId f : op.add) reach(f);
+      for (const search::ConditionalEffect& ce : op.conditional) {
+        if (holds(ce.condition)) for (search::FactId f : ce.add) reach(f);
+      }
+    }
+    for (const search::Axiom& a : t.axioms) {
+      if (holds(a.body)) reach(a.head);
+    }
+  }
+  auto names = [&](const std::vector<search::FactId>& facts) {
+    std::vector<std::string> out;
+    for (search::FactId f : facts) {
+      if (reached[static_cast<std::size_t>(f)]) out.push_back(t.fact_names[static_cast<std::size_t>(f)]);
+    }
+    std::sort(out.begin(), out.end());
+    std::string joined;
+    for (const std::string& n : out) joined += n + ",";
+    return joined;
+  };
+  auto condition = [&](const search::Condition& c) { return "+" + names(c.positive) + " -" + names(c.negative); };
+  std::set<std::string> out;
+  for (const search::Operator& op : t.operators) {
+    if (!holds(op.precondition)) continue;
+    std::set<std::string> effects;
+    for (const search::ConditionalEffect& ce : op.conditional) {
+      if (holds(ce.condition)) effects.insert("when " + condition(ce.condition) + " add " + names(ce.add) + " del " + names(ce.del));
+    }
+    std::string line = "op " + op.name + " cost " + std::to_string(op.cost) + " pre " + condition(op.precondition) +
+                       " add " + names(op.add) + " del " + names(op.del);
+    for (const std::string& e : effects) line += " " + e;
+    out.insert(line);
+  }
+  for (const search::Axiom& a : t.axioms) {
+    if (holds(a.body)) out.insert("axiom " + t.fact_names[static_cast<std::size_t>(a.head)] + " :- " + condition(a.body) + " stratum " + std::to_string(a.stratum));
+  }
+  for (const search::Condition& g : t.goal) {
+    if (holds(g)) out.insert("goal " + condition(g));
+  }
+  out.insert("initial " + names(t.initial));
+  return out;
+}
+
+// A random problem of `domain` over `objects` objects: each static and fluent predicate
+// holds for random tuples (about `density` of them), every cost function has a value.
+Problem random_problem(const Domain& domain, std::size_t objects, double density, std::mt19937_64& rng,
+                             const std::string& goal) {
+  std::ostringstream text;
+  text << "(define (problem r) (:domain " << domain.name << ") (:objects";
+  for (std::size_t o = 0; o < objects; ++o) text << " o" << o;
+  text << ") (:init";
+  std::uniform_real_distribution<double> coin(0.0, 1.0);
+  for (const auto& [name, decl] : domain.predicates) {
+    if (name.rfind("forall-", 0) == 0 || std::any_of(domain.derived.begin(), domain.derived.end(), [&](const DerivedRule& r) { return r.head.name == name; })) continue;
+    const std::size_t arity = decl.parameters.size();
+    std::vector<std::size_t> tuple(arity, 0);
+    for (bool more = true; more;) {
+      if (coin(rng) < (arity == 0 ? 0.5 : density)) {
+        text << " (" << name;
+        for (std::size_t a : tuple) text << " o" << a;
+        text << ")";
+      }
+      more = false;
+      for (std::size_t i = 0; i < arity && !more; ++i) {
+        if (++tuple[i] < objects) more = true;
+        else tuple[i] = 0;
+      }
+    }
+  }
+  for (const auto& [name, decl] : domain.functions) {
+    if (name == "total-cost") continue;
+    for (std::size_t a = 0; a < objects; ++a) {
+      for (std::size_t b = 0; b < objects; ++b) text << " (= (" << name << " o" << a << " o" << b << ") " << (a * 7 + b * 3) % 11 << ")";
+    }
+  }
+  text << ") (:goal " << goal << ") (:metric minimize (total-cost)))";
+  return parse_problem(text.str(), "random.pddl", domain);
+}
+
+// The problems of a stream search: objects only added, facts added and taken away.
+// Grounded one after another in a session, each task can do what a fresh grounding
+// of the same problem can (operators and axioms that can apply, the goal, the initial
+// state), and the session re-used instances along the way.
+TEST(PddlGrounding, ASessionGroundsEachProblemAsAFreshGroundingDoes) {
+  const Domain blocks = load_domain(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/pddl/blocks-line/domain.pddl");
+  const Domain blocks_2d = load_domain(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "examples/blocks_2d/domain.pddl");
+  const Domain forall = parse_domain(R"((define (domain f) (:requirements :adl :derived-predicates :action-costs)
+    (:predicates (Item ?x) (Near ?x ?y) (Lit ?x) (Ready ?x) (Hot ?x))
+    (:functions (Cost ?x ?y))
+    (:derived (Hot ?x) (exists (?y) (and (Near ?x ?y) (Lit ?y))))
+    (:action light :parameters (?x ?y) :precondition (and (Item ?x) (Near ?x ?y) (forall (?z) (imply (Near ?z ?x) (or (Lit ?z) (Ready ?z)))))
+      :effect (and (Lit ?x) (forall (?z) (when (Near ?x ?z) (Ready ?z))) (increase (total-cost) (Cost ?x ?y))))))",
+                                       "forall.pddl");
+  const std::vector<std::pair<const Domain*, std::string>> cases{
+      {&blocks, "(exists (?b ?r) (In ?b ?r))"}, {&blocks_2d, "(exists (?b ?r) (In ?b ?r))"}, {&forall, "(exists (?x) (Hot ?x))"}};
+  for (const auto& [domain, goal] : cases) {
+    SCOPED_TRACE(domain->name);
+    std::mt19937_64 rng(7);
+    search::Grounding session(*domain);
+    std::size_t reused = 0;
+    for (std::size_t step = 0; step < 8; ++step) {
+      // 4, 5, ... objects; a new random draw each time: facts come and go.
+      const Problem p = random_problem(*domain, 4 + step, step % 3 == 2 ? 0.05 : 0.15, rng, goal);
+      search::GroundingStats stats;
+      const search::Task again = session.ground(p, &stats);
+      const search::Task fresh = search::ground(*domain, p);
+      EXPECT_EQ(reachable_part(again), reachable_part(fresh)) << "step " << step;
+      reused += stats.reused_instances;
+      search::SearchOptions optimal;
+      optimal.algorithm = "astar-blind";
+      optimal.max_expansions = 200000;
+      const search::SearchResult a = search::plan(again, optimal), b = search::plan(fresh, optimal);
+      EXPECT_EQ(a.solved, b.solved) << "step " << step;
+      if (a.solved && b.solved) EXPECT_DOUBLE_EQ(a.cost, b.cost) << "step " << step;
+    }
+    EXPECT_GT(reused, 0u);
+  }
+}
+
+// Objects in another order: the session grounds afresh rather than mix them up.
+TEST(PddlGrounding, AProblemThatDoesNotExtendTheLastIsGroundedAfresh) {
+  const Domain d = parse_domain(R"((define (domain g) (:requirements :strips)
+    (:predicates (At ?x) (Road ?x ?y))
+    (:action go :parameters (?x ?y) :precondition (and (At ?x) (Road ?x ?y)) :effect (and (At ?y) (not (At ?x))))))",
+                                      "g.pddl");
+  const Problem ab = parse_problem("(define (problem p) (:domain g) (:objects a b) (:init (At a) (Road a b)) (:goal (At b)))", "p.pddl", d);
+  const Problem ba = parse_problem("(define (problem p) (:domain g) (:objects b a) (:init (At b) (Road b a)) (:goal (At a)))", "p.pddl", d);
+  search::Grounding session(d);
+  for (const Problem* p : {&ab, &ba, &ab}) {
+    search::GroundingStats stats;
+    const search::Task t = session.ground(*p, &stats);
+    EXPECT_EQ(reachable_part(t), reachable_part(search::ground(d, *p)));
+    EXPECT_EQ(stats.reused_instances, 0u);
   }
 }
 

@@ -78,16 +78,56 @@ struct Schema {
   std::vector<int> mentioned;  // predicates anywhere in the precondition, sorted, once each
 };
 
+// What one action or axiom instance grounded to, and what that rested on: the state of
+// every atom its formulas looked up, the reached tuples of the predicates its
+// quantifiers drew witnesses from, the objects when a quantifier ranged over a type, and
+// the cost functions' values. While all are as they were, a later problem of the same
+// session grounds the instance to the same operators (fact ids are kept).
+struct Cached {
+  bool computed = false;
+  bool reusable = true;  // false: it looked at too much to be worth checking
+  std::uint64_t generation = 0;
+  std::vector<std::pair<int, std::uint8_t>> atoms;
+  std::vector<std::pair<int, std::size_t>> witnesses;
+  std::size_t objects = 0;  // 0: no quantifier ranged over a type
+  std::vector<std::pair<std::vector<int>, double>> costs;
+  std::vector<Operator> operators;
+  std::vector<Axiom> axioms;
+};
+
+// Atoms an instance may look up and still be kept for reuse: an (exists ...) over every
+// pose looks at thousands, and checking them would cost what grounding it again does.
+constexpr std::size_t kMaxDependencies = 256;
+
 class Grounder {
  public:
-  Grounder(const pddl::Domain& domain, const pddl::Problem& problem, double time_limit)
-      : domain_(domain), problem_(problem),
-        deadline_(std::chrono::steady_clock::now() +
-                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(std::min(time_limit, 1e9)))) {}
+  /// `keep`: record what each instance rests on, for later problems (a session).
+  Grounder(const pddl::Domain& domain, bool keep) : domain_(domain), keep_(keep) {}
 
-  Task run(GroundingStats* stats);
+  Task run(const pddl::Problem& problem, GroundingStats* stats, double time_limit);
+  /// Whether `problem` lists the objects of the last one first, in the same order and
+  /// with the same types: then it can be grounded on what this grounder holds.
+  bool extends(const pddl::Problem& problem) const;
 
  private:
+  void compile();
+  void add_objects(const pddl::Problem& problem);
+  void ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& out);
+  bool still_valid(const Cached& c) const;
+  std::uint8_t state(int atom) const { return static_cast<std::uint8_t>((reached_[atom] ? 1 : 0) | (initially_[atom] ? 2 : 0)); }
+  // The recording of the instance being grounded, if any.
+  void note_atom(int atom) const {
+    if (!rec_ || !rec_->reusable) return;
+    rec_->atoms.emplace_back(atom, state(atom));
+    if (rec_->atoms.size() > kMaxDependencies) rec_->reusable = false;
+  }
+  void note_witness(int predicate) const {
+    if (rec_) rec_->witnesses.emplace_back(predicate, reached_by_predicate_[predicate].size());
+  }
+  void note_objects() const {
+    if (rec_) rec_->objects = object_names_.size();
+  }
+
   // -- objects and types
   int object_index(const std::string& name) const { return object_ids_.at(name); }
   const std::vector<int>* objects_of(const std::vector<std::string>& types);
@@ -119,8 +159,11 @@ class Grounder {
   template <class Visit>
   void each_witness(const CFormula& f, const CAtom& witness, std::vector<int>& binding, Visit&& visit) const;
   void relaxed_effects(const CEffect& e, std::vector<int>& binding, std::vector<int>& out) const;
+  // Tuples [first, second) of each core atom's predicate are joined.
+  using Ranges = std::vector<std::pair<std::size_t, std::size_t>>;
   void enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
-                 const std::function<void()>& visit);
+                 const Ranges& ranges, const std::function<void()>& visit);
+  bool core_complete(const CFormula& f, std::vector<int> quantified = {}) const;
   void explore();
 
   // -- ground output
@@ -144,7 +187,10 @@ class Grounder {
   }
 
   const pddl::Domain& domain_;
-  const pddl::Problem& problem_;
+  const bool keep_;
+  const pddl::Problem* problem_ = nullptr;  // of the current run()
+  bool compiled_ = false;
+  std::size_t constant_count_ = 0;
   std::vector<std::string> object_names_;
   std::unordered_map<std::string, int> object_ids_;
   std::vector<std::vector<std::string>> object_types_;
@@ -183,10 +229,19 @@ class Grounder {
   std::vector<std::vector<std::vector<int>>> reached_by_predicate_;
 
   std::vector<Schema> schemas_;
-  std::vector<std::set<std::vector<int>>> instances_;  // per schema: parameter bindings found
+  std::vector<bool> by_type_;  // per schema: a parameter or quantifier ranges over a type
+  std::vector<std::map<std::vector<int>, Cached>> instances_;  // per schema: parameter bindings found
+  // explore(): per schema, the reached atoms of its predicates and the objects at its last pass
+  std::vector<std::size_t> seen_, seen_objects_;
+  std::vector<std::vector<std::size_t>> joined_;  // per schema and core atom: tuples joined at its last pass
+  std::vector<bool> core_complete_;  // per schema: its relaxed precondition holds iff its core atoms are reached
+  std::vector<int> init_atoms_;  // of the last run()
+  std::vector<int> strata_;  // per predicate
+  mutable Cached* rec_ = nullptr;
+  std::uint64_t generation_ = 0;  // changes when every cached instance is stale
+  std::optional<bool> unit_cost_;
   std::map<int, FactId> fact_ids_;
-  std::vector<int> axiom_predicates_;  // head predicate of each ground axiom
-  Task task_;
+  Task task_;  // the facts (names, derived) of every run so far
   std::chrono::steady_clock::time_point deadline_;
   mutable std::uint64_t ticks_ = 0;
 };
@@ -387,6 +442,7 @@ bool Grounder::witness_values(const CFormula& f, std::size_t k, const std::vecto
   }
   if (!witness) return false;
   const CAtom& a = witness->atom;
+  note_witness(a.predicate);
   for (const std::vector<int>& tuple : reached_by_predicate_[a.predicate]) {
     int value = -1;
     bool fits = true;
@@ -433,6 +489,7 @@ const CAtom* Grounder::covering_witness(const CFormula& f) const {
 template <class Visit>
 void Grounder::each_witness(const CFormula& f, const CAtom& witness, std::vector<int>& b, Visit&& visit) const {
   auto quantified = [&](int slot) { return std::find(f.slots.begin(), f.slots.end(), slot) - f.slots.begin(); };
+  note_witness(witness.predicate);
   for (const std::vector<int>& tuple : reached_by_predicate_[witness.predicate]) {
     for (int slot : f.slots) b[slot] = -1;
     bool fits = true;
@@ -492,11 +549,11 @@ void Grounder::relaxed_effects(const CEffect& e, std::vector<int>& b, std::vecto
 // Binds the schema's parameters by joining its positive precondition atoms with the
 // facts reached so far, then the rest from their types.
 void Grounder::enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
-                         const std::function<void()>& visit) {
+                         const Ranges& ranges, const std::function<void()>& visit) {
   if (k < s.core.size()) {
     const CAtom& a = s.core[k];
     const auto& tuples = reached_by_predicate_[a.predicate];
-    for (std::size_t t = 0; t < tuples.size(); ++t) {
+    for (std::size_t t = ranges[k].first; t < ranges[k].second; ++t) {
       const std::vector<int>& tuple = tuples[t];
       std::vector<int> newly;
       bool ok = true;
@@ -522,7 +579,7 @@ void Grounder::enumerate(const Schema& s, std::size_t k, std::vector<int>& bindi
           }
         }
       }
-      if (ok) enumerate(s, k + 1, binding, bound, visit);
+      if (ok) enumerate(s, k + 1, binding, bound, ranges, visit);
       for (int slot : newly) bound[slot] = false;
     }
     return;
@@ -534,7 +591,7 @@ void Grounder::enumerate(const Schema& s, std::size_t k, std::vector<int>& bindi
     bound[slot] = true;
     for (int o : *s.parameter_domains[p]) {
       binding[slot] = o;
-      enumerate(s, k, binding, bound, visit);
+      enumerate(s, k, binding, bound, ranges, visit);
     }
     bound[slot] = false;
     return;
@@ -542,21 +599,73 @@ void Grounder::enumerate(const Schema& s, std::size_t k, std::vector<int>& bindi
   visit();
 }
 
+// Whether the relaxed test of `f` (relaxed()) holds exactly when the atoms
+// collect_core() takes from it are reached, negated atoms aside (fluent ones hold in the
+// relaxation; static ones are handled by the callers): conjunctions, atoms, negated
+// atoms and (exists ...) whose variables each appear in a positive atom of the body's
+// top level that also names a variable from outside (else no core atom holds it).
+bool Grounder::core_complete(const CFormula& f, std::vector<int> quantified) const {
+  auto is_quantified = [&](const CTerm& t) {
+    return t.variable && std::find(quantified.begin(), quantified.end(), t.value) != quantified.end();
+  };
+  switch (f.kind) {
+    case Formula::Kind::truth: return true;
+    case Formula::Kind::atom:
+      if (f.atom.predicate < 0) return true;
+      // collect_core() leaves out an atom whose variables are all quantified.
+      return std::none_of(f.atom.args.begin(), f.atom.args.end(), [](const CTerm& t) { return t.variable; }) ||
+             std::any_of(f.atom.args.begin(), f.atom.args.end(), [&](const CTerm& t) { return t.variable && !is_quantified(t); });
+    case Formula::Kind::negation: return f.children[0].kind == Formula::Kind::atom;
+    case Formula::Kind::conjunction:
+      return std::all_of(f.children.begin(), f.children.end(), [&](const CFormula& c) { return core_complete(c, quantified); });
+    case Formula::Kind::exists: {
+      const CFormula& body = f.children[0];
+      std::vector<const CFormula*> top;
+      if (body.kind == Formula::Kind::conjunction) {
+        for (const CFormula& c : body.children) top.push_back(&c);
+      } else {
+        top.push_back(&body);
+      }
+      for (int slot : f.slots) {
+        const bool witnessed = std::any_of(top.begin(), top.end(), [&](const CFormula* c) {
+          return c->kind == Formula::Kind::atom && c->atom.predicate >= 0 &&
+                 std::any_of(c->atom.args.begin(), c->atom.args.end(), [&](const CTerm& t) { return t.variable && t.value == slot; });
+        });
+        if (!witnessed) return false;
+      }
+      quantified.insert(quantified.end(), f.slots.begin(), f.slots.end());
+      return core_complete(body, quantified);
+    }
+    default: return false;
+  }
+}
+
+// Reachability accumulates over a session's problems: an atom reached for an earlier
+// problem stays reached (the operators it lets in are harmless where it cannot hold:
+// their static preconditions fold to false, or the search never reaches them). Only
+// what holds initially is the current problem's alone.
 void Grounder::explore() {
-  std::vector<int> frontier;
   auto reach = [&](int a) {
     if (reached_[a]) return;
     reached_[a] = true;
     reached_by_predicate_[atoms_[a].first].push_back(atoms_[a].second);
   };
-  for (const pddl::Atom& a : problem_.init) {
+  std::vector<int> now;
+  now.reserve(problem_->init.size());
+  for (const pddl::Atom& a : problem_->init) {
     check_deadline();  // a stream search's optimistic problem has millions of facts
     std::vector<int> args;
     for (const pddl::Term& t : a.args) args.push_back(object_index(t.name));
-    const int id = atom_id(predicate_ids_.at(a.predicate), args);
-    initially_[id] = true;
-    reach(id);
+    now.push_back(atom_id(predicate_ids_.at(a.predicate), args));
   }
+  for (int id : init_atoms_) initially_[id] = false;
+  for (int id : now) initially_[id] = true;
+  // A static atom that no longer holds initially may let in what its negation blocked:
+  // the schemas that mention its predicate are looked at again.
+  std::vector<bool> gone(predicate_names_.size(), false);
+  for (int id : init_atoms_) gone[atoms_[id].first] = gone[atoms_[id].first] || !initially_[id];
+  init_atoms_ = std::move(now);
+  for (int id : init_atoms_) reach(id);
   // A binding's relaxed precondition can turn true only when an atom of a predicate it
   // mentions is reached: a schema none of whose predicates gained atoms since its last
   // pass has nothing new (stream problems re-derived every trajectory's UnsafeTraj on
@@ -566,42 +675,76 @@ void Grounder::explore() {
     for (int predicate : s.mentioned) n += reached_by_predicate_[predicate].size();
     return n;
   };
-  std::vector<std::size_t> seen(schemas_.size(), std::numeric_limits<std::size_t>::max());
+  seen_.resize(schemas_.size(), std::numeric_limits<std::size_t>::max());
+  seen_objects_.resize(schemas_.size(), 0);
+  joined_.resize(schemas_.size());
+  for (std::size_t i = 0; i < schemas_.size(); ++i) {
+    const auto& mentioned = schemas_[i].mentioned;
+    if (std::any_of(mentioned.begin(), mentioned.end(), [&](int p) { return gone[p]; })) {
+      seen_[i] = std::numeric_limits<std::size_t>::max();
+      joined_[i].clear();  // a negation may hold again: every binding is looked at
+    }
+  }
   bool changed = true;
   while (changed) {
     changed = false;
     for (std::size_t i = 0; i < schemas_.size(); ++i) {
       const Schema& s = schemas_[i];
+      // New objects bring new bindings where a parameter or a quantifier ranges over a type.
+      const std::size_t objects = by_type_[i] ? object_names_.size() : 0;
+      const bool objects_changed = objects != seen_objects_[i];
       if (!s.conditional) {
         const std::size_t now = reached_count(s);
-        if (now == seen[i]) continue;
-        seen[i] = now;
+        if (now == seen_[i] && !objects_changed) continue;
+        seen_[i] = now;
       }
+      seen_objects_[i] = objects;
       std::vector<int> binding(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
       std::vector<bool> bound(binding.size(), false);
       std::vector<int> added;
       if (s.conditional) {
         // A (when ...) condition may have become reachable since an instance was found.
-        for (const std::vector<int>& parameters : instances_[i]) {
+        for (const auto& [parameters, unused] : instances_[i]) {
           std::vector<int> b(binding.size(), -1);
           for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
           relaxed_effects(s.effect, b, added);
         }
       }
-      enumerate(s, 0, binding, bound, [&] {
+      auto visit = [&] {
         check_deadline();
         std::vector<int> parameters;
         for (int slot : s.parameters) parameters.push_back(binding[slot]);
         if (instances_[i].count(parameters)) return;
         std::vector<int> b = binding;
         if (!relaxed(s.precondition, b)) return;
-        instances_[i].insert(parameters);
+        instances_[i].emplace(std::move(parameters), Cached{});
         if (s.axiom) {
           added.push_back(atom_id(s.head.predicate, ground_args(s.head, b)));
         } else {
           relaxed_effects(s.effect, b, added);
         }
-      });
+      };
+      // Semi-naive: where only a core atom's new tuple can make a binding newly pass
+      // (core_complete_), the bindings with at least one core atom on a tuple reached
+      // since the schema's last pass are the new ones: the k-th atom on its new tuples,
+      // those before it on their old ones, those after on all.
+      std::vector<std::size_t>& last = joined_[i];
+      const std::size_t n = s.core.size();
+      Ranges ranges(n);
+      std::vector<std::size_t> now(n);
+      for (std::size_t k = 0; k < n; ++k) now[k] = reached_by_predicate_[s.core[k].predicate].size();
+      const bool full = last.size() != n || !core_complete_[i] || objects_changed || s.conditional;
+      if (full || n == 0) {
+        for (std::size_t k = 0; k < n; ++k) ranges[k] = {0, now[k]};
+        enumerate(s, 0, binding, bound, ranges, visit);
+      } else {
+        for (std::size_t delta = 0; delta < n; ++delta) {
+          if (last[delta] == now[delta]) continue;
+          for (std::size_t k = 0; k < n; ++k) ranges[k] = {k == delta ? last[k] : 0, k < delta ? last[k] : now[k]};
+          enumerate(s, 0, binding, bound, ranges, visit);
+        }
+      }
+      last = std::move(now);
       for (int a : added) {
         check_deadline();
         if (!reached_[a]) {
@@ -653,7 +796,12 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
         value_known = true;
         value = args[0] == args[1];
       } else {
-        const int found = find_ground(f.atom, b);
+        int found = find_ground(f.atom, b);
+        if (rec_ && rec_->reusable) {
+          // An atom not interned yet may be reached later: interned, its state is noted.
+          if (found < 0) found = const_cast<Grounder&>(*this).atom_id(f.atom.predicate, ground_args(f.atom, b));
+          note_atom(found);
+        }
         if (found < 0 || !reached_[found]) {
           value_known = true;  // unreachable: false in every reachable state
         } else if (!fluent_[f.atom.predicate]) {
@@ -737,6 +885,7 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
         const std::vector<int>* objects = f.domains[k];
         std::vector<int> witnesses;
         if (existential && witness_values(f, k, b, witnesses)) objects = &witnesses;
+        else note_objects();
         for (int o : *objects) {
           b[f.slots[k]] = o;
           each(k + 1);
@@ -776,6 +925,7 @@ void Grounder::ground_effect(const CEffect& e, std::vector<int>& b, const Dnf& c
     case Effect::Kind::remove: {
       const int a = atom_id(e.atom.predicate, ground_args(e.atom, b));
       const bool add = e.kind == Effect::Kind::add;
+      if (!add) note_atom(a);
       if (!add && !reached_[a]) return;  // deleting what never holds changes nothing
       if (cond.size() == 1 && cond[0].empty()) {
         (add ? op.add : op.del).push_back(fact(a));
@@ -788,6 +938,7 @@ void Grounder::ground_effect(const CEffect& e, std::vector<int>& b, const Dnf& c
       ground_effect(e.children[0], b, conjoin(cond, dnf(e.condition, b, false)), op, conditional, cost);
       return;
     case Effect::Kind::forall: {
+      note_objects();
       std::function<void(std::size_t)> each = [&](std::size_t k) {
         if (k == e.slots.size()) {
           ground_effect(e.children[0], b, cond, op, conditional, cost);
@@ -815,9 +966,10 @@ void Grounder::ground_effect(const CEffect& e, std::vector<int>& b, const Dnf& c
             if (id == key[0]) name += fn;
           }
           for (std::size_t i = 1; i < key.size(); ++i) name += " " + object_names_[key[i]];
-          throw InputError(e.cost_where, "the initial state of " + problem_.file + " gives no value for the cost " + name + ")");
+          throw InputError(e.cost_where, "the initial state of " + problem_->file + " gives no value for the cost " + name + ")");
         }
         cost += it->second;
+        if (rec_) rec_->costs.emplace_back(key, it->second);
       }
       return;
     }
@@ -866,18 +1018,43 @@ std::vector<int> Grounder::stratify() {
   throw InputError({domain_.file, 0, 0}, "derived predicates are not stratified (a predicate depends on its own negation)");
 }
 
-Task Grounder::run(GroundingStats* stats) {
-  const auto start = std::chrono::steady_clock::now();
+bool Grounder::extends(const pddl::Problem& problem) const {
+  const std::size_t known = object_names_.size() - constant_count_;
+  if (!compiled_ || problem.objects.size() < known) return false;
+  for (std::size_t k = 0; k < known; ++k) {
+    const pddl::TypedName& o = problem.objects[k];
+    if (o.name != object_names_[constant_count_ + k] || o.types != object_types_[constant_count_ + k]) return false;
+  }
+  return true;
+}
+
+// The problem's objects beyond those of the last run, each added to the type domains.
+void Grounder::add_objects(const pddl::Problem& problem) {
+  for (std::size_t k = object_names_.size() - constant_count_; k < problem.objects.size(); ++k) {
+    const pddl::TypedName& o = problem.objects[k];
+    const int id = static_cast<int>(object_names_.size());
+    object_ids_[o.name] = id;
+    object_names_.push_back(o.name);
+    object_types_.push_back(o.types);
+    for (auto& [types, objects] : type_objects_) {
+      bool fits = false;
+      for (const std::string& own : o.types) {
+        for (const std::string& t : types) fits = fits || domain_.is_subtype(own, t);
+      }
+      if (fits) objects.push_back(id);
+    }
+  }
+}
+
+// What depends on the domain alone: predicates, functions, constants and the schemas.
+void Grounder::compile() {
+  compiled_ = true;
   for (const pddl::TypedName& c : domain_.constants) {
     object_ids_[c.name] = static_cast<int>(object_names_.size());
     object_names_.push_back(c.name);
     object_types_.push_back(c.types);
   }
-  for (const pddl::TypedName& o : problem_.objects) {
-    object_ids_[o.name] = static_cast<int>(object_names_.size());
-    object_names_.push_back(o.name);
-    object_types_.push_back(o.types);
-  }
+  constant_count_ = object_names_.size();
   for (const auto& [name, decl] : domain_.predicates) {
     predicate_ids_[name] = static_cast<int>(predicate_names_.size());
     predicate_names_.push_back(name);
@@ -891,11 +1068,6 @@ Task Grounder::run(GroundingStats* stats) {
     derived_[predicate_ids_.at(r.head.name)] = true;
   }
   for (const auto& [name, decl] : domain_.functions) function_ids_[name] = static_cast<int>(function_ids_.size());
-  for (const pddl::NumericFact& f : problem_.numeric_init) {
-    std::vector<int> key{function_ids_.at(f.function.predicate)};
-    for (const pddl::Term& t : f.function.args) key.push_back(object_index(t.name));
-    function_values_[key] = f.value;
-  }
 
   for (const pddl::DerivedRule& r : domain_.derived) {
     Schema s;
@@ -937,97 +1109,153 @@ Task Grounder::run(GroundingStats* stats) {
     });
     schemas_.push_back(std::move(s));
   }
+  for (const Schema& s : schemas_) {
+    // A parameter no core atom binds is enumerated over its type; a quantifier ranges
+    // over one (or its witnesses): new objects may then make new instances.
+    bool by_type = false;
+    for (int slot : s.parameters) {
+      by_type = by_type || std::none_of(s.core.begin(), s.core.end(), [&](const CAtom& a) {
+                  return std::any_of(a.args.begin(), a.args.end(), [&](const CTerm& t) { return t.variable && t.value == slot; });
+                });
+    }
+    core_complete_.push_back(core_complete(s.precondition));
+    by_type_.push_back(by_type || !core_complete_.back());
+  }
   instances_.resize(schemas_.size());
-  explore();
+  if (!domain_.derived.empty()) strata_ = stratify();
+}
 
-  task_.unit_cost = !problem_.minimize_total_cost;
-  for (std::size_t i = 0; i < schemas_.size(); ++i) {
-    const Schema& s = schemas_[i];
-    for (const std::vector<int>& parameters : instances_[i]) {
-      check_deadline();  // millions of operators are made here too
-      std::vector<int> b(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
-      for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
-      Dnf pre;
-      try {
-        pre = dnf(s.precondition, b, false);
-      } catch (const TooManyDisjuncts&) {
-        too_many(s.where, s.axiom ? "the body of derived predicate '" + s.name + "'" : "the precondition of '" + s.name + "'");
-      }
-      if (s.axiom) {
-        const int head = atom_id(s.head.predicate, ground_args(s.head, b));
-        for (const auto& conjunction : pre) {
-          task_.axioms.push_back({fact(head), condition(conjunction), 0});
-          axiom_predicates_.push_back(s.head.predicate);
-        }
-        continue;
-      }
-      if (pre.empty()) continue;
-      Operator op;
-      op.name = "(" + s.name;
-      for (int o : parameters) op.name += " " + object_names_[o];
-      op.name += ")";
-      std::vector<std::pair<Dnf, std::pair<std::vector<Lit>, bool>>> conditional;
-      double cost = 0;
-      ground_effect(s.effect, b, Dnf{{}}, op, conditional, cost);
-      op.cost = task_.unit_cost ? 1.0 : cost;
-      // Add after delete: an atom both added and deleted ends up true.
-      std::sort(op.add.begin(), op.add.end());
-      op.add.erase(std::unique(op.add.begin(), op.add.end()), op.add.end());
-      std::sort(op.del.begin(), op.del.end());
-      op.del.erase(std::unique(op.del.begin(), op.del.end()), op.del.end());
-      std::erase_if(op.del, [&](FactId f) { return std::binary_search(op.add.begin(), op.add.end(), f); });
-      for (const auto& [cond, lit] : conditional) {
-        for (const auto& conjunction : cond) {
-          ConditionalEffect ce;
-          ce.condition = condition(conjunction);
-          (lit.second ? ce.add : ce.del).push_back(fact(lit.first[0].atom));
-          op.conditional.push_back(std::move(ce));
-        }
-      }
-      for (const auto& conjunction : pre) {
-        Operator copy = op;
-        copy.precondition = condition(conjunction);
-        task_.operators.push_back(std::move(copy));
-      }
+bool Grounder::still_valid(const Cached& c) const {
+  if (!c.computed || !c.reusable || c.generation != generation_) return false;
+  if (c.objects != 0 && c.objects != object_names_.size()) return false;
+  for (const auto& [atom, was] : c.atoms) {
+    if (state(atom) != was) return false;
+  }
+  for (const auto& [predicate, count] : c.witnesses) {
+    if (reached_by_predicate_[predicate].size() != count) return false;
+  }
+  for (const auto& [key, value] : c.costs) {
+    const auto it = function_values_.find(key);
+    if (it == function_values_.end() || it->second != value) return false;
+  }
+  return true;
+}
+
+// The operators (or axioms) of one instance, with what they rest on when kept.
+void Grounder::ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& out) {
+  const Schema& s = schemas_[schema];
+  out = Cached{};
+  out.generation = generation_;
+  rec_ = keep_ ? &out : nullptr;
+  struct Stop {
+    Cached*& rec;
+    ~Stop() { rec = nullptr; }
+  } stop{rec_};
+  std::vector<int> b(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
+  for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
+  Dnf pre;
+  try {
+    pre = dnf(s.precondition, b, false);
+  } catch (const TooManyDisjuncts&) {
+    too_many(s.where, s.axiom ? "the body of derived predicate '" + s.name + "'" : "the precondition of '" + s.name + "'");
+  }
+  out.computed = true;
+  if (s.axiom) {
+    const int head = atom_id(s.head.predicate, ground_args(s.head, b));
+    for (const auto& conjunction : pre) out.axioms.push_back({fact(head), condition(conjunction), strata_.empty() ? 0 : strata_[s.head.predicate]});
+    return;
+  }
+  if (pre.empty()) return;
+  Operator op;
+  op.name = "(" + s.name;
+  for (int o : parameters) op.name += " " + object_names_[o];
+  op.name += ")";
+  std::vector<std::pair<Dnf, std::pair<std::vector<Lit>, bool>>> conditional;
+  double cost = 0;
+  ground_effect(s.effect, b, Dnf{{}}, op, conditional, cost);
+  op.cost = task_.unit_cost ? 1.0 : cost;
+  // Add after delete: an atom both added and deleted ends up true.
+  std::sort(op.add.begin(), op.add.end());
+  op.add.erase(std::unique(op.add.begin(), op.add.end()), op.add.end());
+  std::sort(op.del.begin(), op.del.end());
+  op.del.erase(std::unique(op.del.begin(), op.del.end()), op.del.end());
+  std::erase_if(op.del, [&](FactId f) { return std::binary_search(op.add.begin(), op.add.end(), f); });
+  for (const auto& [cond, lit] : conditional) {
+    for (const auto& conjunction : cond) {
+      ConditionalEffect ce;
+      ce.condition = condition(conjunction);
+      (lit.second ? ce.add : ce.del).push_back(fact(lit.first[0].atom));
+      op.conditional.push_back(std::move(ce));
     }
   }
-  if (!domain_.derived.empty()) {
-    const std::vector<int> stratum = stratify();
-    for (std::size_t k = 0; k < task_.axioms.size(); ++k) task_.axioms[k].stratum = stratum[axiom_predicates_[k]];
-    std::stable_sort(task_.axioms.begin(), task_.axioms.end(),
-                     [](const Axiom& a, const Axiom& b) { return a.stratum < b.stratum; });
+  for (const auto& conjunction : pre) {
+    Operator copy = op;
+    copy.precondition = condition(conjunction);
+    out.operators.push_back(std::move(copy));
   }
-  for (const pddl::Atom& a : problem_.init) {
-    check_deadline();  // a stream search's optimistic problem has millions of facts
-    std::vector<int> args;
-    for (const pddl::Term& t : a.args) args.push_back(object_index(t.name));
-    const int id = atom_id(predicate_ids_.at(a.predicate), args);
-    if (fluent_[atoms_[id].first]) task_.initial.push_back(fact(id));
+}
+
+Task Grounder::run(const pddl::Problem& problem, GroundingStats* stats, double time_limit) {
+  const auto start = std::chrono::steady_clock::now();
+  problem_ = &problem;
+  deadline_ = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(std::min(time_limit, 1e9)));
+  if (!compiled_) compile();
+  add_objects(problem);
+  function_values_.clear();
+  for (const pddl::NumericFact& f : problem.numeric_init) {
+    std::vector<int> key{function_ids_.at(f.function.predicate)};
+    for (const pddl::Term& t : f.function.args) key.push_back(object_index(t.name));
+    function_values_[key] = f.value;
   }
-  std::sort(task_.initial.begin(), task_.initial.end());
-  task_.initial.erase(std::unique(task_.initial.begin(), task_.initial.end()), task_.initial.end());
-  std::vector<int> goal_binding(1, -1);
+  const bool unit_cost = !problem.minimize_total_cost;
+  if (unit_cost_ != unit_cost) ++generation_;  // every cost changes meaning
+  unit_cost_ = unit_cost;
+  task_.unit_cost = unit_cost;
+  explore();
+
+  Task out;
+  out.unit_cost = unit_cost;
+  std::size_t reused = 0;
+  for (std::size_t i = 0; i < schemas_.size(); ++i) {
+    for (auto& [parameters, cached] : instances_[i]) {
+      check_deadline();  // millions of operators are made here too
+      if (keep_ && still_valid(cached)) ++reused;
+      else ground_instance(i, parameters, cached);
+      out.operators.insert(out.operators.end(), cached.operators.begin(), cached.operators.end());
+      out.axioms.insert(out.axioms.end(), cached.axioms.begin(), cached.axioms.end());
+      if (!keep_) cached = Cached{};  // nothing to keep it for
+    }
+  }
+  std::stable_sort(out.axioms.begin(), out.axioms.end(), [](const Axiom& a, const Axiom& b) { return a.stratum < b.stratum; });
+  for (int id : init_atoms_) {
+    if (fluent_[atoms_[id].first]) out.initial.push_back(fact(id));
+  }
+  std::sort(out.initial.begin(), out.initial.end());
+  out.initial.erase(std::unique(out.initial.begin(), out.initial.end()), out.initial.end());
   int goal_slots = 0;
-  const CFormula goal = formula(problem_.goal, {}, goal_slots);
-  goal_binding.assign(static_cast<std::size_t>(std::max(1, goal_slots)), -1);
+  const CFormula goal = formula(problem.goal, {}, goal_slots);
+  std::vector<int> goal_binding(static_cast<std::size_t>(std::max(1, goal_slots)), -1);
   Dnf goal_dnf;
   try {
     goal_dnf = dnf(goal, goal_binding, false);
   } catch (const TooManyDisjuncts&) {
-    too_many(problem_.goal.where, "the goal");
+    too_many(problem.goal.where, "the goal");
   }
-  for (const auto& conjunction : goal_dnf) task_.goal.push_back(condition(conjunction));
+  for (const auto& conjunction : goal_dnf) out.goal.push_back(condition(conjunction));
+  out.fact_names = task_.fact_names;
+  out.derived = task_.derived;
 
   if (stats) {
     stats->reachable_facts = static_cast<std::size_t>(std::count(reached_.begin(), reached_.end(), true));
-    stats->operators = task_.operators.size();
-    stats->axioms = task_.axioms.size();
+    stats->operators = out.operators.size();
+    stats->axioms = out.axioms.size();
+    stats->reused_instances = reused;
     std::size_t statics = 0;
     for (std::size_t a = 0; a < atoms_.size(); ++a) statics += reached_[a] && !fluent_[atoms_[a].first];
     stats->static_facts = statics;
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  return task_;
+  return out;
 }
 
 }  // namespace
@@ -1035,11 +1263,35 @@ Task Grounder::run(GroundingStats* stats) {
 Task ground(const pddl::Domain& domain, const pddl::Problem& problem, GroundingStats* stats, double time_limit) {
   // Foralls that would multiply out in disjunctive normal form become derived predicates.
   const std::optional<pddl::Domain> compiled = detail::with_universal_axioms(domain);
-  auto grounder = std::make_unique<Grounder>(compiled ? *compiled : domain, problem, time_limit);
+  auto grounder = std::make_unique<Grounder>(compiled ? *compiled : domain, false);
   try {
-    return grounder->run(stats);
+    return grounder->run(problem, stats, time_limit);
   } catch (const TimeLimit&) {
     free_beside(std::move(grounder));
+    throw;
+  }
+}
+
+struct Grounding::Impl {
+  explicit Impl(const pddl::Domain& d) : domain(d), compiled(detail::with_universal_axioms(d)) {}
+  const pddl::Domain& domain;
+  const std::optional<pddl::Domain> compiled;
+  std::unique_ptr<Grounder> grounder;
+};
+
+Grounding::Grounding(const pddl::Domain& domain) : impl_(std::make_unique<Impl>(domain)) {}
+Grounding::~Grounding() = default;
+
+Task Grounding::ground(const pddl::Problem& problem, GroundingStats* stats, double time_limit) {
+  if (!impl_->grounder || !impl_->grounder->extends(problem)) {
+    if (impl_->grounder) free_beside(std::move(impl_->grounder));
+    impl_->grounder = std::make_unique<Grounder>(impl_->compiled ? *impl_->compiled : impl_->domain, true);
+  }
+  try {
+    return impl_->grounder->run(problem, stats, time_limit);
+  } catch (...) {
+    // Half-updated: the next problem starts afresh.
+    free_beside(std::move(impl_->grounder));
     throw;
   }
 }

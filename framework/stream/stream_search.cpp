@@ -414,7 +414,8 @@ class StreamSearch {
       p = symbolic_problem(optimistic);
       ++out_.statistics.searches;
       search::GroundingStats grounding;
-      search::Task task = search::ground(domain_, p, &grounding, context_.deadline.remaining());
+      search::Task task = (optimistic ? optimistic_grounding_ : real_grounding_).ground(p, &grounding, context_.deadline.remaining());
+      last_grounding_ = grounding;
       search::SearchOptions so;
       so.algorithm = options_.search;
       so.time_limit = context_.deadline.remaining();
@@ -465,7 +466,7 @@ class StreamSearch {
         const pddl::Problem p = symbolic_problem(false);
         search::Task task;
         try {
-          task = search::ground(domain_, p, nullptr, context_.deadline.remaining());
+          task = real_grounding_.ground(p, nullptr, context_.deadline.remaining());
         } catch (const InputError&) {
           // A cost with no value: a function whose domain holds only optimistically for
           // some real values. The real problem cannot be costed; the plan in hand stands.
@@ -1104,7 +1105,8 @@ class StreamSearch {
         std::ostringstream line;
         line << "level " << level_ << ": " << (steps ? "plan of " + std::to_string(steps->size()) + " steps" : "no plan")
              << (fresh ? " (queued)" : "") << (too_long ? " (too long)" : "") << ", queue " << queue_.size() << ", calls " << out_.statistics.stream_calls
-             << ", objects " << base_.object_count() << ", facts " << base_.facts().size();
+             << ", objects " << base_.object_count() << ", facts " << base_.facts().size() << ", operators "
+             << last_grounding_.operators << " (" << last_grounding_.reused_instances << " instances re-used)";
         if (steps) {
           line << ":";
           for (const Step& st : *steps) {
@@ -1146,6 +1148,7 @@ class StreamSearch {
   std::deque<Skeleton> queue_;
   double last_search_seconds_ = 0;
   double last_search_work_ = 0;  // of the last search, in StreamSearchOptions' units
+  search::GroundingStats last_grounding_;
   std::uint64_t ticks_ = 0;  // keep_time_limit's calls
   std::optional<std::pair<std::size_t, int>> shortest_;  // adaptive: shortest plan, its level
   int level_ = 0;  // adaptive: the complexity bound of optimistic instances and calls
@@ -1153,6 +1156,10 @@ class StreamSearch {
   double work_ = 0;  // of searches and stream evaluation so far, in StreamSearchOptions' units
   std::optional<Costed> best_;  // the cheapest plan found
   std::optional<double> improve_from_;  // work_ when the first plan above success_cost was found
+  // Each iteration's problem holds the last one's objects and more: grounded on the
+  // last one's work. The real facts' problems and the optimistic ones are two series.
+  search::Grounding optimistic_grounding_{domain_};
+  search::Grounding real_grounding_{domain_};
   StreamSolution out_;
 };
 
