@@ -652,11 +652,13 @@ void Grounder::explore() {
   };
   std::vector<int> now;
   now.reserve(problem_->init.size());
+  std::vector<int> key;  // (predicate, args...): most atoms were interned by an earlier problem
   for (const pddl::Atom& a : problem_->init) {
     check_deadline();  // a stream search's optimistic problem has millions of facts
-    std::vector<int> args;
-    for (const pddl::Term& t : a.args) args.push_back(object_index(t.name));
-    now.push_back(atom_id(predicate_ids_.at(a.predicate), args));
+    key.assign(1, predicate_ids_.at(a.predicate));
+    for (const pddl::Term& t : a.args) key.push_back(object_index(t.name));
+    const auto known = atom_ids_.find(key);
+    now.push_back(known != atom_ids_.end() ? known->second : atom_id(key[0], std::vector<int>(key.begin() + 1, key.end())));
   }
   for (int id : init_atoms_) initially_[id] = false;
   for (int id : now) initially_[id] = true;
