@@ -223,7 +223,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
     result.reason = "time limit";
     return stopped(std::move(registry), std::move(open), result);
   }
-  result.reason = limits.cost_bound < kInfinity ? "no plan cheaper than the cost bound" : "no plan exists (every reachable state was expanded)";
+  result.reason = limits.cost_bound < kInfinity ? "no plan found below the cost bound" : "no plan exists (every reachable state was expanded)";
   return result;
 }
 
@@ -283,7 +283,7 @@ SearchResult lazy(const StateSpace& space, Evaluator& h, const Limits& limits) {
     if (space.is_goal(registry.state(child))) return finish(space, registry, child, result);
     expand(child);
   }
-  result.reason = limits.cost_bound < kInfinity ? "no plan cheaper than the cost bound" : "no plan exists (every reachable state was expanded)";
+  result.reason = limits.cost_bound < kInfinity ? "no plan found below the cost bound" : "no plan exists (every reachable state was expanded)";
   return result;
 }
 
@@ -292,6 +292,10 @@ SearchResult run_search(const Task& task, const StateSpace& space, const std::st
   SearchResult result;
   if (task.goal.empty()) {
     result.reason = "no plan exists (the goal is unsatisfiable in every reachable state)";
+    return result;
+  }
+  if (limits.cost_bound <= 0) {  // not even the empty plan (costs are not negative)
+    result.reason = "no plan found below the cost bound";
     return result;
   }
   std::unique_ptr<Evaluator> h;

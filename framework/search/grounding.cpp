@@ -78,6 +78,8 @@ struct Schema {
   std::vector<int> mentioned;  // predicates anywhere in the precondition, sorted, once each
 };
 
+constexpr std::size_t kNoObjects = std::numeric_limits<std::size_t>::max();
+
 // What one action or axiom instance grounded to, and what that rested on: the state of
 // every atom its formulas looked up, the reached tuples of the predicates its
 // quantifiers drew witnesses from, the objects when a quantifier ranged over a type, and
@@ -89,7 +91,7 @@ struct Cached {
   std::uint64_t generation = 0;
   std::vector<std::pair<int, std::uint8_t>> atoms;
   std::vector<std::pair<int, std::size_t>> witnesses;
-  std::size_t objects = 0;  // 0: no quantifier ranged over a type
+  std::size_t objects = kNoObjects;  // the object count, if a quantifier ranged over a type
   std::vector<std::pair<std::vector<int>, double>> costs;
   std::vector<Operator> operators;
   std::vector<Axiom> axioms;
@@ -108,6 +110,8 @@ class Grounder {
   /// Whether `problem` lists the objects of the last one first, in the same order and
   /// with the same types: then it can be grounded on what this grounder holds.
   bool extends(const pddl::Problem& problem) const;
+  /// No problem grounded yet.
+  bool fresh() const { return !compiled_; }
 
  private:
   void compile();
@@ -230,6 +234,7 @@ class Grounder {
 
   std::vector<Schema> schemas_;
   std::vector<bool> by_type_;  // per schema: a parameter or quantifier ranges over a type
+  std::vector<bool> effect_by_type_;  // per schema: an effect ranges over a type (forall)
   std::vector<std::map<std::vector<int>, Cached>> instances_;  // per schema: parameter bindings found
   // explore(): per schema, the reached atoms of its predicates and the objects at its last pass
   std::vector<std::size_t> seen_, seen_objects_;
@@ -704,8 +709,9 @@ void Grounder::explore() {
       std::vector<int> binding(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
       std::vector<bool> bound(binding.size(), false);
       std::vector<int> added;
-      if (s.conditional) {
-        // A (when ...) condition may have become reachable since an instance was found.
+      if (s.conditional || (effect_by_type_[i] && objects_changed)) {
+        // A (when ...) condition may have become reachable since an instance was found;
+        // a (forall ...) effect reaches the new objects too.
         for (const auto& [parameters, unused] : instances_[i]) {
           std::vector<int> b(binding.size(), -1);
           for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
@@ -1121,7 +1127,11 @@ void Grounder::compile() {
                 });
     }
     core_complete_.push_back(core_complete(s.precondition));
-    by_type_.push_back(by_type || !core_complete_.back());
+    std::function<bool(const CEffect&)> effect_forall = [&](const CEffect& e) {
+      return e.kind == Effect::Kind::forall || std::any_of(e.children.begin(), e.children.end(), effect_forall);
+    };
+    effect_by_type_.push_back(!s.axiom && effect_forall(s.effect));
+    by_type_.push_back(by_type || !core_complete_.back() || effect_by_type_.back());
   }
   instances_.resize(schemas_.size());
   if (!domain_.derived.empty()) strata_ = stratify();
@@ -1129,7 +1139,7 @@ void Grounder::compile() {
 
 bool Grounder::still_valid(const Cached& c) const {
   if (!c.computed || !c.reusable || c.generation != generation_) return false;
-  if (c.objects != 0 && c.objects != object_names_.size()) return false;
+  if (c.objects != kNoObjects && c.objects != object_names_.size()) return false;
   for (const auto& [atom, was] : c.atoms) {
     if (state(atom) != was) return false;
   }
@@ -1289,8 +1299,16 @@ Task Grounding::ground(const pddl::Problem& problem, GroundingStats* stats, doub
     if (impl_->grounder) free_beside(std::move(impl_->grounder));
     impl_->grounder = std::make_unique<Grounder>(impl_->compiled ? *impl_->compiled : impl_->domain, true);
   }
+  const bool incremental = !impl_->grounder->fresh();
+  const auto start = std::chrono::steady_clock::now();
   try {
     return impl_->grounder->run(problem, stats, time_limit);
+  } catch (const InputError&) {
+    // An instance only an earlier problem reached may read a cost this problem does not
+    // give (ground() would not make it): grounded afresh, the problem decides alone.
+    free_beside(std::move(impl_->grounder));
+    if (!incremental) throw;
+    return ground(problem, stats, time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   } catch (...) {
     // Half-updated: the next problem starts afresh.
     free_beside(std::move(impl_->grounder));

@@ -3,6 +3,7 @@
 #include "cluttertamp/core/free_beside.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <deque>
 #include <functional>
@@ -137,6 +138,10 @@ class StreamSearch {
       out_.reason = "time limit reached";
     } catch (const search::TooLarge& e) {
       out_.reason = std::string("grounding: ") + e.what();
+    } catch (const InputError&) {
+      // Looking for a cheaper plan, the real problem could not be costed any more (a
+      // function call failed): the best plan found stands. Before any plan, it is bad input.
+      if (!best_) throw;
     }
     settle();  // the time limit ended the search for a cheaper plan
     if (!out_.solved && out_.reason.empty()) out_.reason = "time limit reached";
@@ -171,11 +176,14 @@ class StreamSearch {
         if (o->second.optimistic_value != 0.0 && s.kind != StreamDecl::Kind::function) {
           d.error(s.where, "'" + s.name + "' is not a function: only a function has an optimistic value");
         }
+        if (!(o->second.p_success >= 0.0 && o->second.p_success <= 1.0) || !(o->second.overhead >= 0.0) || !std::isfinite(o->second.overhead)) {
+          d.error(s.where, "'" + s.name + "': p_success must be in [0, 1] and overhead a finite number >= 0");
+        }
         if ((o->second.p_success != 1.0 || o->second.overhead != 1.0) && s.kind == StreamDecl::Kind::function) {
           d.error(s.where, "'" + s.name + "' is a function: functions are evaluated at once, 'p_success' and 'overhead' order tests and generators");
         }
         if (o->second.p_success == 0.0 && !o->second.eager && s.kind != StreamDecl::Kind::function &&
-            options_.algorithm == Algorithm::adaptive) {
+            s.kind != StreamDecl::Kind::rule && options_.algorithm == Algorithm::adaptive) {
           d.error(s.where, "'" + s.name + "' has p_success 0 (never assumed optimistically) and is not eager: the adaptive search would never evaluate it, so its facts could never hold");
         }
       }
@@ -681,13 +689,15 @@ class StreamSearch {
 
   // A plan that holds with real facts: polished, kept if the cheapest so far. Returns
   // whether the search is done (the best plan then is the solution): its cost is at
-  // most `success_cost`, or it cannot be costed to compare.
+  // most `success_cost` or 0 (nothing is cheaper), or the new plan cannot be costed
+  // to compare (a function without a value: the search would find it again and again).
   bool accept(std::vector<Step> steps) {
     ++out_.statistics.plans;
     Costed c = polished(std::move(steps));
+    const bool costed = c.cost.has_value();
     const double cost = c.cost.value_or(std::numeric_limits<double>::infinity());
     if (!best_ || cost < best_->cost.value_or(std::numeric_limits<double>::infinity()) - 1e-9) best_ = std::move(c);
-    if (!best_->cost || *best_->cost <= options_.success_cost) {
+    if (!costed || !best_->cost || *best_->cost <= options_.success_cost || *best_->cost <= 0) {
       solved(std::move(*best_));
       return true;
     }
@@ -755,7 +765,7 @@ class StreamSearch {
       close_real();
       if (context_.deadline.expired()) return;
       if (auto steps = plan_symbolic(false); steps && verify(*steps) && accept(std::move(*steps))) return;
-      if (improved_enough()) return;
+      if (improved_enough()) return;  // checked after every search: improve_work 0 stops at once
       std::vector<int> open;
       for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
         const StreamDecl::Kind kind = base_.decl(s).kind;
@@ -1092,8 +1102,8 @@ class StreamSearch {
           return;
         }
         if (sk->stream_plan.empty() && verify(*steps)) {
-          if (accept(*steps)) return;
-          continue;  // the next search is bounded by its cost
+          if (accept(*steps) || improved_enough()) return;
+          continue;  // the next search is bounded by the best cost
         }
         if (queued.insert(sk->key).second) {
           ++out_.statistics.skeletons;
@@ -1171,9 +1181,10 @@ StreamSolution solve(const StreamProblem& problem, plugin::PlanningContext& cont
   }
   auto search = std::make_unique<StreamSearch>(problem, context, options);
   StreamSolution solution = search->run();
-  // Ended by the time limit, it may hold millions of instances: freed beside the caller,
-  // but the generators first, here: they are the plugins' code.
-  if (!solution.solved && context.deadline.expired()) {
+  // Ended by the time limit (solved or not: success_cost may keep it going to the
+  // limit), it may hold millions of instances and two groundings: freed beside the
+  // caller, but the generators first, here: they are the plugins' code.
+  if (context.deadline.expired()) {
     search->release_generators();
     free_beside(std::move(search));
   }

@@ -80,6 +80,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
     options_.polish_expansions = static_cast<std::uint64_t>(polish);
     options_.success_cost = p.get_double("success_cost", options_.success_cost,
                                          "return a plan once it costs at most this (unset: the first plan)");
+    p.require(options_.success_cost >= 0, "success_cost", "must be a number >= 0 (leave it out for the first plan)");
     options_.improve_work = p.get_double("improve_work", options_.improve_work,
                                          "work units spent on cheaper plans after the first above success_cost");
     p.require(options_.improve_work >= 0 && std::isfinite(options_.improve_work), "improve_work",
@@ -205,7 +206,8 @@ class StreamPlanner final : public plugin::TaskPlanner {
         else if (key == "p_success" && finite && *number >= 0 && *number <= 1) o.p_success = *number;
         else if (key == "overhead" && finite && *number >= 0) o.overhead = *number;
         else if (key == "eager" || key == "defer") d.error(value.where(), "stream '" + name + "': '" + key + "' must be a boolean, not " + value.to_yaml());
-        else if (key == "optimistic" || key == "overhead") d.error(value.where(), "stream '" + name + "': '" + key + "' must be a number >= 0, not " + value.to_yaml());
+        else if (key == "optimistic") d.error(value.where(), "stream '" + name + "': 'optimistic' must be a number >= 0 (a cost's lower bound), not " + value.to_yaml());
+        else if (key == "overhead") d.error(value.where(), "stream '" + name + "': 'overhead' must be a number >= 0, not " + value.to_yaml());
         else if (key == "p_success") d.error(value.where(), "stream '" + name + "': 'p_success' must be a probability in [0, 1], not " + value.to_yaml());
         else d.error(value.where(), "stream '" + name + "': unknown option '" + key + "' (eager, defer, optimistic, p_success, overhead)");
       }
