@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
@@ -235,7 +236,9 @@ class Grounder {
   std::vector<Schema> schemas_;
   std::vector<bool> by_type_;  // per schema: a parameter or quantifier ranges over a type
   std::vector<bool> effect_by_type_;  // per schema: an effect ranges over a type (forall)
-  std::vector<std::map<std::vector<int>, Cached>> instances_;  // per schema: parameter bindings found
+  // Per schema: the parameter bindings found, and in a session what each grounded to
+  // (null outside a session: a one-shot grounding of millions of instances keeps none).
+  std::vector<std::map<std::vector<int>, std::unique_ptr<Cached>>> instances_;
   // explore(): per schema, the reached atoms of its predicates and the objects at its last pass
   std::vector<std::size_t> seen_, seen_objects_;
   std::vector<std::vector<std::size_t>> joined_;  // per schema and core atom: tuples joined at its last pass
@@ -725,7 +728,7 @@ void Grounder::explore() {
         if (instances_[i].count(parameters)) return;
         std::vector<int> b = binding;
         if (!relaxed(s.precondition, b)) return;
-        instances_[i].emplace(std::move(parameters), Cached{});
+        instances_[i].emplace(std::move(parameters), nullptr);
         if (s.axiom) {
           added.push_back(atom_id(s.head.predicate, ground_args(s.head, b)));
         } else {
@@ -1231,11 +1234,18 @@ Task Grounder::run(const pddl::Problem& problem, GroundingStats* stats, double t
   for (std::size_t i = 0; i < schemas_.size(); ++i) {
     for (auto& [parameters, cached] : instances_[i]) {
       check_deadline();  // millions of operators are made here too
-      if (keep_ && still_valid(cached)) ++reused;
-      else ground_instance(i, parameters, cached);
-      out.operators.insert(out.operators.end(), cached.operators.begin(), cached.operators.end());
-      out.axioms.insert(out.axioms.end(), cached.axioms.begin(), cached.axioms.end());
-      if (!keep_) cached = Cached{};  // nothing to keep it for
+      if (!keep_) {
+        Cached once;
+        ground_instance(i, parameters, once);
+        std::move(once.operators.begin(), once.operators.end(), std::back_inserter(out.operators));
+        std::move(once.axioms.begin(), once.axioms.end(), std::back_inserter(out.axioms));
+        continue;
+      }
+      if (!cached) cached = std::make_unique<Cached>();
+      if (still_valid(*cached)) ++reused;
+      else ground_instance(i, parameters, *cached);
+      out.operators.insert(out.operators.end(), cached->operators.begin(), cached->operators.end());
+      out.axioms.insert(out.axioms.end(), cached->axioms.begin(), cached->axioms.end());
     }
   }
   std::stable_sort(out.axioms.begin(), out.axioms.end(), [](const Axiom& a, const Axiom& b) { return a.stratum < b.stratum; });
