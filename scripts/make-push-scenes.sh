@@ -17,7 +17,7 @@ for seed in 1 2 3 4 5 6 7 8 9 10; do
 # Reaching through clutter (Papallas & Dogar 2020), shelf $seed of ten: reach the target
 # at the back by pushing. Planned here by kinodynamic RRT; \`cluttertamp bench push\`
 # also runs KPIECE1 and guided planning (grtc with $n-guidance.yaml) on it.
-# Made by scripts/make-push-scenes.sh. Format: README, "Problem files".
+# Made by scripts/make-push-scenes.sh. Format: docs/file-formats.md, "Problem files".
 version: 1
 name: shelf10-$n
 scene: $n-scene.yaml

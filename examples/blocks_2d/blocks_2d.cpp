@@ -1,7 +1,7 @@
 // blocks_2d: the streams of examples/blocks_2d/stream.pddl, a complete stream plugin
 // for a 2-D pick-and-place world (a vertical plane: x along the table, y up).
 //
-// The stream protocol, as this plugin uses it (README, "Writing a stream plugin"):
+// The stream protocol, as this plugin uses it (docs/symbolic-planning.md, "Writing a stream plugin"):
 //  - instantiate() is called once per stream instance (a stream and its inputs) and
 //    returns a generator, or nullptr when these inputs can never make anything.
 //  - A generator's next() returns a batch: zero or more output tuples (one value per

@@ -163,7 +163,7 @@ int generate(const GenerateArgs& args) {
           << (args.min_removals > 0 ? "; fewest objects to move, target included: " + std::to_string(args.min_removals) +
                                           " (proved by the exhaustive planner, seeds 0-2)"
                                     : "")
-          << ". Format: README, \"Problem files\".\n"
+          << ". Format: docs/file-formats.md, \"Problem files\".\n"
           << "version: 1\n"
           << "scene: " << fs::relative(fs::absolute(args.output), dir).string() << "\n"
           << "robot: {description: " << fs::relative(fs::absolute(args.robot), dir).string() << "}\n"

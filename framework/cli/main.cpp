@@ -1,5 +1,5 @@
 // cluttertamp: the command-line front end. Parses arguments with CLI11 and maps every
-// outcome to the documented exit codes (README, "Exit codes").
+// outcome to the documented exit codes (docs/commands.md, "Exit codes").
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>

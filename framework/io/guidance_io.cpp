@@ -117,7 +117,7 @@ physics::Guidance load_guidance(const std::filesystem::path& path, const Scene& 
 std::string guidance_to_yaml(const Scene& scene, const physics::Guidance& guidance) {
   std::ostringstream out;
   out << std::setprecision(10);
-  out << "# Guidance: push each object, in order, until its centre is in its region (README, \"Guidance files\").\n";
+  out << "# Guidance: push each object, in order, until its centre is in its region (docs/plugins.md, \"Guidance files\").\n";
   out << "version: " << kGuidanceFormatVersion << "\nguides:" << (guidance.empty() ? " []\n" : "\n");
   for (const physics::Guide& g : guidance) {
     out << "  - {object: " << quoted(scene.objects.at(g.object).id) << ", centre: [" << g.centre.x() << ", " << g.centre.y()

@@ -43,7 +43,7 @@ std::string shape(const Shape& s) {
 
 std::string scene_to_yaml(const Scene& scene) {
   std::ostringstream out;
-  out << "# Format: cluttertamp README, \"Scene files\". World frame z up; metres, radians.\n"
+  out << "# Format: cluttertamp docs/file-formats.md, \"Scene files\". World frame z up; metres, radians.\n"
       << "version: 1\n"
       << "name: " << scene.name << "\n"
       << "workspace: {min: " << vec(scene.workspace.min()) << ", max: " << vec(scene.workspace.max()) << "}\n"

@@ -164,7 +164,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
   physics::KinodynamicSettings search_;
   std::string guidance_ = "auto";
   SourceLocation guidance_where_;
-  int max_guides_ = 1;  // on the ten shelves one guide solved 23 of 30 runs, two 16 of 30 (20 s; notes in README)
+  int max_guides_ = 1;  // on the ten shelves one guide solved 23 of 30 runs, two 16 of 30 (20 s)
   double diameter_ = 0.1;        // m: generated guides' regions
   // A guide not satisfied: "skip" it and go on (ours; Algorithm 1 does not say), or
   // "stop" the run. On the ten shelves no bundled guide failed in 120 runs (20 s); before

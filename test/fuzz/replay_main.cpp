@@ -1,6 +1,6 @@
 // Runs the PDDL fuzz target over a seed corpus and deterministic mutations of it, so
 // that the tests exercise it without a fuzzing engine (the libFuzzer build is separate:
-// README, "Fuzzing"). Usage: pddl_fuzz_replay MUTATIONS FILE_OR_DIR...
+// docs/symbolic-planning.md, "Fuzzing"). Usage: pddl_fuzz_replay MUTATIONS FILE_OR_DIR...
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>

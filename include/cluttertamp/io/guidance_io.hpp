@@ -14,7 +14,7 @@
 
 namespace cluttertamp::io {
 
-/// Reads a guidance file (format: README, "Guidance files"):
+/// Reads a guidance file (format: docs/plugins.md, "Guidance files"):
 ///   version: 1
 ///   guides:
 ///     - {object: o3, centre: [0.85, 0.3], diameter: 0.1}

@@ -9,7 +9,7 @@ namespace cluttertamp::io {
 
 inline constexpr int kProblemFormatVersion = 1;
 
-/// Reads and validates a problem file and the scene it names (format: README,
+/// Reads and validates a problem file and the scene it names (format: docs/file-formats.md,
 /// "Problem files"). Relative paths in the file are taken relative to the file.
 /// Throws InputError listing every problem found in both files.
 CLUTTERTAMP_API Problem load_problem(const std::filesystem::path& file);

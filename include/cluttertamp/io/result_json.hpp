@@ -42,7 +42,7 @@ struct RunInfo {
   std::optional<HumanGuidance> human_guidance;  ///< written as "human_guidance" when set
 };
 
-/// result.json as text (schema: README, "result.json"). Object indices are written
+/// result.json as text (schema: docs/file-formats.md, "result.json"). Object indices are written
 /// as the scene's object ids.
 CLUTTERTAMP_API std::string result_to_json(const Problem& problem, const Result& result, const RunInfo& run);
 

@@ -30,7 +30,7 @@ struct GripperParameters {
 /// A robot as the planners use it: the URDF model plus what a URDF does not say —
 /// which chain is the arm, which link is the tool centre point, the IK solver, the
 /// gripper's measures and a home configuration. Read from a robot description file
-/// (README, "Robot description files").
+/// (docs/file-formats.md, "Robot description files").
 class CLUTTERTAMP_API RobotDescription {
  public:
   /// Throws InputError with file:line:column for a bad description and with the

@@ -19,7 +19,7 @@ class TaskPlanner;
 
 namespace cluttertamp::run {
 
-/// Process exit codes of `cluttertamp` (README, "Exit codes").
+/// Process exit codes of `cluttertamp` (docs/commands.md, "Exit codes").
 enum ExitCode : int { solved = 0, no_plan = 1, bad_input = 2, internal_error = 3 };
 
 /// "memory limit reached (N MiB)": the reason of a run an allocation beyond the memory
