@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
@@ -40,7 +41,7 @@ int main(int argc, char** argv) {
     const plugin::Samplers samplers;
     plugin::PlanningContext context{problem, plugin::Deadline::after(problem.time_limit), problem.seed, counters, samplers, &world};
     WorldState state = WorldState::initial(problem.scene);
-    state.robot_configuration = problem.robot.initial_configuration();
+    state.robot_configuration = robot::initial_configuration(problem.robot);
     std::cout << "grasp sampler '" << choice->second.name << "':\n";
     for (ObjectIndex i = 0; i < problem.scene.objects.size(); ++i) {
       const plugin::GraspAnswer answer = sampler->sample(context, {i, &state});

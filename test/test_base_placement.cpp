@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/manipulation/base_placement.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
@@ -43,7 +44,7 @@ class BasePlacementTable : public ::testing::Test {
   }
 
   std::shared_ptr<const robot::RobotDescription> robot_ = std::make_shared<const robot::RobotDescription>(
-      robot::RobotDescription::load(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/pr2_mobile.yaml"));
+      io::load_robot_description(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/pr2_mobile.yaml"));
   Scene scene_;
   std::unique_ptr<collision::CollisionWorld> world_;
   std::unique_ptr<collision::CollisionWorld::Context> checker_;
@@ -108,7 +109,7 @@ TEST_F(BasePlacementTable, TheArmAloneKeepsTheBaseWhereItIs) {
 // frame, the placement in the world's.
 TEST(BasePlacement, PlacesTheBaseInTheWorldWhereverTheRobotsRootIs) {
   const auto robot = std::make_shared<const robot::RobotDescription>(
-      robot::RobotDescription::load(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/pr2_mobile.yaml"));
+      io::load_robot_description(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/pr2_mobile.yaml"));
   Scene scene;
   scene.world_T_robot_base = at(2.0, -1.0, 0.0);
   scene.world_T_robot_base.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();

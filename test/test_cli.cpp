@@ -16,6 +16,7 @@
 
 #include "cli/statistics.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/io/scene_io.hpp"
@@ -591,6 +592,23 @@ TEST_F(Cli, PluginsListsKindsAndVersions) {
   EXPECT_NE(r.output.find("plugin ABI version 999"), std::string::npos) << r.output;
 }
 
+// plugins NAME shows only that name (every kind of it) and, with -v, its parameters; a
+// name no plugin has is bad input naming what exists.
+TEST_F(Cli, PluginsByNameShowsTheirParameters) {
+  const CliRun r = run("plugins -v retrieval_graph");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("task_planner      retrieval_graph"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("object_pruner     retrieval_graph"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("grasp_side"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("initial_L"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("region"), std::string::npos) << r.output;
+
+  const CliRun missing = run("plugins retrieval_grahp");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("no plugin named 'retrieval_grahp'; found: "), std::string::npos) << missing.output;
+  EXPECT_NE(missing.output.find("retrieval_graph"), std::string::npos) << missing.output;
+}
+
 // Guided planning (grtc) on a bundled shelf with its guidance file: one push step per
 // guide, then the reach; replayed step by step through the physics, each guide's object
 // ends in its region, nothing falls, and the gripper ends at the target.
@@ -652,7 +670,7 @@ TEST_F(Cli, RetrievalWithPushesPushesAsideWhatItCanAndRetrievesTheTarget) {
   const Problem problem = io::load_problem(source);
   const Scene& scene = problem.scene;
   WorldState state = WorldState::initial(scene);
-  state.robot_configuration = problem.robot.initial_configuration();
+  state.robot_configuration = robot::initial_configuration(problem.robot);
   const physics::PushWorld world(scene, state);
   const physics::Replay replay =
       physics::replay(world, world.state_of(state, physics::gripper_at_exit(scene)), push_controls(j["plan"][0]["values"]["controls"].get<std::vector<double>>()),

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "test_fixtures.hpp"
 
@@ -239,7 +240,7 @@ TEST_F(UrWorld, ShapeContactsAnswerPlacementQueriesWithoutChangingTheWorld) {
 class BundledRobots : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BundledRobots, HomeIsFreeAndMostConfigurationsAreFreeOfSelfCollision) {
-  const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(
+  const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(
       std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots" / GetParam()));
   const Scene empty;
   const CollisionWorld world(empty, robot);

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/core/scene.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
@@ -18,7 +19,7 @@ namespace cluttertamp::test {
 /// The bundled UR10 with its AG-95 gripper, loaded once.
 inline std::shared_ptr<const robot::RobotDescription> ur10() {
   static const auto robot = std::make_shared<const robot::RobotDescription>(
-      robot::RobotDescription::load(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml"));
+      io::load_robot_description(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml"));
   return robot;
 }
 

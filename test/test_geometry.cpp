@@ -45,7 +45,7 @@ TEST(Geometry, BoxBoundsContainEveryCorner) {
 }  // namespace
 }  // namespace cluttertamp
 
-#include "collision/shape_distance.hpp"
+#include "cluttertamp/collision/shape_distance.hpp"
 
 namespace cluttertamp {
 namespace {

@@ -23,7 +23,7 @@ TEST(ProblemIo, LoadsAGoodProblem) {
   EXPECT_TRUE(p.robot.description.is_absolute());
   ASSERT_NE(p.robot.loaded, nullptr);
   EXPECT_EQ(p.robot.loaded->name(), "ur10_ag95");
-  EXPECT_EQ(p.robot.initial_configuration(), p.robot.loaded->home());
+  EXPECT_EQ(robot::initial_configuration(p.robot), p.robot.loaded->home());
 }
 
 TEST(ProblemIo, DefaultProblemIsValid) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/robot/ik.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "test_support.hpp"
@@ -50,7 +51,7 @@ double angle_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 
 class Ur10 : public ::testing::Test {
  protected:
-  RobotDescription robot_ = RobotDescription::load(robot_file("ur10_ag95.yaml"));
+  RobotDescription robot_ = io::load_robot_description(robot_file("ur10_ag95.yaml"));
   const RobotModel& model_ = *robot_.model();
   std::vector<Eigen::Isometry3d> poses_;
 
@@ -205,7 +206,7 @@ TEST_F(Ur10, AdjacentLinksAreDisabledPairs) {
 }
 
 TEST(Panda, ForwardKinematicsIsTheModifiedDhProduct) {
-  const RobotDescription robot = RobotDescription::load(robot_file("panda.yaml"));
+  const RobotDescription robot = io::load_robot_description(robot_file("panda.yaml"));
   const RobotModel& model = *robot.model();
   ASSERT_EQ(model.variable_count(), 8u);  // seven arm joints and the fingers
   std::vector<Eigen::Isometry3d> poses;
@@ -227,7 +228,7 @@ TEST(Panda, ForwardKinematicsIsTheModifiedDhProduct) {
 }
 
 TEST(Panda, NumericIkRoundTripsOverThousandsOfPoses) {
-  const RobotDescription robot = RobotDescription::load(robot_file("panda.yaml"));
+  const RobotDescription robot = io::load_robot_description(robot_file("panda.yaml"));
   const RobotModel& model = *robot.model();
   const IkSolver& ik = robot.ik();
   std::mt19937_64 rng(5);
@@ -249,7 +250,7 @@ TEST(Panda, NumericIkRoundTripsOverThousandsOfPoses) {
 }
 
 TEST(Panda, NumericIkIsDeterministicForASeed) {
-  const RobotDescription robot = RobotDescription::load(robot_file("panda.yaml"));
+  const RobotDescription robot = io::load_robot_description(robot_file("panda.yaml"));
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() << 0.5, 0.2, 0.4;
   pose.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
@@ -262,7 +263,7 @@ TEST(Panda, NumericIkIsDeterministicForASeed) {
 }
 
 TEST(MobileManipulator, BaseAndArmFormOneChain) {
-  const RobotDescription robot = RobotDescription::load(robot_file("pr2_mobile.yaml"));
+  const RobotDescription robot = io::load_robot_description(robot_file("pr2_mobile.yaml"));
   const RobotModel& model = *robot.model();
   ASSERT_EQ(model.variable_count(), 11u);  // base x, y, yaw; seven arm joints; fingers
   std::vector<Eigen::Isometry3d> poses;
@@ -313,19 +314,19 @@ TEST(RobotErrors, JointWithoutVelocityLimit) {
 }
 
 TEST(RobotErrors, DescriptionErrorsAreLocated) {
-  const Diagnostics d = test::expect_input_error([] { RobotDescription::load(test::data("robots/bad_description.yaml")); });
+  const Diagnostics d = test::expect_input_error([] { io::load_robot_description(test::data("robots/bad_description.yaml")); });
   EXPECT_TRUE(test::has_error(d, 8, 1, "unknown key 'colour'"));
   EXPECT_TRUE(test::has_error(d, 6, 53, "gripper base_half_length must not be negative"));
 }
 
 TEST(RobotErrors, DisabledCollisionsNameExistingLinkPairs) {
-  const Diagnostics d = test::expect_input_error([] { RobotDescription::load(test::data("robots/bad_disabled.yaml")); });
+  const Diagnostics d = test::expect_input_error([] { io::load_robot_description(test::data("robots/bad_disabled.yaml")); });
   EXPECT_TRUE(test::has_error(d, 8, 19, "has no link 'panda_link99'"));
   EXPECT_TRUE(test::has_error(d, 9, 5, "each disabled_collisions entry names two links"));
 }
 
 TEST(RobotErrors, UrAnalyticIkRefusesANonUrArm) {
-  const Diagnostics d = test::expect_input_error([] { RobotDescription::load(test::data("robots/panda_ur_ik.yaml")); });
+  const Diagnostics d = test::expect_input_error([] { io::load_robot_description(test::data("robots/panda_ur_ik.yaml")); });
   EXPECT_TRUE(test::has_error(d, 5, 5, "ur_analytic IK needs a chain of 6 movable joints"));
 }
 

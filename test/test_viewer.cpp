@@ -143,7 +143,7 @@ TEST_F(ViewerTest, AGuidedSessionRecordsItsInputsAndPushesIntoTheRegion) {
   // The session's guidance is a guidance file grtc reads.
   const std::filesystem::path file = std::filesystem::temp_directory_path() / "cluttertamp_session_guidance.yaml";
   std::ofstream(file) << session.guidance_yaml();
-  const physics::Guidance guidance = io::load_guidance(
+  const Guidance guidance = io::load_guidance(
       file, problem.scene, physics::PushWorld(problem.scene, WorldState::initial(problem.scene)).support_region());
   ASSERT_EQ(guidance.size(), 1u);
   EXPECT_EQ(problem.scene.objects[guidance[0].object].id, "o3");

@@ -12,6 +12,7 @@
 #include "cli/json_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/statistics.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
@@ -58,7 +59,7 @@ Eigen::Isometry3d tcp_pose(const Eigen::Vector3d& p, double yaw) {
 
 int bench_collision(const BenchArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(
-      robot::RobotDescription::load(args.robot));
+      io::load_robot_description(args.robot));
   scenes::ShelfSpec spec;
   spec.objects = args.objects;
   const Scene scene = scenes::generate_shelf_scene(spec, args.seed);

@@ -15,6 +15,7 @@
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
 #include "cli/measures.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
 #include "cluttertamp/plugin/placement_sampler.hpp"
@@ -99,7 +100,7 @@ std::vector<std::pair<std::uint64_t, Scene>> tables(const BenchArgs& args, int o
 }  // namespace
 
 int bench_mobile(const BenchArgs& args) {
-  const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
+  const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
   const plugin::Registry registry(plugin::Registry::default_search_paths());
   // Grasps from every side, the base first placed behind each (Section V-B).
   plugin::Samplers samplers = shipped_samplers(registry);

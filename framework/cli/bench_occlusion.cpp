@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
 #include "cli/measures.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/run/runner.hpp"
@@ -40,7 +41,7 @@ std::uint64_t counter(const Result& r, const char* key) { return r.counters.coun
 }  // namespace
 
 int bench_occlusion(const BenchArgs& args) {
-  const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
+  const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
   const plugin::Registry registry(plugin::Registry::default_search_paths());
   const plugin::Samplers samplers = shipped_samplers(registry);
   const auto planner = registry.create<plugin::TaskPlanner>("occlusion", {}, {"bench occlusion", 0, 0});

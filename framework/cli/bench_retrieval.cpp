@@ -20,6 +20,7 @@
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
 #include "cli/statistics.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -165,7 +166,7 @@ class Bench {
       : args_(args),
         registry_(plugin::Registry::default_search_paths()),
         samplers_(shipped_samplers(registry_)),
-        robot_(std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot))) {
+        robot_(std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot))) {
     if (!args.csv.empty()) {
       csv_.open(args.csv);
       csv_ << "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations,table,planner,scenes,"

@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/statistics.hpp"
 #include "cli/shelf_support.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
@@ -42,7 +43,7 @@ int bench_samplers(const BenchArgs& args) {
     scenes::ShelfSpec spec;
     spec.objects = args.objects;
     problem.scene = scenes::generate_shelf_scene(spec, args.seed + static_cast<std::uint64_t>(k));
-    problem.robot.loaded = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
+    problem.robot.loaded = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
     collision::CollisionWorld world(problem.scene, problem.robot.loaded);
     std::map<std::string, std::uint64_t> counters;
     plugin::PlanningContext context{problem, plugin::Deadline::after(1e6), args.seed, counters, samplers, &world};
@@ -83,7 +84,7 @@ int bench_samplers(const BenchArgs& args) {
       {"pick and place (into the buffer)", median(pick_place_ms), 50.0,
        std::to_string(pick_place_ok) + "/" + std::to_string(pick_places) + " succeeded"},
   };
-  std::cout << robot::RobotDescription::load(args.robot).name() << " before " << scenes << " generated shelf(s) of "
+  std::cout << io::load_robot_description(args.robot).name() << " before " << scenes << " generated shelf(s) of "
             << args.objects << " cylinders; medians per call\n\n"
             << std::left << std::setw(40) << "query" << std::right << std::setw(11) << "median ms" << std::setw(9)
             << "goal ms" << std::setw(6) << "met" << "   " << "note\n";

@@ -1,5 +1,6 @@
 #include "cli/commands.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <condition_variable>
@@ -23,7 +24,7 @@
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/viewer/plan_html.hpp"
 #include "cli/determinism.hpp"
-#include "io/text_file.hpp"
+#include "cluttertamp/io/text_file.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -186,7 +187,7 @@ std::optional<std::string> repeat_difference(const Problem& problem, const plugi
     const std::string text = io::result_to_json(problem, again.outcome.result, again.outcome.info);
     if (auto d = result_difference(first, text)) {
       const fs::path file = args.output / ("result-run" + std::to_string(k) + ".json");
-      io::detail::write_text_file(file, text, "result file");
+      io::write_text_file(file, text, "result file");
       return "run " + std::to_string(k) + " differs from run 1 at " + *d + " (its result: " + file.string() + ")";
     }
   }
@@ -213,7 +214,7 @@ int plan(const PlanArgs& args) {
   // The expected result is read and parsed first: a bad file is bad input before any planning.
   std::optional<std::string> expected;
   if (args.expect) {
-    expected = io::detail::read_text_file(*args.expect, "expected result file");
+    expected = io::read_text_file(*args.expect, "expected result file");
     if (!nlohmann::json::accept(*expected)) throw InputError({args.expect->string(), 0, 0}, "not a result.json: not JSON");
   }
   const plugin::Registry registry(run::plugin_search_paths(problem, options));
@@ -228,7 +229,7 @@ int plan(const PlanArgs& args) {
   const fs::path drawings_file = args.output / "drawings.json";
   std::error_code ec;
   if (outcome.result.drawings.empty()) fs::remove(drawings_file, ec);
-  else io::detail::write_text_file(drawings_file, io::drawings_to_json(outcome.result), "drawings file");
+  else io::write_text_file(drawings_file, io::drawings_to_json(outcome.result), "drawings file");
   if (first.plugin_error) std::cerr << first.plugin_error->diagnostics().str();
   if (args.verbosity != Verbosity::quiet) print_summary(std::cout, problem, outcome, result_file);
   if (args.html) {
@@ -268,7 +269,7 @@ int plan(const PlanArgs& args) {
 }
 
 int view(const ViewArgs& args) {
-  const std::string text = io::detail::read_text_file(args.result, "result file");
+  const std::string text = io::read_text_file(args.result, "result file");
   fs::path problem_file;
   if (args.problem) {
     problem_file = *args.problem;
@@ -287,7 +288,7 @@ int view(const ViewArgs& args) {
   const fs::path page = args.output.value_or(args.result.parent_path() / "plan.html");
   const fs::path drawings = args.result.parent_path() / "drawings.json";
   viewer::write_plan_html(page, problem,
-                          {text, fs::exists(drawings) ? io::detail::read_text_file(drawings, "drawings file") : "",
+                          {text, fs::exists(drawings) ? io::read_text_file(drawings, "drawings file") : "",
                            args.result.string()});
   if (args.verbosity != Verbosity::quiet) std::cout << "wrote " << page.string() << " (open it in a browser)\n";
   return 0;
@@ -399,7 +400,22 @@ void print_parameters(const plugin::Registry& registry, const plugin::PluginDesc
 
 int plugins(const PluginsArgs& args) {
   const plugin::Registry registry(plugin::Registry::default_search_paths(args.plugin_paths));
-  const auto& found = registry.plugins();
+  const std::vector<plugin::PluginDescriptor> all = registry.plugins();
+  std::vector<plugin::PluginDescriptor> found;
+  for (const plugin::PluginDescriptor& d : all) {
+    if (args.names.empty() || std::find(args.names.begin(), args.names.end(), d.name) != args.names.end()) found.push_back(d);
+  }
+  for (const std::string& name : args.names) {
+    if (std::none_of(all.begin(), all.end(), [&](const plugin::PluginDescriptor& d) { return d.name == name; })) {
+      std::set<std::string> names;
+      for (const plugin::PluginDescriptor& d : all) names.insert(d.name);
+      std::string list;
+      for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+      std::cerr << "cluttertamp plugins: no plugin named '" << name << "'; found: " << (list.empty() ? "none" : list)
+                << "\n" << registry.describe_search();
+      return ExitCode::bad_input;
+    }
+  }
   if (args.verbosity != Verbosity::quiet) {
     std::cout << std::left << std::setw(18) << "KIND" << std::setw(22) << "NAME" << std::setw(9) << "VERSION"
               << std::setw(5) << "ABI" << "DESCRIPTION\n";
@@ -412,7 +428,7 @@ int plugins(const PluginsArgs& args) {
       }
     }
     if (found.empty()) std::cout << "(no plugins found)\n";
-    std::cout << "\n" << registry.describe_search();
+    if (args.names.empty()) std::cout << "\n" << registry.describe_search();
   }
   return ExitCode::solved;
 }

@@ -44,9 +44,11 @@ struct ValidateArgs {
 int validate(const ValidateArgs& args);
 
 struct PluginsArgs {
+  std::vector<std::string> names;  ///< only these plugins (any kind); empty: all
   std::vector<std::filesystem::path> plugin_paths;
   Verbosity verbosity = Verbosity::normal;
 };
+/// Exit code 2 when a name in `names` is no plugin found.
 int plugins(const PluginsArgs& args);
 
 struct PddlArgs {

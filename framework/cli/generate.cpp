@@ -6,6 +6,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
@@ -95,7 +96,7 @@ std::optional<std::string> min_removals_differ(const Scene& scene, const Generat
 }  // namespace
 
 int generate(const GenerateArgs& args) {
-  const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
+  const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
   const plugin::Registry registry(plugin::Registry::default_search_paths());
   const bool check = (args.require_removal && !args.occlusion && !args.table) || args.min_removals > 0;
   const plugin::Samplers samplers = check ? shipped_samplers(registry) : plugin::Samplers{};

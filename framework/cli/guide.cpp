@@ -22,7 +22,7 @@
 #include "cluttertamp/run/guided_session.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/viewer/plan_html.hpp"
-#include "io/text_file.hpp"
+#include "cluttertamp/io/text_file.hpp"
 
 // Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers after it.
 #include <httplib.h>
@@ -63,9 +63,9 @@ int write_automatic_guidance(const GuideArgs& args, const Problem& problem) {
 // The session's files, rewritten after every input so that nothing is lost when the
 // server is stopped. The replay page is a view: failing to write it is only reported.
 void save(const run::GuidedSession& session, const fs::path& dir) {
-  io::detail::write_text_file(dir / "guidance.yaml", session.guidance_yaml(), "session file");
+  io::write_text_file(dir / "guidance.yaml", session.guidance_yaml(), "session file");
   const std::string result = session.result_json();
-  io::detail::write_text_file(dir / "result.json", result, "session file");
+  io::write_text_file(dir / "result.json", result, "session file");
   if (!session.finished()) return;
   try {
     viewer::write_plan_html(dir / "plan.html", session.problem(), {result, "", (dir / "result.json").string()});
@@ -204,7 +204,7 @@ int serve(const GuideArgs& args, const Problem& problem) {
     if (!Json::parse(state)["finished"].get<bool>() || !fs::exists(page)) {
       return error(res, 404, "the replay exists once the robot has finished");
     }
-    res.set_content(io::detail::read_text_file(page, "replay page"), "text/html; charset=utf-8");
+    res.set_content(io::read_text_file(page, "replay page"), "text/html; charset=utf-8");
   });
   server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr e) {
     try {

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "cli/commands.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/robot/robot_model.hpp"
@@ -17,7 +18,7 @@
 namespace cluttertamp::cli {
 
 int self_collisions(const SelfCollisionArgs& args) {
-  const auto robot = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(args.robot));
+  const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
   const robot::RobotModel& model = *robot->model();
   Scene empty;
   empty.world_T_robot_base = Eigen::Isometry3d::Identity();

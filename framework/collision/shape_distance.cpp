@@ -1,4 +1,4 @@
-#include "collision/shape_distance.hpp"
+#include "cluttertamp/collision/shape_distance.hpp"
 
 #include <algorithm>
 #include <cmath>

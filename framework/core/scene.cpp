@@ -4,7 +4,6 @@
 
 #include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/core/world_state.hpp"
-#include "cluttertamp/robot/robot_description.hpp"
 
 namespace cluttertamp {
 
@@ -40,11 +39,6 @@ WorldState WorldState::initial(const Scene& scene) {
   for (const SceneObject& object : scene.objects) state.world_T_objects.push_back(object.world_T_object);
   state.removed.assign(scene.objects.size(), false);
   return state;
-}
-
-Eigen::VectorXd RobotSpec::initial_configuration() const {
-  if (configuration) return *configuration;
-  return loaded ? loaded->home() : Eigen::VectorXd();
 }
 
 const char* role_key(SamplerRole role) {

@@ -28,11 +28,11 @@ std::string quoted(const std::string& text) {
 }
 
 void read_guide(const detail::YamlFile& file, const YAML::Node& item, std::size_t number, const Scene& scene,
-                const Eigen::AlignedBox2d& shelf, physics::Guidance& guidance) {
+                const Eigen::AlignedBox2d& shelf, Guidance& guidance) {
   const std::string what = "guide #" + std::to_string(number);
   detail::MapReader map(file, item, what, {"object", "centre", "diameter"});
   if (!map.valid()) return;
-  physics::Guide guide;
+  Guide guide;
   guide.where = file.at(item);
   bool ok = true;
   const YAML::Node object = map.required("object");
@@ -90,9 +90,9 @@ void read_guide(const detail::YamlFile& file, const YAML::Node& item, std::size_
 
 }  // namespace
 
-physics::Guidance load_guidance(const std::filesystem::path& path, const Scene& scene, const Eigen::AlignedBox2d& shelf) {
+Guidance load_guidance(const std::filesystem::path& path, const Scene& scene, const Eigen::AlignedBox2d& shelf) {
   Diagnostics diagnostics;
-  physics::Guidance guidance;
+  Guidance guidance;
   {
     detail::YamlFile file(path, diagnostics);
     if (file.loaded() && file.root().IsNull()) {
@@ -114,12 +114,12 @@ physics::Guidance load_guidance(const std::filesystem::path& path, const Scene& 
   return guidance;
 }
 
-std::string guidance_to_yaml(const Scene& scene, const physics::Guidance& guidance) {
+std::string guidance_to_yaml(const Scene& scene, const Guidance& guidance) {
   std::ostringstream out;
   out << std::setprecision(10);
   out << "# Guidance: push each object, in order, until its centre is in its region (docs/plugins.md, \"Guidance files\").\n";
   out << "version: " << kGuidanceFormatVersion << "\nguides:" << (guidance.empty() ? " []\n" : "\n");
-  for (const physics::Guide& g : guidance) {
+  for (const Guide& g : guidance) {
     out << "  - {object: " << quoted(scene.objects.at(g.object).id) << ", centre: [" << g.centre.x() << ", " << g.centre.y()
         << "], diameter: " << g.diameter << "}\n";
   }

@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include "cluttertamp/robot/robot_description.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "io/readers.hpp"
 #include "io/yaml_reader.hpp"
 
@@ -127,7 +127,7 @@ void ProblemReader::read_robot(const YAML::Node& node) {
   if (!path) return;
   problem_.robot.description = *path;
   try {
-    problem_.robot.loaded = std::make_shared<const robot::RobotDescription>(robot::RobotDescription::load(*path));
+    problem_.robot.loaded = std::make_shared<const robot::RobotDescription>(io::load_robot_description(*path));
   } catch (const InputError& e) {
     diagnostics_.append(e.diagnostics());
     return;

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cluttertamp/version.hpp"
-#include "io/text_file.hpp"
+#include "cluttertamp/io/text_file.hpp"
 
 namespace cluttertamp::io {
 
@@ -115,7 +115,7 @@ std::string drawings_to_json(const Result& result) {
 
 void write_result_json(const std::filesystem::path& file, const Problem& problem, const Result& result,
                        const RunInfo& run) {
-  detail::write_text_file(file, result_to_json(problem, result, run), "result file");
+  write_text_file(file, result_to_json(problem, result, run), "result file");
 }
 
 }  // namespace cluttertamp::io

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <map>
 
-#include "collision/shape_distance.hpp"
+#include "cluttertamp/collision/shape_distance.hpp"
 #include "io/readers.hpp"
 #include "io/yaml_reader.hpp"
 

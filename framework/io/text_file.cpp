@@ -1,11 +1,11 @@
-#include "io/text_file.hpp"
+#include "cluttertamp/io/text_file.hpp"
 
 #include <fstream>
 #include <sstream>
 
 #include "cluttertamp/core/diagnostics.hpp"
 
-namespace cluttertamp::io::detail {
+namespace cluttertamp::io {
 
 std::string read_text_file(const std::filesystem::path& file, const std::string& what) {
   std::ifstream in(file, std::ios::binary);
@@ -24,4 +24,4 @@ void write_text_file(const std::filesystem::path& file, const std::string& text,
   if (!out) throw InputError({file.string(), 0, 0}, "cannot write the " + what + " (is the directory writable?)");
 }
 
-}  // namespace cluttertamp::io::detail
+}  // namespace cluttertamp::io

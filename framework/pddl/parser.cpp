@@ -9,7 +9,7 @@
 #include <unordered_set>
 
 #include "cluttertamp/pddl/sexpr.hpp"
-#include "pddl/read_atom.hpp"
+#include "cluttertamp/pddl/read_atom.hpp"
 
 namespace cluttertamp::pddl {
 
@@ -110,11 +110,11 @@ class Reader {
   }
 
   std::optional<Atom> atom(const SExpr& e, const char* what) {
-    detail::NotAnAtom why{};
+    NotAnAtom why{};
     SourceLocation where;
-    auto a = detail::read_atom(e, why, where);
-    if (!a && why == detail::NotAnAtom::head) error(where, std::string("expected ") + what + " (predicate arg...)");
-    if (!a && why == detail::NotAnAtom::argument) {
+    auto a = read_atom(e, why, where);
+    if (!a && why == NotAnAtom::head) error(where, std::string("expected ") + what + " (predicate arg...)");
+    if (!a && why == NotAnAtom::argument) {
       error(where, "arguments must be names or ?variables; nested terms are not supported");
     }
     return a;

@@ -1,6 +1,6 @@
 #include "cluttertamp/pddl/sexpr.hpp"
 
-#include "pddl/read_atom.hpp"
+#include "cluttertamp/pddl/read_atom.hpp"
 
 #include <cctype>
 #include <fstream>
@@ -117,8 +117,6 @@ std::string read_text_file(const std::filesystem::path& file) {
   return text.str();
 }
 
-namespace detail {
-
 std::optional<Atom> read_atom(const SExpr& e, NotAnAtom& why, SourceLocation& where) {
   if (!e.is_list || e.items.empty() || !e.items[0].is_atom() || e.items[0].text[0] == '?' || e.items[0].text[0] == ':') {
     why = NotAnAtom::head;
@@ -139,7 +137,5 @@ std::optional<Atom> read_atom(const SExpr& e, NotAnAtom& why, SourceLocation& wh
   }
   return a;
 }
-
-}  // namespace detail
 
 }  // namespace cluttertamp::pddl

@@ -1,126 +1,52 @@
 #include "cluttertamp/robot/robot_description.hpp"
 
 #include <algorithm>
-
-#include "io/yaml_reader.hpp"
+#include <stdexcept>
 
 namespace cluttertamp::robot {
 
-namespace {
-using io::detail::MapReader;
-using io::detail::YamlFile;
-}  // namespace
-
-RobotDescription RobotDescription::load(const std::filesystem::path& file) {
-  Diagnostics diagnostics;
-  YamlFile yaml(file, diagnostics);
-  diagnostics.throw_if_any();
-  RobotDescription robot;
-  robot.name_ = file.stem().string();
-  MapReader top(yaml, yaml.root(), "the robot description",
-                {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home", "disabled_collisions"});
-  if (!top.valid()) diagnostics.throw_if_any();
-
-  yaml.check_version(top.required("version"), "robot description", 1);
-  if (top.has("name")) robot.name_ = yaml.string(top.optional("name"), "name").value_or(robot.name_);
-  const YAML::Node urdf = top.required("urdf");
-  const YAML::Node base = top.required("base_link");
-  const YAML::Node tip = top.required("tip_link");
-  const YAML::Node ik = top.required("ik");
-  const auto urdf_name = urdf.IsDefined() ? yaml.string(urdf, "urdf") : std::nullopt;
-  const auto base_name = base.IsDefined() ? yaml.string(base, "base_link") : std::nullopt;
-  const auto tip_name = tip.IsDefined() ? yaml.string(tip, "tip_link") : std::nullopt;
-  const auto ik_name = ik.IsDefined() ? yaml.string(ik, "ik") : std::nullopt;
-  if (ik_name && *ik_name != "ur_analytic" && *ik_name != "numeric") {
-    yaml.error(ik, "ik must be 'ur_analytic' or 'numeric', not '" + *ik_name + "'");
+RobotDescription::RobotDescription(Parts parts)
+    : name_(std::move(parts.name)),
+      urdf_(std::move(parts.urdf)),
+      model_(std::move(parts.model)),
+      base_link_(parts.base_link),
+      tip_link_(parts.tip_link),
+      gripper_(parts.gripper),
+      home_(std::move(parts.home)),
+      ik_(std::move(parts.ik)) {
+  if (!model_ || !ik_) throw std::invalid_argument("a robot description needs a model and an IK solver");
+  const RobotModel& model = *model_;
+  const auto links = static_cast<LinkIndex>(model.links().size());
+  if (base_link_ < 0 || base_link_ >= links || tip_link_ < 0 || tip_link_ >= links) {
+    throw std::invalid_argument("a robot description's base and tip must be links of its model");
+  }
+  if (static_cast<std::size_t>(home_.size()) != model.variable_count()) {
+    throw std::invalid_argument("a robot description's home must have one value per joint variable");
   }
 
-  if (top.has("gripper")) {
-    MapReader g(yaml, top.optional("gripper"), "gripper", {"finger_thickness", "base_half_length", "stroke", "large_base"});
-    if (g.valid()) {
-      auto read = [&](const char* key, double& out) {
-        const YAML::Node n = g.required(key);
-        if (n.IsDefined()) {
-          auto value = yaml.number(n, std::string("gripper ") + key);
-          if (value && *value < 0) yaml.error(n, std::string("gripper ") + key + " must not be negative");
-          out = value.value_or(0.0);
-        }
-      };
-      read("finger_thickness", robot.gripper_.finger_thickness);
-      read("base_half_length", robot.gripper_.base_half_length);
-      read("stroke", robot.gripper_.stroke);
-      if (g.has("large_base")) robot.gripper_.large_base = yaml.boolean(g.optional("large_base"), "gripper large_base").value_or(false);
-    }
-  } else {
-    top.required("gripper");
+  disabled_ = model.adjacent_links();
+  for (auto [a, b] : parts.disabled_collisions) {
+    if (a < 0 || a >= links || b < 0 || b >= links) throw std::invalid_argument("a disabled collision pair names no link");
+    disabled_.emplace_back(std::min(a, b), std::max(a, b));
   }
-  top.report_unknown_keys();
-  diagnostics.throw_if_any();
+  std::sort(disabled_.begin(), disabled_.end());
+  disabled_.erase(std::unique(disabled_.begin(), disabled_.end()), disabled_.end());
 
-  robot.urdf_ = yaml.resolve(*urdf_name);
-  robot.model_ = std::make_shared<const RobotModel>(RobotModel::load_urdf(robot.urdf_));
-  const RobotModel& model = *robot.model_;
-  auto link = [&](const YAML::Node& node, const std::string& name) -> LinkIndex {
-    if (auto index = model.find_link(name)) return *index;
-    yaml.error(node, "the URDF " + robot.urdf_.string() + " has no link '" + name + "'");
-    return -1;
-  };
-  robot.base_link_ = link(base, *base_name);
-  robot.tip_link_ = link(tip, *tip_name);
-
-  robot.disabled_ = model.adjacent_links();
-  if (top.has("disabled_collisions")) {
-    const YAML::Node pairs = top.optional("disabled_collisions");
-    if (!pairs.IsSequence()) yaml.error(pairs, "disabled_collisions must be a list of [link, link] pairs");
-    for (std::size_t i = 0; pairs.IsSequence() && i < pairs.size(); ++i) {
-      const auto names = yaml.strings(pairs[i], "disabled_collisions entry");
-      if (!names) continue;
-      if (names->size() != 2) {
-        yaml.error(pairs[i], "each disabled_collisions entry names two links");
-        continue;
-      }
-      const LinkIndex a = link(pairs[i][0], (*names)[0]), b = link(pairs[i][1], (*names)[1]);
-      if (a >= 0 && b >= 0) robot.disabled_.emplace_back(std::min(a, b), std::max(a, b));
-    }
-    std::sort(robot.disabled_.begin(), robot.disabled_.end());
-    robot.disabled_.erase(std::unique(robot.disabled_.begin(), robot.disabled_.end()), robot.disabled_.end());
-  }
-  robot.home_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.variable_count()));
-  if (top.has("home")) {
-    const YAML::Node home = top.optional("home");
-    if (!home.IsSequence() || home.size() != model.variable_count()) {
-      std::string names;
-      for (const std::string& n : model.variable_names()) names += (names.empty() ? "" : ", ") + n;
-      yaml.error(home, "home must list " + std::to_string(model.variable_count()) + " joint values: " + names);
-    } else {
-      for (std::size_t i = 0; i < home.size(); ++i) {
-        if (auto v = yaml.number(home[i], "home[" + std::to_string(i) + "]")) robot.home_[static_cast<Eigen::Index>(i)] = *v;
-      }
-      if (!model.within_limits(robot.home_)) yaml.error(home, "home lies outside the joint limits");
-    }
-  }
-  diagnostics.throw_if_any();
-
-  try {
-    if (*ik_name == "ur_analytic") {
-      robot.ik_ = std::make_shared<UrAnalyticIk>(robot.model_, robot.base_link_, robot.tip_link_);
-    } else {
-      robot.ik_ = std::make_shared<NumericIk>(robot.model_, robot.base_link_, robot.tip_link_);
-    }
-  } catch (const std::invalid_argument& e) {
-    yaml.error(ik, e.what());
-  }
-  diagnostics.throw_if_any();
-  const LinkIndex hand = model.rigid_root(robot.tip_link_);
-  const auto& chain = robot.ik_->chain();
+  // The fingers: the first movable joint below the hand's rigid body that IK does not move.
+  const LinkIndex hand = model.rigid_root(tip_link_);
+  const auto& chain = ik_->chain();
   for (std::size_t v = 0; v < model.variable_count(); ++v) {
     const JointIndex j = model.variables()[v];
     if (model.descends_from(model.joints()[j].child, hand) && std::find(chain.begin(), chain.end(), j) == chain.end()) {
-      robot.finger_variable_ = static_cast<int>(v);
+      finger_variable_ = static_cast<int>(v);
       break;
     }
   }
-  return robot;
+}
+
+Eigen::VectorXd initial_configuration(const RobotSpec& spec) {
+  if (spec.configuration) return *spec.configuration;
+  return spec.loaded ? spec.loaded->home() : Eigen::VectorXd();
 }
 
 }  // namespace cluttertamp::robot

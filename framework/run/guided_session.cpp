@@ -7,10 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cluttertamp/io/guidance_io.hpp"
+#include "cluttertamp/io/shape_json.hpp"
 #include "cluttertamp/physics/push_planning.hpp"
 #include "cluttertamp/plugin/push_sampler.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/run/runner.hpp"
-#include "io/shape_json.hpp"
 
 namespace cluttertamp::run {
 
@@ -53,7 +54,7 @@ struct GuidedSession::Impl {
   Eigen::AlignedBox2d view;   // what the page shows: the gripper's region
   Result result;
   io::HumanGuidance record;
-  physics::Guidance guidance;  // the satisfied guides
+  Guidance guidance;  // the satisfied guides
   double planning = 0.0;       // s, every input's and the reach's
   bool finished = false;
   Clock::time_point finished_at;
@@ -87,7 +88,7 @@ GuidedSession::GuidedSession(Problem problem, const plugin::Registry& registry, 
   s.search.read(s.problem.planner.parameters);
   s.reach.read(s.problem.planner.parameters);
   s.state = WorldState::initial(s.problem.scene);
-  s.state.robot_configuration = s.problem.robot.initial_configuration();
+  s.state.robot_configuration = robot::initial_configuration(s.problem.robot);
   s.gripper = physics::gripper_at_exit(s.problem.scene);
   s.shelf = physics::support_region(s.problem.scene, s.state, physics::PushSettings{});
   s.view = physics::PushWorld(s.problem.scene, s.state).gripper_region();
@@ -210,7 +211,7 @@ std::string GuidedSession::state_json() const {
   for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     const Eigen::Isometry3d& pose = s.state.world_T_objects[i];
-    objects.push_back({{"id", o.id}, {"shape", io::detail::shape_json(o.shape)},
+    objects.push_back({{"id", o.id}, {"shape", io::shape_json(o.shape)},
                        {"pose", {pose.translation().x(), pose.translation().y(), yaw_of(pose)}},
                        {"role", i == scene.target ? "target" : o.movable ? "movable" : "fixed"}});
   }

@@ -13,6 +13,7 @@
 #include "cluttertamp/plugin/placement_sampler.hpp"
 #include "cluttertamp/plugin/push_sampler.hpp"
 #include "cluttertamp/plugin/stream_sampler.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 
 namespace cluttertamp::run {
@@ -87,7 +88,7 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   std::map<std::string, PhaseTotals> phases;
   context.phases = &phases;
   WorldState initial = WorldState::initial(problem.scene);
-  initial.robot_configuration = problem.robot.initial_configuration();
+  initial.robot_configuration = robot::initial_configuration(problem.robot);
   try {
     outcome.result = planner->solve(context, initial);
     outcome.info.exit_code = outcome.result.solved ? ExitCode::solved : ExitCode::no_plan;

@@ -5,7 +5,7 @@
 
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/pddl/sexpr.hpp"
-#include "pddl/read_atom.hpp"
+#include "cluttertamp/pddl/read_atom.hpp"
 
 namespace cluttertamp::stream {
 
@@ -142,11 +142,11 @@ class StreamReader {
       error(e.where, what + " must be a conjunction of atoms, not (" + e.items[0].text + " ...)");
       return std::nullopt;
     }
-    pddl::detail::NotAnAtom why{};
+    pddl::NotAnAtom why{};
     SourceLocation where;
-    auto a = pddl::detail::read_atom(e, why, where);
-    if (!a && why == pddl::detail::NotAnAtom::head) error(where, "expected an atom (predicate arg...) in " + what);
-    if (!a && why == pddl::detail::NotAnAtom::argument) error(where, "arguments must be names or ?variables in " + what);
+    auto a = pddl::read_atom(e, why, where);
+    if (!a && why == pddl::NotAnAtom::head) error(where, "expected an atom (predicate arg...) in " + what);
+    if (!a && why == pddl::NotAnAtom::argument) error(where, "arguments must be names or ?variables in " + what);
     return a;
   }
 

@@ -11,8 +11,8 @@
 
 #include "cluttertamp/physics/push_planning.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
-#include "io/shape_json.hpp"
-#include "io/text_file.hpp"
+#include "cluttertamp/io/shape_json.hpp"
+#include "cluttertamp/io/text_file.hpp"
 
 namespace cluttertamp::assets {
 extern const char* const viewer_html;  // framework/viewer/viewer.html, embedded at build time
@@ -34,7 +34,7 @@ Json pose_json(const Eigen::Isometry3d& pose) {
                       rounded(q.w())});
 }
 
-using io::detail::shape_json;
+using io::shape_json;
 
 // Beyond these a result.json is not a plan but a way to exhaust memory.
 constexpr double kMaxFrames = 1e5;
@@ -78,7 +78,7 @@ class Replayer {
         state_(WorldState::initial(problem.scene)) {
     if (problem.robot.loaded) {
       robot_ = problem.robot.loaded.get();
-      state_.robot_configuration = problem.robot.initial_configuration();
+      state_.robot_configuration = robot::initial_configuration(problem.robot);
       const auto& links = robot_->model()->links();
       for (std::size_t i = 0; i < links.size(); ++i) {
         if (!links[i].collision.empty()) drawn_links_.push_back(static_cast<robot::LinkIndex>(i));
@@ -495,15 +495,15 @@ std::string plan_html(const Problem& problem, const PlanFiles& plan) {
   const std::filesystem::path three(CLUTTERTAMP_THREE_JS_DIR);
   std::string page = assets::viewer_html;
   const std::string what = "three.js file (is Debian's libjs-three installed?)";
-  replace_once(page, "/*@THREE_JS@*/", script_safe(io::detail::read_text_file(three / "build" / "three.min.js", what)));
+  replace_once(page, "/*@THREE_JS@*/", script_safe(io::read_text_file(three / "build" / "three.min.js", what)));
   replace_once(page, "/*@ORBIT_CONTROLS@*/",
-               script_safe(io::detail::read_text_file(three / "examples" / "js" / "controls" / "OrbitControls.js", what)));
+               script_safe(io::read_text_file(three / "examples" / "js" / "controls" / "OrbitControls.js", what)));
   replace_once(page, "/*@REPLAY_DATA@*/", json_safe(data));
   return page;
 }
 
 void write_plan_html(const std::filesystem::path& file, const Problem& problem, const PlanFiles& plan) {
-  io::detail::write_text_file(file, plan_html(problem, plan), "page");
+  io::write_text_file(file, plan_html(problem, plan), "page");
 }
 
 }  // namespace cluttertamp::viewer

@@ -128,7 +128,7 @@ class Streams {
  public:
   Streams(plugin::PlanningContext& context, const Settings& settings) : settings_(settings) {
     const Scene& scene = context.scene();
-    home_ = context.problem.robot.initial_configuration();
+    home_ = robot::initial_configuration(context.problem.robot);
     empty_ = WorldState::initial(scene);
     empty_.robot_configuration = home_;
     std::fill(empty_.removed.begin(), empty_.removed.end(), true);

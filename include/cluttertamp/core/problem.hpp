@@ -68,9 +68,6 @@ struct RobotSpec {
   SourceLocation where;
   /// The loaded description (set by io::load_problem).
   std::shared_ptr<const robot::RobotDescription> loaded;
-
-  /// The initial joint values: `configuration` or the description's home.
-  Eigen::VectorXd initial_configuration() const;
 };
 
 /// Everything `cluttertamp plan` needs: the scene, the robot, the task, the planner

@@ -1,5 +1,5 @@
 #pragma once
-// Guidance files (Papallas & Dogar 2020, Section II-B): physics::Guidance in YAML.
+// Guidance files (Papallas & Dogar 2020, Section II-B): Guidance in YAML.
 
 #include <filesystem>
 #include <string>
@@ -8,8 +8,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "cluttertamp/core/guidance.hpp"
 #include "cluttertamp/core/scene.hpp"
-#include "cluttertamp/physics/guidance.hpp"
 #include "cluttertamp/export.hpp"
 
 namespace cluttertamp::io {
@@ -21,10 +21,10 @@ namespace cluttertamp::io {
 /// Every guide names a movable object of `scene`, and its whole region lies inside
 /// `shelf` (world x, y, m: where pushed objects must stay). Throws InputError listing
 /// every problem with file:line:column.
-CLUTTERTAMP_API physics::Guidance load_guidance(const std::filesystem::path& file, const Scene& scene,
+CLUTTERTAMP_API Guidance load_guidance(const std::filesystem::path& file, const Scene& scene,
                                        const Eigen::AlignedBox2d& shelf);
 
 /// The guidance as a file that load_guidance reads back (lengths to 10 significant digits).
-CLUTTERTAMP_API std::string guidance_to_yaml(const Scene& scene, const physics::Guidance& guidance);
+CLUTTERTAMP_API std::string guidance_to_yaml(const Scene& scene, const Guidance& guidance);
 
 }  // namespace cluttertamp::io

@@ -1,27 +1,18 @@
 #pragma once
-// Guidance for reaching through clutter (Papallas & Dogar 2020, Section II-B): an
-// ordered list of guides, each an object to push and a disc in the shelf plane that its
-// centre should end in.
+// Automatic guidance for reaching through clutter (Papallas & Dogar 2020, Section II-B);
+// the data types are in core/guidance.hpp.
 
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/core/guidance.hpp"
 #include "cluttertamp/physics/push_world.hpp"
 
 namespace cluttertamp::physics {
 
-/// Push `object` until its centre is within diameter / 2 of `centre` (world x, y, m).
-struct Guide {
-  ObjectIndex object = 0;
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  double diameter = 0.0;  ///< m
-  SourceLocation where;   ///< the guide in its file (empty when generated)
-};
-
-/// The guides, in the order they are to be satisfied.
-using Guidance = std::vector<Guide>;
+using cluttertamp::Guide;     // the data live in core, so that io reads them without physics
+using cluttertamp::Guidance;
 
 /// An automatic guidance: the objects whose footprint meets the gripper's straight way
 /// from `from` (world x, y, m) to where it touches the target in `state` (as wide as the

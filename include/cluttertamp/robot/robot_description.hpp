@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/export.hpp"
 #include "cluttertamp/robot/ik.hpp"
 #include "cluttertamp/robot/robot_model.hpp"
@@ -30,12 +31,28 @@ struct GripperParameters {
 /// A robot as the planners use it: the URDF model plus what a URDF does not say —
 /// which chain is the arm, which link is the tool centre point, the IK solver, the
 /// gripper's measures and a home configuration. Read from a robot description file
-/// (docs/file-formats.md, "Robot description files").
+/// (docs/file-formats.md, "Robot description files") by io::load_robot_description.
 class CLUTTERTAMP_API RobotDescription {
  public:
-  /// Throws InputError with file:line:column for a bad description and with the
-  /// URDF's file and element for a bad model.
-  static RobotDescription load(const std::filesystem::path& file);
+  /// What a description says, with the model it names loaded and its IK solver made.
+  struct Parts {
+    std::string name;
+    std::filesystem::path urdf;
+    std::shared_ptr<const RobotModel> model;  ///< not null
+    LinkIndex base_link = -1;                 ///< a link of `model`
+    LinkIndex tip_link = -1;                  ///< a link of `model`
+    GripperParameters gripper;
+    Eigen::VectorXd home;                     ///< one value per model variable
+    std::shared_ptr<const IkSolver> ik;       ///< not null: the chain base_link to tip_link
+    /// Link pairs never checked beyond the model's adjacent links, in any order.
+    std::vector<std::pair<LinkIndex, LinkIndex>> disabled_collisions;
+  };
+
+  RobotDescription() = default;
+  /// Finds the finger variable and merges the disabled pairs with the adjacent links.
+  /// Throws std::invalid_argument when `model` or `ik` is null, a link is no link of
+  /// the model or `home` has the wrong size.
+  explicit RobotDescription(Parts parts);
 
   const std::string& name() const { return name_; }
   const std::shared_ptr<const RobotModel>& model() const { return model_; }
@@ -65,5 +82,9 @@ class CLUTTERTAMP_API RobotDescription {
   std::vector<std::pair<LinkIndex, LinkIndex>> disabled_;
   std::optional<int> finger_variable_;
 };
+
+/// A problem's initial joint values (rad, m; URDF order): its `configuration`, or else
+/// the home of its loaded description; empty when it has neither.
+CLUTTERTAMP_API Eigen::VectorXd initial_configuration(const RobotSpec& spec);
 
 }  // namespace cluttertamp::robot

@@ -1,6 +1,6 @@
 #pragma once
-// Internal: whether two placed primitive shapes interpenetrate, and by how much, for
-// scene validation. Kept behind this header so that FCL stays out of other units.
+// Whether two placed primitive shapes interpenetrate, and by how much, for scene
+// validation. FCL stays behind this header, in the geometry library.
 //
 // FCL 0.7's signed distance (libccd EPA) aborts on an internal assertion for some
 // touching shapes, so depths here are exact geometry for upright prisms and a
@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "cluttertamp/core/geometry.hpp"
+#include "cluttertamp/export.hpp"
 
 namespace cluttertamp::collision {
 
@@ -22,7 +23,7 @@ struct Overlap {
 /// Exact for upright cylinders and boxes rotated about z (penetration depth is the
 /// smaller of the vertical and the planar overlap). For other shapes: whether the
 /// shapes, each shrunk by tolerance / 2 on every side, still intersect.
-Overlap overlap(const Shape& a, const Eigen::Isometry3d& world_T_a, const Shape& b, const Eigen::Isometry3d& world_T_b,
+CLUTTERTAMP_API Overlap overlap(const Shape& a, const Eigen::Isometry3d& world_T_a, const Shape& b, const Eigen::Isometry3d& world_T_b,
                 double tolerance);
 
 }  // namespace cluttertamp::collision

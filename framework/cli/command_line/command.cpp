@@ -1,0 +1,58 @@
+#include "cli/command_line/command.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+
+#include "cluttertamp/core/memory_limit.hpp"
+
+namespace cluttertamp::cli {
+
+void add_verbosity(CLI::App& app, Verbosity& verbosity, const std::string& verbose_help) {
+  auto* quiet = app.add_flag_callback("-q,--quiet", [&] { verbosity = Verbosity::quiet; }, "Print only errors");
+  app.add_flag_callback("-v,--verbose", [&] { verbosity = Verbosity::verbose; }, verbose_help)->excludes(quiet);
+}
+
+void add_memory_limit(CLI::App& app, CommonOptions& common) {
+  app.add_option("--memory-limit", common.memory_limit_mib,
+                 "Address space limit, MiB (default " + std::to_string(default_memory_limit_mib()) +
+                     ": three quarters of this machine's memory); a search that reaches it ends with \"memory limit "
+                     "reached\" (exit code 1, result.json written)")
+      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 40));
+}
+
+void add_plugin_paths(CLI::App& app, std::vector<std::filesystem::path>& paths) {
+  app.add_option("--plugin-path", paths, "Search this plugin directory first (repeatable)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+CLI::Validator seed_validator() {
+  return CLI::Validator(
+      [](const std::string& text) {
+        std::int64_t value = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        return error == std::errc() && end == text.data() + text.size() && value >= 0
+                   ? std::string()
+                   : "must be a whole number from 0 to 9223372036854775807";
+      },
+      "SEED", "non-negative integer");
+}
+
+CLI::Validator seconds_validator() {
+  return CLI::Validator(
+      [](const std::string& text) {
+        double value = 0;
+        return CLI::detail::lexical_cast(text, value) && std::isfinite(value) && value > 0
+                   ? std::string()
+                   : "must be a finite number of seconds greater than 0";
+      },
+      "SECONDS", "finite positive");
+}
+
+std::filesystem::path source_file(const std::string& relative) {
+  return std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / relative;
+}
+
+}  // namespace cluttertamp::cli

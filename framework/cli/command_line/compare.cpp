@@ -1,0 +1,25 @@
+#include "cli/command_line/command.hpp"
+
+namespace cluttertamp::cli {
+
+Command declare_compare(CLI::App& app, CommonOptions& common) {
+  auto args = std::make_shared<CompareArgs>();
+  auto* compare = app.add_subcommand(
+      "compare", "Stream planning focused and not: {adaptive, incremental} x {pruned, all movable} (Tian et al., Table IV)");
+  compare->add_option("problems", args->problems, "Stream problem files (task: pddl); with several, --svg plots time against object count")
+      ->required()
+      ->check(CLI::ExistingFile);
+  compare->add_option("--runs", args->runs, "Seeds per setting (seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 1000));
+  compare->add_option("--seed", args->seed, "First seed")->capture_default_str();
+  compare->add_option("--time-limit", args->time_limit, "Seconds per run (default: each problem's planner.time_limit)")
+      ->check(CLI::PositiveNumber);
+  compare->add_option("--json", args->json, "Also write the table as JSON to this file");
+  compare->add_option("--csv", args->csv, "Also write every run as CSV to this file");
+  compare->add_option("--svg", args->svg, "Also plot median time against object count (SVG) to this file");
+  add_plugin_paths(*compare, args->plugin_paths);
+  add_memory_limit(*compare, common);
+  add_verbosity(*compare, args->verbosity, "Same output as the default");
+  return {compare, [args] { return cli::compare(*args); }};
+}
+
+}  // namespace cluttertamp::cli

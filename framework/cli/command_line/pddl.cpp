@@ -1,0 +1,23 @@
+#include "cli/command_line/command.hpp"
+#include "cluttertamp/search/planner.hpp"
+
+namespace cluttertamp::cli {
+
+Command declare_pddl(CLI::App& app, CommonOptions& common) {
+  auto args = std::make_shared<PddlArgs>();
+  auto* pddl = app.add_subcommand("pddl", "Plan a PDDL domain and problem; print the plan in IPC format");
+  pddl->add_option("domain", args->domain, "PDDL domain file")->required();
+  pddl->add_option("problem", args->problem, "PDDL problem file")->required();
+  pddl->add_option("--search", args->search, "Search algorithm")
+      ->capture_default_str()
+      ->check(CLI::IsMember(search::search_names()));
+  pddl->add_option("--time-limit", args->time_limit, "Seconds")->capture_default_str()->check(CLI::PositiveNumber);
+  pddl->add_option("--max-expansions", args->max_expansions, "Stop after this many expansions");
+  pddl->add_option("--weight", args->weight, "Weight of h in wastar-ff")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  pddl->add_option("--plan", args->plan_file, "Also write the plan to this file");
+  add_memory_limit(*pddl, common);
+  add_verbosity(*pddl, args->verbosity, "Same output as the default");
+  return {pddl, [args] { return cli::pddl(*args); }};
+}
+
+}  // namespace cluttertamp::cli

@@ -1,0 +1,17 @@
+#include "cli/command_line/command.hpp"
+
+namespace cluttertamp::cli {
+
+Command declare_self_collisions(CLI::App& app, CommonOptions&) {
+  auto args = std::make_shared<SelfCollisionArgs>();
+  auto* self = app.add_subcommand(
+      "self-collisions",
+      "Count which pairs of a robot's links touch over random configurations; list those that never do, for disabled_collisions");
+  self->add_option("robot", args->robot, "Robot description file")->required()->check(CLI::ExistingFile);
+  self->add_option("--samples", args->samples, "Random configurations")->capture_default_str()->check(CLI::Range(100, 10000000));
+  self->add_option("--seed", args->seed, "Seed of the configurations")->capture_default_str();
+  add_verbosity(*self, args->verbosity, "Also list the pairs that never touched with their counts");
+  return {self, [args] { return cli::self_collisions(*args); }};
+}
+
+}  // namespace cluttertamp::cli

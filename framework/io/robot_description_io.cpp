@@ -1,0 +1,115 @@
+#include "cluttertamp/io/robot_description_io.hpp"
+
+#include <stdexcept>
+
+#include "io/yaml_reader.hpp"
+
+namespace cluttertamp::io {
+
+namespace {
+using detail::MapReader;
+using detail::YamlFile;
+using namespace robot;
+}  // namespace
+
+RobotDescription load_robot_description(const std::filesystem::path& file) {
+  Diagnostics diagnostics;
+  YamlFile yaml(file, diagnostics);
+  diagnostics.throw_if_any();
+  RobotDescription::Parts robot;
+  robot.name = file.stem().string();
+  MapReader top(yaml, yaml.root(), "the robot description",
+                {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home", "disabled_collisions"});
+  if (!top.valid()) diagnostics.throw_if_any();
+
+  yaml.check_version(top.required("version"), "robot description", 1);
+  if (top.has("name")) robot.name = yaml.string(top.optional("name"), "name").value_or(robot.name);
+  const YAML::Node urdf = top.required("urdf");
+  const YAML::Node base = top.required("base_link");
+  const YAML::Node tip = top.required("tip_link");
+  const YAML::Node ik = top.required("ik");
+  const auto urdf_name = urdf.IsDefined() ? yaml.string(urdf, "urdf") : std::nullopt;
+  const auto base_name = base.IsDefined() ? yaml.string(base, "base_link") : std::nullopt;
+  const auto tip_name = tip.IsDefined() ? yaml.string(tip, "tip_link") : std::nullopt;
+  const auto ik_name = ik.IsDefined() ? yaml.string(ik, "ik") : std::nullopt;
+  if (ik_name && *ik_name != "ur_analytic" && *ik_name != "numeric") {
+    yaml.error(ik, "ik must be 'ur_analytic' or 'numeric', not '" + *ik_name + "'");
+  }
+
+  if (top.has("gripper")) {
+    MapReader g(yaml, top.optional("gripper"), "gripper", {"finger_thickness", "base_half_length", "stroke", "large_base"});
+    if (g.valid()) {
+      auto read = [&](const char* key, double& out) {
+        const YAML::Node n = g.required(key);
+        if (n.IsDefined()) {
+          auto value = yaml.number(n, std::string("gripper ") + key);
+          if (value && *value < 0) yaml.error(n, std::string("gripper ") + key + " must not be negative");
+          out = value.value_or(0.0);
+        }
+      };
+      read("finger_thickness", robot.gripper.finger_thickness);
+      read("base_half_length", robot.gripper.base_half_length);
+      read("stroke", robot.gripper.stroke);
+      if (g.has("large_base")) robot.gripper.large_base = yaml.boolean(g.optional("large_base"), "gripper large_base").value_or(false);
+    }
+  } else {
+    top.required("gripper");
+  }
+  top.report_unknown_keys();
+  diagnostics.throw_if_any();
+
+  robot.urdf = yaml.resolve(*urdf_name);
+  robot.model = std::make_shared<const RobotModel>(RobotModel::load_urdf(robot.urdf));
+  const RobotModel& model = *robot.model;
+  auto link = [&](const YAML::Node& node, const std::string& name) -> LinkIndex {
+    if (auto index = model.find_link(name)) return *index;
+    yaml.error(node, "the URDF " + robot.urdf.string() + " has no link '" + name + "'");
+    return -1;
+  };
+  robot.base_link = link(base, *base_name);
+  robot.tip_link = link(tip, *tip_name);
+
+  if (top.has("disabled_collisions")) {
+    const YAML::Node pairs = top.optional("disabled_collisions");
+    if (!pairs.IsSequence()) yaml.error(pairs, "disabled_collisions must be a list of [link, link] pairs");
+    for (std::size_t i = 0; pairs.IsSequence() && i < pairs.size(); ++i) {
+      const auto names = yaml.strings(pairs[i], "disabled_collisions entry");
+      if (!names) continue;
+      if (names->size() != 2) {
+        yaml.error(pairs[i], "each disabled_collisions entry names two links");
+        continue;
+      }
+      const LinkIndex a = link(pairs[i][0], (*names)[0]), b = link(pairs[i][1], (*names)[1]);
+      if (a >= 0 && b >= 0) robot.disabled_collisions.emplace_back(a, b);
+    }
+  }
+  robot.home = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.variable_count()));
+  if (top.has("home")) {
+    const YAML::Node home = top.optional("home");
+    if (!home.IsSequence() || home.size() != model.variable_count()) {
+      std::string names;
+      for (const std::string& n : model.variable_names()) names += (names.empty() ? "" : ", ") + n;
+      yaml.error(home, "home must list " + std::to_string(model.variable_count()) + " joint values: " + names);
+    } else {
+      for (std::size_t i = 0; i < home.size(); ++i) {
+        if (auto v = yaml.number(home[i], "home[" + std::to_string(i) + "]")) robot.home[static_cast<Eigen::Index>(i)] = *v;
+      }
+      if (!model.within_limits(robot.home)) yaml.error(home, "home lies outside the joint limits");
+    }
+  }
+  diagnostics.throw_if_any();
+
+  try {
+    if (*ik_name == "ur_analytic") {
+      robot.ik = std::make_shared<UrAnalyticIk>(robot.model, robot.base_link, robot.tip_link);
+    } else {
+      robot.ik = std::make_shared<NumericIk>(robot.model, robot.base_link, robot.tip_link);
+    }
+  } catch (const std::invalid_argument& e) {
+    yaml.error(ik, e.what());
+  }
+  diagnostics.throw_if_any();
+  return RobotDescription(std::move(robot));
+}
+
+}  // namespace cluttertamp::io

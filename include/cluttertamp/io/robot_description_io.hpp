@@ -1,0 +1,16 @@
+#pragma once
+
+#include <filesystem>
+
+#include "cluttertamp/export.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
+
+namespace cluttertamp::io {
+
+/// Reads a robot description file (docs/file-formats.md, "Robot description files")
+/// and the URDF it names; relative paths are taken relative to the file.
+/// Throws InputError with file:line:column for a bad description and with the URDF's
+/// file and element for a bad model.
+CLUTTERTAMP_API robot::RobotDescription load_robot_description(const std::filesystem::path& file);
+
+}  // namespace cluttertamp::io

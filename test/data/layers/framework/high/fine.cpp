@@ -1,0 +1,4 @@
+#include "cluttertamp/low/fine.hpp"
+#include "cluttertamp/high/up.hpp"
+#include "high/private.hpp"
+#include <vector>

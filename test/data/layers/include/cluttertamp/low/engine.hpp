@@ -1,0 +1,2 @@
+#pragma once
+#include <fcl/narrowphase/collision.h>

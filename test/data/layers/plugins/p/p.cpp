@@ -1,0 +1,2 @@
+#include "cluttertamp/high/up.hpp"
+#include "low/private.hpp"
