@@ -7,21 +7,22 @@ find_package(nlohmann_json 3.10 REQUIRED)
 find_package(CLI11 2.1 REQUIRED)
 find_package(fcl 0.7 REQUIRED)
 find_package(urdfdom REQUIRED)
-# OMPL has no imported target: wrap its variables, headers as SYSTEM. Plugins only.
+# Wraps a package found in module mode (include directories and libraries in
+# variables) as an INTERFACE target whose headers are SYSTEM headers.
+function(cluttertamp_wrap_package target include_dirs libraries)
+  if(NOT TARGET ${target})
+    add_library(${target} INTERFACE)
+    target_include_directories(${target} SYSTEM INTERFACE ${include_dirs})
+    target_link_libraries(${target} INTERFACE ${libraries})
+  endif()
+endfunction()
+# OMPL has no imported target. Physics and plugins only.
 find_package(ompl 1.5 REQUIRED)
-if(NOT TARGET cluttertamp_ompl)
-  add_library(cluttertamp_ompl INTERFACE)
-  target_include_directories(cluttertamp_ompl SYSTEM INTERFACE ${OMPL_INCLUDE_DIRS})
-  target_link_libraries(cluttertamp_ompl INTERFACE ${OMPL_LIBRARIES})
-endif()
+cluttertamp_wrap_package(cluttertamp_ompl "${OMPL_INCLUDE_DIRS}" "${OMPL_LIBRARIES}")
 # Bullet: module mode (Debian's config file has broken relative paths); single
-# precision. Wrapped like OMPL, headers as SYSTEM; the core library's physics/ only.
+# precision. The physics layer only.
 find_package(Bullet REQUIRED)
-if(NOT TARGET cluttertamp_bullet)
-  add_library(cluttertamp_bullet INTERFACE)
-  target_include_directories(cluttertamp_bullet SYSTEM INTERFACE ${BULLET_INCLUDE_DIRS})
-  target_link_libraries(cluttertamp_bullet INTERFACE ${BULLET_LIBRARIES})
-endif()
+cluttertamp_wrap_package(cluttertamp_bullet "${BULLET_INCLUDE_DIRS}" "${BULLET_LIBRARIES}")
 # The browser side (`cluttertamp view`, `cluttertamp guide`): cpp-httplib (Debian builds
 # it as a shared library; its pkg-config flags enable TLS, which we do not use) and
 # three.js from libjs-three, inlined into every plan page. The CLI only.

@@ -66,6 +66,19 @@ TEST_F(ViewerTest, ReplayMovesPushedAndHeldObjectsToWhereThePlanLeavesThem) {
   const Eigen::Vector3d o3 = last_position(replay, "o3");
   EXPECT_NEAR(o3.x(), pushed[0], 1e-3);
   EXPECT_NEAR(o3.y(), pushed[1], 1e-3);
+  EXPECT_TRUE(replay["warnings"].empty()) << replay["warnings"];
+
+  // The push recorded where o3 was at every time of the step: from its scene pose to
+  // where the physics left it, which the page draws without running the physics.
+  const Json result = Json::parse(io::result_to_json(problem, run.result, run.info));
+  const Json& trajectory = result["plan"][0]["trajectory"];
+  ASSERT_TRUE(trajectory["objects"].contains("o3")) << trajectory;
+  const Json& path = trajectory["objects"]["o3"];
+  ASSERT_EQ(path.size(), trajectory["times"].size());
+  const Eigen::Vector3d start = problem.scene.objects[*problem.scene.find_object("o3")].world_T_object.translation();
+  EXPECT_NEAR(path.front()[0].get<double>(), start.x(), 1e-9);
+  EXPECT_NEAR(path.front()[1].get<double>(), start.y(), 1e-9);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(path.back()[i].get<double>(), pushed[static_cast<std::size_t>(i)], 1e-12);
   const Eigen::Vector3d exit = problem.scene.world_T_exit.translation();
   EXPECT_LT((last_position(replay, "target") - exit).norm(), 0.01);
   double t = -1;
@@ -76,6 +89,23 @@ TEST_F(ViewerTest, ReplayMovesPushedAndHeldObjectsToWhereThePlanLeavesThem) {
   EXPECT_NEAR(t, replay["duration"].get<double>(), 1e-6);
   EXPECT_EQ(replay["drawings"].size(), run.result.drawings.size());
   EXPECT_FALSE(replay["robot"].is_null());  // the retrieval moves the arm
+}
+
+// A result without object paths (written by 0.1.0) still draws: the pushed object jumps
+// to its end pose at the end of the push, and the page says why.
+TEST_F(ViewerTest, APushWithoutObjectPathsMovesItsObjectsToTheirEndPosesAndSaysSo) {
+  const Problem problem = io::load_problem(kProblems / "push/retrieve-push.yaml");
+  const run::RunOutcome run = run::plan(problem, registry_, {});
+  ASSERT_TRUE(run.result.solved) << run.result.reason;
+  Json result = Json::parse(io::result_to_json(problem, run.result, run.info));
+  result["plan"][0]["trajectory"].erase("objects");
+  const Json replay = Json::parse(viewer::replay_json(problem, {result.dump(), "", "old.json"}));
+  ASSERT_EQ(replay["warnings"].size(), 1u);
+  EXPECT_NE(replay["warnings"][0].get<std::string>().find("no object paths"), std::string::npos) << replay["warnings"];
+  const std::vector<double>& pushed = run.result.plan[0].values.at("o3");
+  const Eigen::Vector3d o3 = last_position(replay, "o3");
+  EXPECT_NEAR(o3.x(), pushed[0], 1e-5);  // the page rounds to 10 µm
+  EXPECT_NEAR(o3.y(), pushed[1], 1e-5);
 }
 
 // Objects that do not fit the buffer are carried out of the workspace (a pick with no

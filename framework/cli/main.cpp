@@ -15,12 +15,9 @@ using cluttertamp::run::ExitCode;
 
 namespace {
 
-// In the order `--help` lists them.
-constexpr cli::CommandDeclaration kCommands[] = {
-    cli::declare_plan,     cli::declare_observe,  cli::declare_view,          cli::declare_validate,
-    cli::declare_plugins,  cli::declare_pddl,     cli::declare_validate_plan, cli::declare_generate,
-    cli::declare_guide,    cli::declare_self_collisions, cli::declare_bench,  cli::declare_compare,
-};
+#define CLUTTERTAMP_CLI_LIST(name) cli::declare_##name,
+constexpr cli::CommandDeclaration kCommands[] = {CLUTTERTAMP_CLI_COMMANDS(CLUTTERTAMP_CLI_LIST)};
+#undef CLUTTERTAMP_CLI_LIST
 
 // Runs the parsed command; InputError and the rest become exit codes here, in one place.
 int run(const cli::Command& command) {

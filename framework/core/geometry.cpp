@@ -59,6 +59,14 @@ double yaw_of(const Eigen::Isometry3d& pose) {
   return std::atan2(x.y(), x.x());
 }
 
+Eigen::Isometry3d with_planar_pose(const Eigen::Isometry3d& pose, const Eigen::Vector3d& x_y_yaw) {
+  Eigen::Isometry3d moved = pose;
+  const double turn = x_y_yaw.z() - yaw_of(pose);
+  moved.linear() = Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix() * pose.linear();
+  moved.translation().head<2>() = x_y_yaw.head<2>();
+  return moved;
+}
+
 std::vector<double> pose_values(const Eigen::Isometry3d& pose) {
   const Eigen::Quaterniond q(pose.linear());
   const Eigen::Vector3d t = pose.translation();

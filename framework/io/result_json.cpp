@@ -19,10 +19,20 @@ Json names(const Scene& scene, const std::vector<ObjectIndex>& objects) {
   return out;
 }
 
-Json trajectory_json(const Trajectory& t) {
+Json trajectory_json(const Scene& scene, const Trajectory& t) {
   Json positions = Json::array();
   for (const Eigen::VectorXd& q : t.positions) positions.push_back(std::vector<double>(q.data(), q.data() + q.size()));
-  return Json{{"joint_names", t.joint_names}, {"times", t.times}, {"positions", positions}};
+  Json out{{"joint_names", t.joint_names}, {"times", t.times}, {"positions", positions}};
+  if (!t.object_paths.empty()) {
+    Json objects = Json::object();
+    for (const auto& [object, poses] : t.object_paths) {
+      Json path = Json::array();
+      for (const Eigen::Vector3d& p : poses) path.push_back({p.x(), p.y(), p.z()});
+      objects[names(scene, {object})[0].get<std::string>()] = std::move(path);
+    }
+    out["objects"] = std::move(objects);
+  }
+  return out;
 }
 
 Json task_json(const Task& task) {
@@ -43,7 +53,7 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
     const PlanStep& step = result.plan[i];
     Json s{{"index", i}, {"action", step.action}, {"arguments", step.arguments}, {"objects", names(scene, step.objects)},
            {"values", step.values}};
-    s["trajectory"] = step.trajectory ? trajectory_json(*step.trajectory) : Json(nullptr);
+    s["trajectory"] = step.trajectory ? trajectory_json(scene, *step.trajectory) : Json(nullptr);
     plan.push_back(std::move(s));
   }
   Json failures = Json::array();

@@ -589,6 +589,12 @@ PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldStat
     t.positions.push_back(path.states[i].gripper);
     t.times.push_back(i == 0 ? 0.0 : t.times.back() + path.controls[i - 1].duration);
   }
+  for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
+    const auto moves = [&](const PushState& s) { return (s.objects[i].pose - path.states.front().objects[i].pose).norm() > 1e-5; };
+    if (!std::any_of(path.states.begin(), path.states.end(), moves)) continue;
+    std::vector<Eigen::Vector3d>& poses = t.object_paths[i];
+    for (const PushState& s : path.states) poses.push_back(s.objects[i].pose);
+  }
   PlanStep step;
   step.action = "push";
   step.trajectory = t;
@@ -619,10 +625,7 @@ std::vector<PushControl> controls_of(const PlanStep& step) {
 WorldState world_state_of(const WorldState& before, const PushState& state) {
   WorldState after = before;
   for (std::size_t i = 0; i < after.world_T_objects.size() && i < state.objects.size(); ++i) {
-    Eigen::Isometry3d& pose = after.world_T_objects[i];
-    const double turn = state.objects[i].pose.z() - yaw_of(pose);
-    pose.linear() = Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix() * pose.linear();
-    pose.translation().head<2>() = state.objects[i].pose.head<2>();
+    after.world_T_objects[i] = with_planar_pose(after.world_T_objects[i], state.objects[i].pose);
   }
   return after;
 }

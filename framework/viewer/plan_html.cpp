@@ -5,11 +5,12 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "cluttertamp/physics/push_planning.hpp"
+#include "cluttertamp/physics/push_world.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/io/shape_json.hpp"
 #include "cluttertamp/io/text_file.hpp"
@@ -38,7 +39,6 @@ using io::shape_json;
 
 // Beyond these a result.json is not a plan but a way to exhaust memory.
 constexpr double kMaxFrames = 1e5;
-constexpr double kMaxPropagations = 1e5;
 
 Eigen::Isometry3d planar_pose(const Eigen::Vector3d& xy_yaw, double z) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -305,55 +305,92 @@ class Replayer {
     if (state_.held) tool_T_held_ = tool_pose(links).inverse() * state_.world_T_objects[*state_.held];
   }
 
+  // A push drawn from what the result recorded: the pusher's planar poses and, for each
+  // object it moved, that object's at the same times, both linear between them. A
+  // result without object paths (written before they were recorded) moves each pushed
+  // object to its end pose at the end of the step, and says so.
   double push(const Json& step, double start) {
-    PlanStep plan_step;
-    plan_step.action = "push";
-    plan_step.values = step.at("values").get<std::map<std::string, std::vector<double>>>();
-    const std::vector<physics::PushControl> controls = physics::controls_of(plan_step);
-    const auto step_values = plan_step.values.find("step");
-    const double dt = step_values != plan_step.values.end() && !step_values->second.empty() ? step_values->second.front() : 0.1;
-    const auto positions = step.at("trajectory").at("positions").get<std::vector<std::vector<double>>>();
-    if (positions.empty() || positions.front().size() != 3 || !(dt >= 1e-4) || !std::isfinite(dt)) {
-      throw InputError({name_, 0, 0}, "a push step needs gripper poses [x y yaw] and a step of at least 0.1 ms");
-    }
-    double propagations = 0;
-    for (const physics::PushControl& c : controls) {
-      if (!std::isfinite(c.duration) || c.duration < 0 || !c.velocity.allFinite()) {
-        throw InputError({name_, 0, 0}, "a push control needs a finite velocity and duration");
+    const Json& trajectory = step.at("trajectory");
+    const auto times = trajectory.at("times").get<std::vector<double>>();
+    const auto positions = trajectory.at("positions").get<std::vector<std::vector<double>>>();
+    if (positions.empty() || times.size() != positions.size()) throw InputError({name_, 0, 0}, "a push step needs one gripper pose per time");
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      if (positions[k].size() != 3 || !std::isfinite(times[k]) || times[k] < 0 || (k > 0 && times[k] < times[k - 1])) {
+        throw InputError({name_, 0, 0}, "a push step needs gripper poses [x y yaw] at finite times from 0, never decreasing");
       }
-      propagations += c.duration / dt;
     }
-    if (propagations > kMaxPropagations) throw InputError({name_, 0, 0}, "a push of " + std::to_string(propagations) + " propagations is too long to replay");
-    const physics::PushWorld world(scene_, state_);
-    physics::PushPath path;
-    path.step = dt;
-    path.states.push_back(world.state_of(state_, Eigen::Vector3d(positions[0][0], positions[0][1], positions[0][2])));
-    // One propagation per frame: a control of n steps is n propagations in the planner too.
-    std::vector<physics::PushControl> per_step;
-    for (const physics::PushControl& c : controls) {
-      const long n = std::max(1L, std::lround(c.duration / dt));
-      for (long i = 0; i < n; ++i) per_step.push_back({c.velocity, dt});
+    if (times.back() / frame_step_ > kMaxFrames) throw InputError({name_, 0, 0}, "a push of " + std::to_string(times.back()) + " s is too long to replay");
+    std::map<ObjectIndex, std::vector<Eigen::Vector3d>> paths;
+    if (const auto objects = trajectory.find("objects"); objects != trajectory.end()) {
+      for (const auto& [id, poses] : objects->items()) {
+        const ObjectIndex object = object_index(id);
+        for (const Json& pose : poses) paths[object].push_back(planar(pose.get<std::vector<double>>()));
+        if (paths[object].size() != times.size()) throw InputError({name_, 0, 0}, "object '" + id + "' needs one pose per time of its push");
+      }
+    } else if (!step.at("objects").empty()) {
+      warnings_.push_back("step " + std::to_string(step.value("index", 0)) +
+                          ": the result has no object paths (written by an older cluttertamp); pushed objects jump to their end poses");
     }
-    if (!physics::simulate(world, path, per_step)) {
-      warnings_.push_back("step " + std::to_string(step.value("index", 0)) + ": the push left the valid states in replay after " +
-                          std::to_string(path.states.size() - 1) + " of " + std::to_string(per_step.size()) + " propagations");
-    }
+
+    // The pusher's height as the physics places it: its bottom a clearance above the
+    // surface the target stands on.
+    const physics::PushSettings pusher;
+    const ObjectIndex target = scene_.target;
+    const double pusher_z = world_bounds(scene_.objects.at(target).shape, state_.world_T_objects.at(target)).min().z() +
+                            pusher.gripper_clearance + pusher.gripper_size.z() / 2;
+    std::vector<double> at = times;  // every recorded time and every frame_step between
+    for (double t = 0.0; t < times.back(); t += frame_step_) at.push_back(t);
+    std::sort(at.begin(), at.end());
+    at.erase(std::unique(at.begin(), at.end(), [](double a, double b) { return b - a < 1e-6; }), at.end());
     pushed_ = true;
-    const double pusher_z = world.plane_z() + world.settings().gripper_size.z() / 2;
-    const physics::PushState& first = path.states.front();
-    for (std::size_t k = 0; k < path.states.size(); ++k) {
-      const physics::PushState& s = path.states[k];
-      Json frame{{"t", rounded(start + k * dt)}, {"pusher", pose_json(planar_pose(s.gripper, pusher_z))}};
-      const WorldState w = physics::world_state_of(state_, s);
+    std::size_t k = 0;
+    for (const double t : at) {
+      while (k + 1 < times.size() && times[k + 1] < t) ++k;
+      const std::size_t k1 = std::min(k + 1, times.size() - 1);
+      const double span = times[k1] - times[k];
+      const double s = span > 0 ? std::clamp((t - times[k]) / span, 0.0, 1.0) : 1.0;
+      const Eigen::Vector3d pusher_pose = between(planar(positions[k]), planar(positions[k1]), s);
+      Json frame{{"t", rounded(start + t)}, {"pusher", pose_json(planar_pose(pusher_pose, pusher_z))}};
       Json objects = Json::object();
-      for (ObjectIndex i = 0; i < scene_.objects.size(); ++i) {
-        if ((s.objects[i].pose - first.objects[i].pose).norm() > 1e-5) objects[scene_.objects[i].id] = pose_json(w.world_T_objects[i]);
+      for (const auto& [object, poses] : paths) {
+        const Eigen::Vector3d pose = between(poses[k], poses[k1], s);
+        if ((pose - poses.front()).norm() > 1e-5) objects[scene_.objects[object].id] = pose_json(with_planar_pose(state_.world_T_objects[object], pose));
       }
-      if (!objects.empty()) frame["objects"] = objects;
+      if (!objects.empty()) frame["objects"] = std::move(objects);
       frames_.push_back(std::move(frame));
     }
-    state_ = physics::world_state_of(state_, path.states.back());
-    return (path.states.size() - 1) * dt;
+    for (const auto& [object, poses] : paths) state_.world_T_objects[object] = with_planar_pose(state_.world_T_objects[object], poses.back());
+    if (paths.empty()) {  // the end poses the step's values hold, drawn at its end
+      Json objects = Json::object();
+      for (const ObjectIndex object : objects_of(step)) {
+        const auto end = step.at("values").find(scene_.objects[object].id);
+        if (end == step.at("values").end()) continue;
+        state_.world_T_objects[object] = with_planar_pose(state_.world_T_objects[object], planar(end->get<std::vector<double>>()));
+        objects[scene_.objects[object].id] = pose_json(state_.world_T_objects[object]);
+      }
+      if (!objects.empty()) frames_.back()["objects"] = std::move(objects);
+    }
+    return times.back();
+  }
+
+  ObjectIndex object_index(const std::string& id) const {
+    for (ObjectIndex i = 0; i < scene_.objects.size(); ++i) {
+      if (scene_.objects[i].id == id) return i;
+    }
+    throw InputError({name_, 0, 0}, "the result names an object '" + id + "' that the scene does not have");
+  }
+
+  Eigen::Vector3d planar(const std::vector<double>& v) const {
+    if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+      throw InputError({name_, 0, 0}, "a planar pose needs three finite numbers [x y yaw]");
+    }
+    return {v[0], v[1], v[2]};
+  }
+
+  // Linear in x and y, the shorter way round in yaw.
+  static Eigen::Vector3d between(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double s) {
+    const double turn = std::remainder(b.z() - a.z(), 2 * M_PI);
+    return {a.x() + s * (b.x() - a.x()), a.y() + s * (b.y() - a.y()), a.z() + s * turn};
   }
 
   const Scene& scene_;

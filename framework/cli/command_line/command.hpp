@@ -29,18 +29,15 @@ struct CommonOptions {
 /// Declares one subcommand on `app`, its arguments owned by the returned Command.
 using CommandDeclaration = Command (*)(CLI::App& app, CommonOptions& common);
 
-Command declare_plan(CLI::App& app, CommonOptions& common);
-Command declare_observe(CLI::App& app, CommonOptions& common);
-Command declare_view(CLI::App& app, CommonOptions& common);
-Command declare_validate(CLI::App& app, CommonOptions& common);
-Command declare_plugins(CLI::App& app, CommonOptions& common);
-Command declare_pddl(CLI::App& app, CommonOptions& common);
-Command declare_validate_plan(CLI::App& app, CommonOptions& common);
-Command declare_generate(CLI::App& app, CommonOptions& common);
-Command declare_guide(CLI::App& app, CommonOptions& common);
-Command declare_self_collisions(CLI::App& app, CommonOptions& common);
-Command declare_bench(CLI::App& app, CommonOptions& common);
-Command declare_compare(CLI::App& app, CommonOptions& common);
+// The subcommands, in the order `--help` lists them: X(name) for each, the command
+// declared by declare_name() in command_line/name.cpp.
+#define CLUTTERTAMP_CLI_COMMANDS(X) \
+  X(plan) X(observe) X(view) X(validate) X(plugins) X(pddl) X(validate_plan) X(generate) X(guide) \
+  X(self_collisions) X(bench) X(compare)
+
+#define CLUTTERTAMP_CLI_DECLARE(name) Command declare_##name(CLI::App& app, CommonOptions& common);
+CLUTTERTAMP_CLI_COMMANDS(CLUTTERTAMP_CLI_DECLARE)
+#undef CLUTTERTAMP_CLI_DECLARE
 
 // Options several commands share, worded the same everywhere.
 void add_verbosity(CLI::App& app, Verbosity& verbosity, const std::string& verbose_help);

@@ -50,6 +50,10 @@ const char* shape_name(const Shape& shape);
 /// The heading of the pose's x axis in the world x-y plane (rad, from +x towards +y).
 double yaw_of(const Eigen::Isometry3d& pose);
 
+/// `pose` moved in the world x-y plane to (x, y) and turned about the world z axis until
+/// its yaw is `x_y_yaw.z()` (m, m, rad); its height and tilt stay.
+Eigen::Isometry3d with_planar_pose(const Eigen::Isometry3d& pose, const Eigen::Vector3d& x_y_yaw);
+
 /// A pose as result.json writes it: [x y z qx qy qz qw] (metres, unit quaternion).
 std::vector<double> pose_values(const Eigen::Isometry3d& pose);
 

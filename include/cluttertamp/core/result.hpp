@@ -19,6 +19,10 @@ struct Trajectory {
   std::vector<std::string> joint_names;
   std::vector<double> times;
   std::vector<Eigen::VectorXd> positions;  ///< one per time, in joint_names order
+  /// The objects the step moves without holding them (a push), each with its planar
+  /// pose (x, y, yaw; m, m, rad; world frame) at every time: enough to draw the step
+  /// without its physics.
+  std::map<ObjectIndex, std::vector<Eigen::Vector3d>> object_paths;
 };
 
 /// Why something could not be done, and which movable objects were in the way.

@@ -17,7 +17,7 @@ namespace cluttertamp::plugin {
 /// KinodynamicSettings::max_propagations; PlanningContext::within is gone).
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>_<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 15
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 16
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.
