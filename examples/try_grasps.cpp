@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     const auto sampler = registry.create<plugin::GraspSampler>(choice->second.name, choice->second.parameters, choice->second.where);
-    collision::CollisionWorld world(problem.scene, problem.robot.loaded);
+    collision::SharedWorld world(problem.scene, problem.robot.loaded);
     std::map<std::string, std::uint64_t> counters;
     const plugin::Samplers samplers;
     plugin::PlanningContext context{problem, plugin::Deadline::after(problem.time_limit), problem.seed, counters, samplers, &world};
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     state.robot_configuration = robot::initial_configuration(problem.robot);
     std::cout << "grasp sampler '" << choice->second.name << "':\n";
     for (ObjectIndex i = 0; i < problem.scene.objects.size(); ++i) {
-      const plugin::GraspAnswer answer = sampler->sample(context, {i, &state});
+      const plugin::GraspAnswer answer = sampler->sample(context, {i, state});
       std::cout << "  " << problem.scene.objects[i].id << ": " << answer.usable.size() << " usable";
       if (const plugin::BlockedGrasp* b = answer.least_blocked()) {
         std::cout << ", least blocked by";

@@ -3,7 +3,7 @@
 // objects in the way; same seed, same trajectories.
 #include <gtest/gtest.h>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
@@ -35,9 +35,10 @@ class Manipulation : public ::testing::Test {
   ObjectIndex add(const std::string& id, double x, double y) { return test::add_cylinder(problem_.scene, id, x, y, 0.035); }
 
   plugin::PlanningContext& context(std::uint64_t seed = 3) {
-    world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+    shared_ = std::make_unique<collision::SharedWorld>(problem_.scene, problem_.robot.loaded);
+    world_ = &shared_->world();
     context_ = std::make_unique<plugin::PlanningContext>(
-        plugin::PlanningContext{problem_, plugin::Deadline::after(30), seed, counters_, samplers_, world_.get()});
+        plugin::PlanningContext{problem_, plugin::Deadline::after(30), seed, counters_, samplers_, shared_.get()});
     return *context_;
   }
 
@@ -86,7 +87,8 @@ class Manipulation : public ::testing::Test {
   Problem problem_;
   plugin::Registry registry_{plugin::Registry::default_search_paths()};
   plugin::Samplers samplers_;
-  std::unique_ptr<collision::CollisionWorld> world_;
+  std::unique_ptr<collision::SharedWorld> shared_;
+  collision::CollisionWorld* world_ = nullptr;
   std::unique_ptr<plugin::PlanningContext> context_;
   std::map<std::string, std::uint64_t> counters_;
 };

@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "cluttertamp/plugin/context.hpp"
@@ -25,6 +27,49 @@ TEST(Parameters, WrongTypeNamesTheValuesLocation) {
   p.set("T", std::string("many"), {"problem.yaml", 12, 8});
   const Diagnostics d = test::expect_input_error([&] { p.get_int("T", 1); });
   EXPECT_TRUE(test::has_error(d, 12, 8, "parameter 'T' must be an integer, not a string"));
+}
+
+TEST(Parameters, RangesRejectValuesOutsideThemAndNaN) {
+  EXPECT_TRUE(Range::open(0, 1).contains(0.5));
+  EXPECT_FALSE(Range::open(0, 1).contains(0));
+  EXPECT_TRUE(Range::closed_open(0, 1).contains(0));
+  EXPECT_FALSE(Range::closed_open(0, 1).contains(1));
+  EXPECT_TRUE(Range::at_least(1).contains(1e9));
+  EXPECT_FALSE(Range::above(0).contains(std::nan("")));
+  EXPECT_FALSE(Range{}.contains(std::nan("")));
+  EXPECT_EQ(Range::open_closed(0, 100).str(), "(0, 100]");
+  EXPECT_EQ(Range::at_least(1).str(), "at least 1");
+  EXPECT_EQ(Range{}.str(), "");
+
+  Parameters p;
+  p.set("step", 2.0, {"problem.yaml", 3, 9});
+  p.set("heights", std::vector<double>{0.5, 1.5}, {"problem.yaml", 4, 12});
+  p.set("count", std::int64_t{0}, {"problem.yaml", 5, 10});
+  const Diagnostics d = test::expect_input_error([&] { p.get_double("step", 0.1, "m", Range::open(0, 1)); });
+  EXPECT_TRUE(test::has_error(d, 3, 9, "parameter 'step' must be in (0, 1), not 2"));
+  const Diagnostics h = test::expect_input_error([&] { p.get_vector("heights", {}, "", Range::open(0, 1)); });
+  EXPECT_TRUE(test::has_error(h, 4, 12, "parameter 'heights' must be in (0, 1), not 1.5"));
+  const Diagnostics c = test::expect_input_error([&] { p.get_int("count", 1, "", Range::at_least(1)); });
+  EXPECT_TRUE(test::has_error(c, 5, 10, "parameter 'count' must be at least 1, not 0"));
+}
+
+// The registry's copies collect every bad value (getters return the default), so one
+// run reports them all; the declarations carry help and range for `plugins -v`.
+TEST(Parameters, CollectingCopiesReportEveryBadValue) {
+  Parameters given;
+  given.set("step", 2.0, {"problem.yaml", 3, 9});
+  given.set("name", std::int64_t{4}, {"problem.yaml", 4, 9});
+  const Parameters p = given.fresh(/*collect=*/true);
+  EXPECT_DOUBLE_EQ(p.get_double("step", 0.1, "m per step", Range::open(0, 1)), 0.1);
+  EXPECT_EQ(p.get_string("name", "rrt"), "rrt");
+  p.require(false, "step", "must agree with name");
+  ASSERT_EQ(p.errors().size(), 3u) << p.errors().str();
+  EXPECT_TRUE(test::has_error(p.errors(), 4, 9, "parameter 'name' must be a string, not an integer"));
+  EXPECT_TRUE(test::has_error(p.errors(), 3, 9, "parameter 'step' must agree with name"));
+  ASSERT_EQ(p.declarations().size(), 2u);
+  EXPECT_EQ(p.declarations()[0].help, "m per step");
+  EXPECT_EQ(p.declarations()[0].range, "(0, 1)");
+  EXPECT_TRUE(given.fresh().errors().empty());
 }
 
 TEST(Parameters, UnreadKeysAreReported) {

@@ -190,7 +190,7 @@ TEST_F(PushSamplerTest, ASinglePushMovesAnIsolatedCylinderIntoItsGoalRegion) {
     SCOPED_TRACE(quick ? "quick pass" : "approach states and kinodynamic search");
     Parameters parameters;
     if (!quick) parameters.set("quick_rounds", std::int64_t{0});
-    const plugin::PushQuery query{1, centre, 0.04, &initial, {0.45, 0.0, 0.0}};
+    const plugin::PushQuery query{1, centre, 0.04, initial, {0.45, 0.0, 0.0}};
     counters_.clear();
     const plugin::PushAnswer answer = push(scene, query, parameters);
     EXPECT_EQ(counters_["quick_pushes"], quick ? 1u : 0u) << "the pass that pushed";
@@ -216,11 +216,11 @@ TEST_F(PushSamplerTest, ASinglePushMovesAnIsolatedCylinderIntoItsGoalRegion) {
 TEST_F(PushSamplerTest, APushOffTheShelfOrOfAFixedObjectIsRefusedWithAReason) {
   Scene scene = board_scene({{1.0, -0.35}, {0.8, 0.0}});
   const WorldState initial = WorldState::initial(scene);
-  const plugin::PushAnswer off = push(scene, {1, {1.4, 0.0}, 0.03, &initial, {0.45, 0, 0}}, {});
+  const plugin::PushAnswer off = push(scene, {1, {1.4, 0.0}, 0.03, initial, {0.45, 0, 0}}, {});
   ASSERT_TRUE(off.failure);
   EXPECT_NE(off.failure->reason.find("off the support the target stands on"), std::string::npos) << off.failure->reason;
   scene.objects[1].movable = false;
-  const plugin::PushAnswer fixed = push(scene, {1, {0.8, 0.2}, 0.03, &initial, {0.45, 0, 0}}, {});
+  const plugin::PushAnswer fixed = push(scene, {1, {0.8, 0.2}, 0.03, initial, {0.45, 0, 0}}, {});
   ASSERT_TRUE(fixed.failure);
   EXPECT_NE(fixed.failure->reason.find("cannot be pushed"), std::string::npos) << fixed.failure->reason;
 }

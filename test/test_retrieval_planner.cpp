@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
@@ -58,9 +58,10 @@ class RetrievalPlanner : public ::testing::Test {
 
   Result plan(std::uint64_t seed = 1, const std::string& name = "retrieval_graph", const Parameters& parameters = {}) {
     auto planner = registry_.create<plugin::TaskPlanner>(name, parameters);
-    world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+    shared_ = std::make_unique<collision::SharedWorld>(problem_.scene, problem_.robot.loaded);
+    world_ = &shared_->world();
     std::map<std::string, std::uint64_t> counters;
-    plugin::PlanningContext context{problem_, plugin::Deadline::after(60), seed, counters, samplers_, world_.get()};
+    plugin::PlanningContext context{problem_, plugin::Deadline::after(60), seed, counters, samplers_, shared_.get()};
     WorldState s = WorldState::initial(problem_.scene);
     s.robot_configuration = problem_.robot.loaded->home();
     return planner->solve(context, s);
@@ -88,9 +89,10 @@ class RetrievalPlanner : public ::testing::Test {
 
   // A checker over the current scene from the robot's home configuration, seed 1.
   retrieval::RemovalChecker& removal_checker() {
-    world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+    shared_ = std::make_unique<collision::SharedWorld>(problem_.scene, problem_.robot.loaded);
+    world_ = &shared_->world();
     context_ = std::make_unique<plugin::PlanningContext>(
-        plugin::PlanningContext{problem_, plugin::Deadline::after(60), 1, counters_, samplers_, world_.get()});
+        plugin::PlanningContext{problem_, plugin::Deadline::after(60), 1, counters_, samplers_, shared_.get()});
     initial_ = WorldState::initial(problem_.scene);
     initial_.robot_configuration = problem_.robot.loaded->home();
     checker_ = std::make_unique<retrieval::RemovalChecker>(*context_, initial_, "buffer");
@@ -104,7 +106,8 @@ class RetrievalPlanner : public ::testing::Test {
   std::unique_ptr<retrieval::RemovalChecker> checker_;
   plugin::Registry registry_{plugin::Registry::default_search_paths()};
   plugin::Samplers samplers_;
-  std::unique_ptr<collision::CollisionWorld> world_;
+  std::unique_ptr<collision::SharedWorld> shared_;
+  collision::CollisionWorld* world_ = nullptr;
 };
 
 TEST_F(RetrievalPlanner, RetrievesAnUnblockedTargetWithoutRemovingAnything) {
@@ -149,9 +152,10 @@ TEST_F(RetrievalPlanner, PrunesToTheObjectsOfTheRemovalSequence) {
   const std::vector<ObjectIndex> wall = add_wall();
   const ObjectIndex aside = add("aside", 1.12, 0.22);
   auto pruner = registry_.create<plugin::ObjectPruner>("retrieval_graph");
-  world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+  shared_ = std::make_unique<collision::SharedWorld>(problem_.scene, problem_.robot.loaded);
+    world_ = &shared_->world();
   std::map<std::string, std::uint64_t> counters;
-  plugin::PlanningContext context{problem_, plugin::Deadline::after(30), 1, counters, samplers_, world_.get()};
+  plugin::PlanningContext context{problem_, plugin::Deadline::after(30), 1, counters, samplers_, shared_.get()};
   WorldState s = WorldState::initial(problem_.scene);
   s.robot_configuration = problem_.robot.loaded->home();
   const plugin::PruneAnswer answer = pruner->prune(context, s);

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
@@ -30,29 +30,32 @@ class SamplerScene : public ::testing::Test {
   }
 
   plugin::GraspAnswer grasp(ObjectIndex object, const Parameters& parameters = {}, std::uint64_t seed = 1) {
-    world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+    shared_ = std::make_unique<collision::SharedWorld>(problem_.scene, problem_.robot.loaded);
+    world_ = &shared_->world();
     auto sampler = registry_.create<plugin::GraspSampler>("grasp_side", parameters);
     state_ = WorldState::initial(problem_.scene);
     state_.robot_configuration = problem_.robot.loaded->home();
-    plugin::PlanningContext context{problem_, plugin::Deadline::after(10), seed, counters_, samplers_, world_.get()};
-    return sampler->sample(context, {object, &state_});
+    plugin::PlanningContext context{problem_, plugin::Deadline::after(10), seed, counters_, samplers_, shared_.get()};
+    return sampler->sample(context, {object, state_});
   }
 
   plugin::MotionAnswer motion(const Eigen::VectorXd& start, const Eigen::VectorXd& goal, std::uint64_t seed = 1,
                               std::int64_t max_checks = 400000) {
-    world_ = std::make_unique<collision::CollisionWorld>(problem_.scene, problem_.robot.loaded);
+    shared_ = std::make_unique<collision::SharedWorld>(problem_.scene, problem_.robot.loaded);
+    world_ = &shared_->world();
     Parameters parameters;
     parameters.set("max_checks", max_checks);
     auto sampler = registry_.create<plugin::MotionSampler>("motion_ompl", parameters);
     state_ = WorldState::initial(problem_.scene);
     state_.robot_configuration = start;
-    plugin::PlanningContext context{problem_, plugin::Deadline::after(600), seed, counters_, samplers_, world_.get()};
-    return sampler->plan(context, {start, goal, &state_});
+    plugin::PlanningContext context{problem_, plugin::Deadline::after(600), seed, counters_, samplers_, shared_.get()};
+    return sampler->plan(context, {start, goal, state_});
   }
 
   Problem problem_;
   plugin::Registry registry_{plugin::Registry::default_search_paths()};
-  std::unique_ptr<collision::CollisionWorld> world_;
+  std::unique_ptr<collision::SharedWorld> shared_;
+  collision::CollisionWorld* world_ = nullptr;
   WorldState state_;
   std::map<std::string, std::uint64_t> counters_;
   plugin::Samplers samplers_;
@@ -211,6 +214,53 @@ TEST_F(SamplerScene, MotionRangeMustBePositive) {
     const Diagnostics d = test::expect_input_error([&] { registry_.create<plugin::MotionSampler>("motion_ompl", parameters); });
     EXPECT_TRUE(test::has_error(d, 4, 7, "parameter 'range' must be in (0, 100]")) << range;
   }
+}
+
+// A view answers for its own state whatever other views asked in between, and the
+// shared world is left at the state of the last view to go.
+TEST_F(SamplerScene, WorldViewsAnswerForTheirOwnState) {
+  const ObjectIndex cup = add("cup", 0.85, 0.0);
+  collision::SharedWorld shared(problem_.scene, problem_.robot.loaded);
+  WorldState here = WorldState::initial(problem_.scene);
+  here.robot_configuration = problem_.robot.loaded->home();
+  WorldState gone = here;
+  gone.removed[cup] = true;
+  const Shape probe = Box{{0.02, 0.02, 0.05}};
+  const Eigen::Isometry3d at_cup = here.world_T_objects[cup];
+  const std::vector<ObjectIndex> cup_only{cup};
+
+  auto with_cup = shared.at(here);
+  auto without = shared.at(gone);
+  for (int round = 0; round < 2; ++round) {
+    EXPECT_EQ(with_cup->shape_contacts(probe, at_cup).objects, cup_only);
+    EXPECT_TRUE(without->shape_contacts(probe, at_cup).objects.empty());
+  }
+  // Held, the cup travels with the hand and is no obstacle where it stood.
+  auto holding = with_cup->holding(cup, Eigen::Isometry3d::Identity());
+  EXPECT_TRUE(holding->shape_contacts(probe, at_cup).objects.empty());
+  EXPECT_EQ(with_cup->shape_contacts(probe, at_cup).objects, cup_only);
+  holding.reset();
+  EXPECT_EQ(shared.world().held(), std::optional<ObjectIndex>(cup));
+  without.reset();
+  EXPECT_FALSE(shared.world().present(cup));
+  EXPECT_FALSE(shared.world().held());
+  with_cup.reset();
+  EXPECT_TRUE(shared.world().present(cup));
+}
+
+// Every bad parameter of a plugin is reported in one go, each at its value.
+TEST_F(SamplerScene, EveryBadGraspParameterIsReportedAtOnce) {
+  Parameters parameters;
+  parameters.set("approach", 2.0, {"p.yaml", 3, 15});
+  parameters.set("directions", std::int64_t{0}, {"p.yaml", 4, 17});
+  parameters.set("heights", std::vector<double>{0.5, std::nan("")}, {"p.yaml", 5, 14});
+  parameters.set("tight_clearance", 0.02, {"p.yaml", 6, 22});
+  const Diagnostics d = test::expect_input_error([&] { registry_.create<plugin::GraspSampler>("grasp_side", parameters); });
+  EXPECT_EQ(d.size(), 4u) << d.str();
+  EXPECT_TRUE(test::has_error(d, 3, 15, "parameter 'approach' must be in (0, 1), not 2")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 4, 17, "parameter 'directions' must be in [1, 64], not 0")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 5, 14, "parameter 'heights' must be in (0, 1), not nan")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 6, 22, "parameter 'tight_clearance' must be at most clearance")) << d.str();
 }
 
 TEST_F(SamplerScene, TakesAFreeStraightSegmentWithoutSearching) {

@@ -124,7 +124,7 @@ int bench_mobile(const BenchArgs& args) {
         const auto t0 = std::chrono::steady_clock::now();
         const Result result = plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const std::uint64_t iterations = result.counters.count("iterations") ? result.counters.at("iterations") : 0;
+        const std::uint64_t iterations = result.counters.count(counter::iterations) ? result.counters.at(counter::iterations) : 0;
         rows.push_back({s.parameter, scene_seed, r, result.solved, seconds, result.moved_objects.size(), iterations,
                         result.reason});
       }

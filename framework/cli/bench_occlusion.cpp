@@ -69,8 +69,8 @@ int bench_occlusion(const BenchArgs& args) {
         for (int r = 0; r < args.runs; ++r) {
           const Result result = plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
           rows.push_back({layout, n, scene_seed, r, result.solved, result.time.total, result.moved_objects.size(),
-                          counter(result, "final_sequence"), counter(result, "iterations"),
-                          counter(result, "observed_initially"), counter(result, "found_by_touch"), result.reason});
+                          counter(result, counter::final_sequence), counter(result, counter::iterations),
+                          counter(result, counter::observed_initially), counter(result, counter::found_by_touch), result.reason});
         }
         if (args.verbosity != Verbosity::quiet) {
           std::cerr << "\r  " << layout << ", " << n << " objects: scene " << s + 1 << " of " << args.instances << std::flush;

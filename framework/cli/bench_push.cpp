@@ -201,8 +201,8 @@ int bench_push(const BenchArgs& args) {
         }
         const Result r = run::plan(configured_problem, registry, options).result;
         Run run{problem.name, setting.name, *options.seed, r.solved, r.time.total,
-                setting.name == "guided" ? r.time.task_planning : 0.0, counter(r, "propagations"),
-                counter(r, "guides"), counter(r, "guides_satisfied"), counter(r, "guides_skipped"), r.reason};
+                setting.name == "guided" ? r.time.task_planning : 0.0, counter(r, counter::propagations),
+                counter(r, counter::guides), counter(r, counter::guides_satisfied), counter(r, counter::guides_skipped), r.reason};
         if (csv) {
           csv << run.scene << ',' << run.setting << ',' << run.seed << ',' << run.solved << ',' << run.seconds << ','
               << run.guidance_seconds << ',' << run.propagations << ',' << run.guides << ',' << run.guides_satisfied

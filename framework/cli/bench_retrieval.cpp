@@ -227,14 +227,14 @@ class Bench {
       m.total.push_back(seconds);
       m.task.push_back(r.time.task_planning);
       m.motion.push_back(r.time.motion_planning);
-      if (r.counters.count("iterations")) m.iterations.push_back(double(counter(r, "iterations")));
-      if (r.counters.count("planning_sequences")) m.sequences.push_back(double(counter(r, "planning_sequences")));
+      if (r.counters.count(counter::iterations)) m.iterations.push_back(double(counter(r, counter::iterations)));
+      if (r.counters.count(counter::planning_sequences)) m.sequences.push_back(double(counter(r, counter::planning_sequences)));
     }
     if (csv_.is_open()) {
       csv_ << row.objects << "," << row.initial_limit << "," << instance << "," << run << "," << r.solved << ","
            << r.moved_objects.size() << "," << seconds << "," << r.time.task_planning << "," << r.time.motion_planning
-           << "," << counter(r, "iterations") << "," << row.table << "," << row.planner << "," << row.scenes << ","
-           << counter(r, "planning_sequences") << "," << seed << "," << csv_field(scene.name) << "\n";
+           << "," << counter(r, counter::iterations) << "," << row.table << "," << row.planner << "," << row.scenes << ","
+           << counter(r, counter::planning_sequences) << "," << seed << "," << csv_field(scene.name) << "\n";
     }
     ++done_;
     if (args_.verbosity != Verbosity::quiet) {

@@ -13,7 +13,7 @@
 #include "cli/statistics.hpp"
 #include "cli/shelf_support.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
@@ -44,14 +44,14 @@ int bench_samplers(const BenchArgs& args) {
     spec.objects = args.objects;
     problem.scene = scenes::generate_shelf_scene(spec, args.seed + static_cast<std::uint64_t>(k));
     problem.robot.loaded = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
-    collision::CollisionWorld world(problem.scene, problem.robot.loaded);
+    collision::SharedWorld world(problem.scene, problem.robot.loaded);
     std::map<std::string, std::uint64_t> counters;
     plugin::PlanningContext context{problem, plugin::Deadline::after(1e6), args.seed, counters, samplers, &world};
     WorldState state = WorldState::initial(problem.scene);
     state.robot_configuration = problem.robot.loaded->home();
     for (ObjectIndex o = 0; o < problem.scene.objects.size(); ++o) {
       auto t0 = Clock::now();
-      const plugin::GraspAnswer answer = samplers.grasp->sample(context, {o, &state});
+      const plugin::GraspAnswer answer = samplers.grasp->sample(context, {o, state});
       const double ms = ms_since(t0);
       (answer.usable.empty() ? grasp_blocked_ms : grasp_ms).push_back(ms);
       (answer.usable.empty() ? grasps_blocked : grasps_usable) += 1;
@@ -59,7 +59,7 @@ int bench_samplers(const BenchArgs& args) {
       ++motions;
       t0 = Clock::now();
       const plugin::MotionAnswer m =
-          samplers.motion->plan(context, {state.robot_configuration, answer.usable[0].motions[0].pregrasp, &state});
+          samplers.motion->plan(context, {state.robot_configuration, answer.usable[0].motions[0].pregrasp, state});
       motion_ms.push_back(ms_since(t0));
       motions_ok += m.trajectory.has_value();
       ++pick_places;

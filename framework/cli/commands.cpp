@@ -388,8 +388,10 @@ void print_parameters(const plugin::Registry& registry, const plugin::PluginDesc
     if (declared.empty()) std::cout << "    parameters: none\n";
     else std::cout << "    parameters:\n";
     for (const ParameterDeclaration& p : declared) {
-      std::cout << "      " << std::setw(22) << p.key << std::setw(16) << p.type
-                << std::setw(14) << (p.fallback.empty() ? "-" : p.fallback) << p.help << "\n";
+      const std::string fallback = p.fallback.empty() ? "-" : p.fallback;
+      std::cout << "      " << std::setw(22) << p.key << std::setw(16) << p.type << std::setw(14) << fallback
+                << (fallback.size() >= 14 ? " " : "") << p.help
+                << (p.range.empty() ? "" : (p.help.empty() ? "" : "; ") + p.range) << "\n";
     }
   } catch (const std::exception& e) {
     std::cout << "    parameters: unknown (creating it failed: " << e.what() << ")\n";

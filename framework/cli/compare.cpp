@@ -198,7 +198,7 @@ int compare(const CompareArgs& args) {
         }
         const run::RunOutcome outcome = run::plan(problem, registry, options);
         const Result& r = outcome.result;
-        Run run{r.solved, r.time.total, counter(r, "stream_calls"), counter(r, counter::motion_planning_calls),
+        Run run{r.solved, r.time.total, counter(r, counter::stream_calls), counter(r, counter::motion_planning_calls),
                 r.plan.size(), r.moved_objects.size(), r.solved ? "" : r.reason.substr(0, r.reason.find('\n'))};
         row.runs.push_back(run);
         if (csv) {

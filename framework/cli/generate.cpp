@@ -7,7 +7,7 @@
 #include "cli/commands.hpp"
 #include "cli/shelf_support.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
@@ -36,7 +36,7 @@ Result plan_scene(const Scene& scene, const std::shared_ptr<const robot::RobotDe
   problem.scene = scene;
   problem.robot.loaded = robot;
   problem.task = RetrievalTask{scene.objects[scene.target].id};
-  collision::CollisionWorld world(scene, robot);
+  collision::SharedWorld world(scene, robot);
   std::map<std::string, std::uint64_t> counters;
   plugin::PlanningContext context{problem, plugin::Deadline::after(seconds), seed, counters, samplers, &world};
   std::map<std::string, PhaseTotals> phases;
@@ -55,7 +55,7 @@ bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const r
   Problem problem;
   problem.scene = scene;
   problem.robot.loaded = robot;
-  collision::CollisionWorld world(scene, robot);
+  collision::SharedWorld world(scene, robot);
   std::map<std::string, std::uint64_t> counters;
   plugin::PlanningContext context{problem, plugin::Deadline::after(10), seed, counters, samplers, &world};
   WorldState state = WorldState::initial(scene);

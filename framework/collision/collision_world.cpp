@@ -165,6 +165,7 @@ struct CollisionWorld::Impl {
   std::optional<ObjectIndex> held;
   Eigen::Isometry3d tool_T_held = Eigen::Isometry3d::Identity();
   std::uint64_t held_generation = 0;  // counts attach() calls
+  std::uint64_t generation = 0;       // counts the calls that change the world
 
   using State = Context::State;
   void pose_robot(const Eigen::VectorXd& q, State& c) const;
@@ -227,6 +228,7 @@ CollisionWorld::CollisionWorld(const Scene& scene, std::shared_ptr<const robot::
 CollisionWorld::~CollisionWorld() = default;
 
 const Scene& CollisionWorld::scene() const { return impl_->scene; }
+const robot::RobotDescription* CollisionWorld::robot() const { return impl_->robot.get(); }
 
 bool CollisionWorld::Impl::move_object(ObjectIndex object, const Eigen::Isometry3d& world_T_object) {
   Eigen::Isometry3d& pose = scene.objects.at(object).world_T_object;
@@ -239,7 +241,10 @@ bool CollisionWorld::Impl::move_object(ObjectIndex object, const Eigen::Isometry
   return m.present;
 }
 
+std::uint64_t CollisionWorld::generation() const { return impl_->generation; }
+
 void CollisionWorld::set_object_pose(ObjectIndex object, const Eigen::Isometry3d& world_T_object) {
+  ++impl_->generation;
   if (impl_->move_object(object, world_T_object)) impl_->movable_manager.update(impl_->movable[object].object.get());
 }
 
@@ -248,6 +253,7 @@ const Eigen::Isometry3d& CollisionWorld::object_pose(ObjectIndex object) const {
 }
 
 void CollisionWorld::remove_object(ObjectIndex object) {
+  ++impl_->generation;
   Impl::MovableObject& m = impl_->movable.at(object);
   if (!m.present) return;
   impl_->movable_manager.unregisterObject(m.object.get());
@@ -255,6 +261,7 @@ void CollisionWorld::remove_object(ObjectIndex object) {
 }
 
 void CollisionWorld::restore_object(ObjectIndex object) {
+  ++impl_->generation;
   Impl::MovableObject& m = impl_->movable.at(object);
   if (m.present || impl_->held == object) return;
   impl_->movable_manager.registerObject(m.object.get());
@@ -264,6 +271,7 @@ void CollisionWorld::restore_object(ObjectIndex object) {
 bool CollisionWorld::present(ObjectIndex object) const { return impl_->movable.at(object).present; }
 
 void CollisionWorld::attach(ObjectIndex object, const Eigen::Isometry3d& tool_T_object) {
+  ++impl_->generation;
   if (!impl_->robot) throw std::logic_error("CollisionWorld::attach: the world has no robot");
   if (impl_->held) throw std::logic_error("CollisionWorld::attach: already holding an object");
   remove_object(object);
@@ -273,6 +281,7 @@ void CollisionWorld::attach(ObjectIndex object, const Eigen::Isometry3d& tool_T_
 }
 
 void CollisionWorld::detach(const Eigen::Isometry3d& world_T_object) {
+  ++impl_->generation;
   if (!impl_->held) return;
   const ObjectIndex object = *impl_->held;
   impl_->held.reset();
@@ -283,6 +292,7 @@ void CollisionWorld::detach(const Eigen::Isometry3d& world_T_object) {
 std::optional<ObjectIndex> CollisionWorld::held() const { return impl_->held; }
 
 void CollisionWorld::sync(const WorldState& state) {
+  ++impl_->generation;
   if (impl_->held) detach(object_pose(*impl_->held));
   // One rebalancing of the broadphase tree for all moved objects: FCL rebalances on
   // every single update, which made syncing 100 objects cost more than planning.

@@ -1,6 +1,8 @@
 #include "cluttertamp/core/parameters.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 namespace cluttertamp {
 
@@ -27,11 +29,45 @@ std::string yaml_of(const std::vector<double>& numbers) {
   return Value(std::move(list)).to_yaml();
 }
 
-[[noreturn]] void wrong_type(const std::string& key, const Value& got, const char* wanted) {
-  throw InputError(got.where(), "parameter '" + key + "' must be " + wanted + ", not " + got.kind_name());
+std::string wrong_type(const std::string& key, const Value& got, const char* wanted) {
+  return "parameter '" + key + "' must be " + wanted + ", not " + got.kind_name();
+}
+
+std::string number_text(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
 }
 
 }  // namespace
+
+bool Range::contains(double x) const {
+  if (std::isnan(x)) return false;
+  if (low && (low_open ? x <= *low : x < *low)) return false;
+  if (high && (high_open ? x >= *high : x > *high)) return false;
+  return true;
+}
+
+std::string Range::str() const {
+  if (low && high) {
+    return std::string(low_open ? "(" : "[") + number_text(*low) + ", " + number_text(*high) + (high_open ? ")" : "]");
+  }
+  if (low) return (low_open ? "above " : "at least ") + number_text(*low);
+  if (high) return (high_open ? "below " : "at most ") + number_text(*high);
+  return "";
+}
+
+void Parameters::fail(SourceLocation where, std::string message) const {
+  if (!collect_) throw InputError(std::move(where), message);
+  errors_.error(std::move(where), std::move(message));
+}
+
+bool Parameters::in_range(const std::string& key, const Value& value, double x, const Range& range) const {
+  if (range.contains(x)) return true;
+  const std::string allowed = range.low && range.high ? "in " + range.str() : range.str();
+  fail(value.where(), "parameter '" + key + "' must be " + allowed + ", not " + number_text(x));
+  return false;
+}
 
 void Parameters::set(std::string key, ParameterValue value, SourceLocation where) {
   set(std::move(key), to_value(std::move(value), std::move(where)));
@@ -54,50 +90,63 @@ std::string Parameters::to_yaml() const {
 }
 
 const Value* Parameters::find(const std::string& key, const char* type, std::string fallback,
-                              std::string_view help) const {
+                              std::string_view help, const Range& range) const {
   const bool declared = std::any_of(declarations_.begin(), declarations_.end(),
                                     [&](const ParameterDeclaration& d) { return d.key == key; });
-  if (!declared) declarations_.push_back({key, type, std::move(fallback), std::string(help)});
+  if (!declared) declarations_.push_back({key, type, std::move(fallback), std::string(help), range.str()});
   auto it = values_.find(key);
   if (it == values_.end()) return nullptr;
   used_.insert(key);
   return &it->second;
 }
 
-double Parameters::get_double(const std::string& key, double fallback, std::string_view help) const {
-  const Value* v = find(key, "number", Value(fallback).to_yaml(), help);
+double Parameters::get_double(const std::string& key, double fallback, std::string_view help,
+                              const Range& range) const {
+  const Value* v = find(key, "number", Value(fallback).to_yaml(), help, range);
   if (!v) return fallback;
-  if (const auto x = v->number()) return *x;
-  wrong_type(key, *v, "a number");
+  if (const auto x = v->number()) return in_range(key, *v, *x, range) ? *x : fallback;
+  fail(v->where(), wrong_type(key, *v, "a number"));
+  return fallback;
 }
 
-std::int64_t Parameters::get_int(const std::string& key, std::int64_t fallback, std::string_view help) const {
-  const Value* v = find(key, "integer", std::to_string(fallback), help);
+std::int64_t Parameters::get_int(const std::string& key, std::int64_t fallback, std::string_view help,
+                                 const Range& range) const {
+  const Value* v = find(key, "integer", std::to_string(fallback), help, range);
   if (!v) return fallback;
-  if (const std::int64_t* i = v->integer()) return *i;
-  wrong_type(key, *v, "an integer");
+  if (const std::int64_t* i = v->integer()) return in_range(key, *v, static_cast<double>(*i), range) ? *i : fallback;
+  fail(v->where(), wrong_type(key, *v, "an integer"));
+  return fallback;
 }
 
 bool Parameters::get_bool(const std::string& key, bool fallback, std::string_view help) const {
   const Value* v = find(key, "boolean", fallback ? "true" : "false", help);
   if (!v) return fallback;
   if (const bool* b = v->boolean()) return *b;
-  wrong_type(key, *v, "a boolean");
+  fail(v->where(), wrong_type(key, *v, "a boolean"));
+  return fallback;
 }
 
 std::string Parameters::get_string(const std::string& key, const std::string& fallback, std::string_view help) const {
   const Value* v = find(key, "string", Value(fallback).to_yaml(), help);
   if (!v) return fallback;
   if (const std::string* s = v->string()) return *s;
-  wrong_type(key, *v, "a string");
+  fail(v->where(), wrong_type(key, *v, "a string"));
+  return fallback;
 }
 
 std::vector<double> Parameters::get_vector(const std::string& key, const std::vector<double>& fallback,
-                                           std::string_view help) const {
-  const Value* v = find(key, "list of numbers", yaml_of(fallback), help);
+                                           std::string_view help, const Range& range) const {
+  const Value* v = find(key, "list of numbers", yaml_of(fallback), help, range);
   if (!v) return fallback;
-  if (auto numbers = v->numbers()) return *numbers;
-  wrong_type(key, *v, "a list of numbers");
+  const auto numbers = v->numbers();
+  if (!numbers) {
+    fail(v->where(), wrong_type(key, *v, "a list of numbers"));
+    return fallback;
+  }
+  for (double x : *numbers) {
+    if (!in_range(key, *v, x, range)) return fallback;
+  }
+  return *numbers;
 }
 
 const Value* Parameters::get(const std::string& key, std::string_view help) const {
@@ -105,7 +154,7 @@ const Value* Parameters::get(const std::string& key, std::string_view help) cons
 }
 
 void Parameters::require(bool ok, const std::string& key, const std::string& what) const {
-  if (!ok) throw InputError(location(key), "parameter '" + key + "' " + what);
+  if (!ok) fail(location(key), "parameter '" + key + "' " + what);
 }
 
 std::vector<std::string> Parameters::unused() const {
@@ -121,9 +170,10 @@ SourceLocation Parameters::location(const std::string& key) const {
   return it == values_.end() ? SourceLocation{} : it->second.where();
 }
 
-Parameters Parameters::fresh() const {
+Parameters Parameters::fresh(bool collect) const {
   Parameters copy;
   copy.values_ = values_;
+  copy.collect_ = collect;
   return copy;
 }
 

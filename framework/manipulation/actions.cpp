@@ -5,7 +5,7 @@
 #include <optional>
 #include <span>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/manipulation/base_placement.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
 #include "cluttertamp/plugin/placement_sampler.hpp"
@@ -23,14 +23,14 @@ ActionOutcome failed(const std::string& stage, const std::string& reason, std::v
 
 // The held object follows the tool: its pose at configuration q.
 Eigen::Isometry3d held_pose(plugin::PlanningContext& context, const Eigen::VectorXd& q, const Eigen::Isometry3d& gripper_T_object) {
-  auto checker = context.world->make_context();
-  return context.world->tool_pose(q, *checker) * gripper_T_object;
+  auto checker = collision::shared_world(context)->make_context();
+  return collision::shared_world(context)->tool_pose(q, *checker) * gripper_T_object;
 }
 
 // Plans a collision-free motion in `state` (its held object included).
 std::optional<Trajectory> move(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& goal,
                                std::optional<Failure>& failure) {
-  const auto answer = context.samplers.motion->plan(context, {state.robot_configuration, goal, &state});
+  const auto answer = context.samplers.motion->plan(context, {state.robot_configuration, goal, state});
   if (!answer.trajectory) failure = answer.failure;
   return answer.trajectory;
 }
@@ -40,7 +40,7 @@ std::optional<Trajectory> move(plugin::PlanningContext& context, const WorldStat
 collision::CollisionReport straight_contacts(plugin::PlanningContext& context, const WorldState& state,
                                              const Eigen::VectorXd& a, const Eigen::VectorXd& b,
                                              std::span<const ObjectIndex> ignored) {
-  collision::CollisionWorld& world = *context.world;
+  collision::CollisionWorld& world = *collision::shared_world(context);
   world.sync(state);
   auto checker = world.make_context();
   const int steps = std::max(1, static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / 0.01)));
@@ -169,8 +169,8 @@ Trajectory timed(const robot::RobotDescription& robot, const std::vector<Eigen::
 
 std::optional<Trajectory> move_out(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& goal,
                                    std::optional<Failure>& failure) {
-  auto checker = context.world->make_context();
-  const Eigen::Isometry3d world_T_tool = context.world->tool_pose(state.robot_configuration, *checker);
+  auto checker = collision::shared_world(context)->make_context();
+  const Eigen::Isometry3d world_T_tool = collision::shared_world(context)->tool_pose(state.robot_configuration, *checker);
   Eigen::Vector3d back = -world_T_tool.linear().col(2);
   back.z() = 0.0;
   if (back.norm() > 0.5) {
@@ -179,7 +179,7 @@ std::optional<Trajectory> move_out(plugin::PlanningContext& context, const World
       WorldState outside = state;
       outside.robot_configuration = line.back();
       if (state.held) {
-        outside.world_T_objects[*state.held] = context.world->tool_pose(line.back(), *checker) *
+        outside.world_T_objects[*state.held] = collision::shared_world(context)->tool_pose(line.back(), *checker) *
                                                world_T_tool.inverse() * state.world_T_objects[*state.held];
       }
       // A short budget: from outside the clutter the planner either finds its way at
@@ -255,21 +255,21 @@ ActionOutcome grasped(plugin::PlanningContext& context, const WorldState& state,
   }
   out.after = holding;
   out.ok = true;
-  context.world->sync(state);
+  collision::shared_world(context)->sync(state);
   return out;
 }
 
 }  // namespace
 
 ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, ObjectIndex object) {
-  if (!context.world || !context.samplers.grasp || !context.samplers.motion) {
+  if (!context.worlds || !context.samplers.grasp || !context.samplers.motion) {
     return failed("pick", "pick needs a robot, a grasp_sampler and a motion_sampler");
   }
   if (state.held) return failed("pick", "the hand already holds an object");
   const robot::RobotDescription& robot = context.robot();
   const plugin::GraspAnswer grasps = [&] {
     plugin::Phase phase(context, "pick.grasps");
-    return context.samplers.grasp->sample(context, {object, &state});
+    return context.samplers.grasp->sample(context, {object, state});
   }();
   if (grasps.usable.empty()) {
     return failed("grasp", grasps.failure ? grasps.failure->reason : "no usable grasp",
@@ -319,23 +319,23 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
       if (!quick_pass) last = why;
     }
   }
-  context.world->sync(state);
+  collision::shared_world(context)->sync(state);
   return failed("motion", last ? "no motion reaches a usable grasp: " + last->reason : "no motion reaches a usable grasp",
                 last ? last->blocking_objects : std::vector<ObjectIndex>{});
 }
 
 ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, const std::string& region) {
-  if (!context.world || !context.samplers.placement || !context.samplers.motion) {
+  if (!context.worlds || !context.samplers.placement || !context.samplers.motion) {
     return failed("place", "place needs a robot, a placement_sampler and a motion_sampler");
   }
   if (!state.held) return failed("place", "the hand holds nothing");
   const robot::RobotDescription& robot = context.robot();
   const ObjectIndex object = *state.held;
-  auto checker = context.world->make_context();
-  context.world->sync(state);
+  auto checker = collision::shared_world(context)->make_context();
+  collision::shared_world(context)->sync(state);
   const Eigen::Isometry3d gripper_T_object =
-      context.world->tool_pose(state.robot_configuration, *checker).inverse() * state.world_T_objects[object];
-  plugin::PlacementQuery query{object, region, &state, 8, gripper_T_object};
+      collision::shared_world(context)->tool_pose(state.robot_configuration, *checker).inverse() * state.world_T_objects[object];
+  plugin::PlacementQuery query{object, region, state, 8, gripper_T_object};
   const plugin::PlacementAnswer placements = [&] {
     plugin::Phase phase(context, "place.placements");
     return context.samplers.placement->sample(context, query);
@@ -383,8 +383,8 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
     out.segments.push_back({"release", timed(robot, {q_place, open})});
     placed.robot_configuration = open;
     // Retreat: back out along the tool's approach axis.
-    auto c = context.world->make_context();
-    Eigen::Isometry3d back = context.world->tool_pose(placed.robot_configuration, *c);
+    auto c = collision::shared_world(context)->make_context();
+    Eigen::Isometry3d back = collision::shared_world(context)->tool_pose(placed.robot_configuration, *c);
     back.translation() -= 0.10 * back.linear().col(2);
     const auto retreat = robot.ik().solve(base_T_world * back, placed.robot_configuration);
     if (!retreat.empty() && (retreat[0] - placed.robot_configuration).cwiseAbs().maxCoeff() < 0.8 &&
@@ -394,10 +394,10 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
     }
     out.after = placed;
     out.ok = true;
-    context.world->sync(state);
+    collision::shared_world(context)->sync(state);
     return out;
   }
-  context.world->sync(state);
+  collision::shared_world(context)->sync(state);
   return failed("motion", last ? "no motion reaches a placement: " + last->reason : "no placement can be approached from above",
                 last ? last->blocking_objects : std::vector<ObjectIndex>{});
 }
@@ -416,7 +416,7 @@ std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> exit_configuration(
   const robot::RobotDescription& robot = context.robot();
   const Eigen::VectorXd& from = holding.robot_configuration;
   const auto mobile = BasePlacement::of(robot);
-  collision::CollisionWorld& world = *context.world;
+  collision::CollisionWorld& world = *collision::shared_world(context);
   world.sync(holding);
   auto checker = world.make_context();
   if (!mobile) {
@@ -459,7 +459,7 @@ ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state
   exit.translation() = context.scene().world_T_exit.translation();
   const auto held_at_exit = exit_configuration(context, picked.after, *picked.grasp, exit);
   if (!held_at_exit) {
-    context.world->sync(state);  // as the other actions leave it
+    collision::shared_world(context)->sync(state);  // as the other actions leave it
     return failed("retrieve", "the robot cannot hold the target at the exit pose x_s");
   }
   if (way.size() >= 2 && !BasePlacement::of(context.robot())) {
@@ -479,7 +479,7 @@ ActionOutcome retrieve(plugin::PlanningContext& context, const WorldState& state
       plugin::Phase phase(context, "retrieve.carry_along");
       return carry_through(context, lifted.after, lifted.grasp->gripper_T_object, corners);
     }();
-    context.world->sync(state);  // as the other actions leave it
+    collision::shared_world(context)->sync(state);  // as the other actions leave it
     if (along) {
       lifted.segments.push_back({"carry", timed(context.robot(), *along)});
       lifted.after.world_T_objects[target].translation() = held_at_exit->second.translation();

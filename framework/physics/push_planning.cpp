@@ -298,34 +298,31 @@ std::uint64_t mix(std::uint64_t seed, std::uint64_t salt) {
 }  // namespace
 
 void KinodynamicSettings::read(const Parameters& p) {
-  planner = p.get_string("planner", planner);
-  step = p.get_double("step", step);
-  max_steps = static_cast<int>(p.get_int("max_steps", max_steps));
-  max_speed = p.get_double("max_speed", max_speed);
-  max_side_speed = p.get_double("max_side_speed", max_side_speed);
-  max_turn = p.get_double("max_turn", max_turn);
-  goal_bias = p.get_double("goal_bias", goal_bias);
-  steer = p.get_double("steer", steer);
-  const std::int64_t propagations = p.get_int("max_propagations", static_cast<std::int64_t>(max_propagations));
-  p.require(propagations >= 0, "max_propagations", "must not be negative (0: no budget but the time limit)");
+  planner = p.get_string("planner", planner, "OMPL control planner: rrt or kpiece");
+  step = p.get_double("step", step, "s of one propagation step (each a fresh simulation)", Range::above(0));
+  max_steps = static_cast<int>(
+      p.get_int("max_steps", max_steps, "propagation steps a control lasts, at most", Range::at_least(1)));
+  max_speed = p.get_double("max_speed", max_speed, "m/s of the gripper along +x (into the shelf)", Range::above(0));
+  max_side_speed = p.get_double("max_side_speed", max_side_speed, "m/s of the gripper along y either way and along -x",
+                                Range::above(0));
+  max_turn = p.get_double("max_turn", max_turn, "rad/s of the gripper's turn, either way", Range::above(0));
+  goal_bias = p.get_double("goal_bias", goal_bias, "rrt: fraction of samples drawn from the goal", Range::closed(0, 1));
+  steer = p.get_double("steer", steer, "fraction of sampled controls steered towards the goal", Range::closed(0, 1));
+  const std::int64_t propagations =
+      p.get_int("max_propagations", static_cast<std::int64_t>(max_propagations),
+                "physics propagations per search, the work budget (0: none but the time limit)", Range::at_least(0));
   max_propagations = static_cast<std::uint64_t>(propagations);
   p.require(planner == "rrt" || planner == "kpiece", "planner", "must be rrt or kpiece");
-  p.require(step > 0, "step", "must be positive (seconds)");
-  p.require(max_steps >= 1, "max_steps", "must be at least 1");
-  p.require(max_speed > 0, "max_speed", "must be positive (m/s)");
-  p.require(max_side_speed > 0, "max_side_speed", "must be positive (m/s)");
-  p.require(max_turn > 0, "max_turn", "must be positive (rad/s)");
-  p.require(goal_bias >= 0 && goal_bias <= 1, "goal_bias", "must be in [0, 1]");
-  p.require(steer >= 0 && steer <= 1, "steer", "must be in [0, 1]");
 }
 
 PushGoal::~PushGoal() = default;
 
 void ReachTolerances::read(const Parameters& p) {
-  distance = p.get_double("goal_distance", distance);
-  heading = p.get_double("goal_heading", heading);
-  p.require(distance > 0, "goal_distance", "must be positive (m)");
-  p.require(heading > 0, "goal_heading", "must be positive (rad)");
+  distance = p.get_double("goal_distance", distance,
+                          "m the target's centre may be from the pocket between the fingers (no fingers: the palm's "
+                          "face from its surface)",
+                          Range::above(0));
+  heading = p.get_double("goal_heading", heading, "rad the target may be off the gripper's heading", Range::above(0));
 }
 
 ReachGoal::ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTolerances& tolerances)

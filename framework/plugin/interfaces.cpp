@@ -12,6 +12,7 @@
 #include "cluttertamp/plugin/push_sampler.hpp"
 #include "cluttertamp/plugin/stream_sampler.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
+#include "cluttertamp/plugin/world_view.hpp"
 
 namespace cluttertamp::plugin {
 
@@ -48,6 +49,8 @@ StreamValue stream_value(const Value& value) {
   return std::make_shared<const ValuePayload>(value);
 }
 StreamGenerator::~StreamGenerator() = default;
+WorldView::~WorldView() = default;
+WorldSource::~WorldSource() = default;
 
 namespace {
 constexpr std::array<std::pair<Kind, const char*>, 7> kKindNames{{

@@ -336,25 +336,25 @@ std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const
   std::shared_ptr<Plugin> object = make(kind, name, where, who);
   // A fresh copy: what this object reads is checked alone, however often the problem's
   // parameters are used (compare, bench and sessions create plugins once per run).
-  const Parameters given = parameters.fresh();
+  // Collecting: every bad value the plugin reads is reported, not only the first.
+  const Parameters given = parameters.fresh(/*collect=*/true);
+  Diagnostics diagnostics;
   try {
     object->configure(given);
-  } catch (const InputError&) {
-    throw;
+  } catch (const InputError& e) {
+    diagnostics.append(e.diagnostics());
   } catch (const std::exception& e) {
-    throw InputError(where, who + " rejected its parameters: " + e.what());
+    diagnostics.error(where, who + " rejected its parameters: " + e.what());
   } catch (...) {
-    throw InputError(where, who + " rejected its parameters (non-standard exception)");
+    diagnostics.error(where, who + " rejected its parameters (non-standard exception)");
   }
-  const std::vector<std::string> unknown = given.unused();
-  if (!unknown.empty()) {
-    Diagnostics diagnostics;
-    for (const std::string& key : unknown) {
-      diagnostics.error(given.location(key), std::string("unknown parameter '") + key + "' for " +
-                                                      kind_name(kind) + " '" + std::string(name) + "'");
-    }
-    throw InputError(diagnostics);
+  Diagnostics all = given.errors();
+  all.append(diagnostics);
+  for (const std::string& key : given.unused()) {
+    all.error(given.location(key), std::string("unknown parameter '") + key + "' for " + kind_name(kind) + " '" +
+                                       std::string(name) + "'");
   }
+  all.throw_if_any();
   return object;
 }
 

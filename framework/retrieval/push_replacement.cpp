@@ -75,7 +75,7 @@ PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, Removal
         if (tries++ == kSpots || context.deadline.expired()) break;
         ++done.pushes_tried;
         const plugin::PushAnswer answer =
-            context.samplers.push->push(context, {object, spot, kRadius, &before, from_exit, kPushPropagations});
+            context.samplers.push->push(context, {object, spot, kRadius, before, from_exit, kPushPropagations});
         if (!answer.step || answer.step->objects != std::vector<ObjectIndex>{object}) continue;
         auto next = std::make_unique<RemovalChecker>(context, *answer.resulting_state, placement_region);
         if (!next->retrieve(rest, salt).ok) continue;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <set>
 
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
@@ -179,7 +180,7 @@ void RemovalChecker::record_times(Result& result, std::chrono::steady_clock::tim
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.time.motion_planning = motion_seconds_;
   result.time.task_planning = std::max(0.0, total - motion_seconds_);
-  result.counters["actions_planned"] = actions_planned_;
+  result.counters[counter::actions_planned] = actions_planned_;
 }
 
 void RemovalChecker::write_steps(std::span<const ObjectIndex> order, std::uint64_t salt, Result& result) const {
@@ -199,7 +200,7 @@ std::vector<ObjectIndex> RemovalChecker::met_by_plan(std::span<const ObjectIndex
   std::vector<ObjectIndex> key, steps(order.begin(), order.end());
   if (with_target) steps.push_back(context_.scene().target);
   std::set<ObjectIndex> met;
-  collision::CollisionWorld& world = *context_.world;
+  collision::CollisionWorld& world = *collision::shared_world(context_);
   auto checker = world.make_context();
   for (ObjectIndex object : steps) {
     key.push_back(object);
@@ -252,7 +253,7 @@ void record_failure_once(Result& result, const Failure& failure) {
 }
 
 std::optional<std::string> retrieval_inputs_missing(const plugin::PlanningContext& context, const std::string& planner) {
-  if (!context.world || !context.problem.robot.loaded) return "the problem has no robot";
+  if (!context.worlds || !context.problem.robot.loaded) return "the problem has no robot";
   if (!std::holds_alternative<RetrievalTask>(context.problem.task)) return planner + " plans retrieve tasks only";
   if (!context.samplers.grasp || !context.samplers.motion || !context.samplers.placement) {
     return planner + " needs a grasp_sampler, a motion_sampler and a placement_sampler in the problem's plugins block";

@@ -25,14 +25,14 @@ struct Roadmap::Index {
 };
 
 void RoadmapOptions::read(const Parameters& p) {
-  samples = static_cast<int>(p.get_int("T", samples));
-  raise_every = static_cast<int>(p.get_int("T_raise", raise_every));
-  step = p.get_double("delta", step);
-  neighbours = static_cast<int>(p.get_int("k", neighbours));
-  p.require(samples >= 10, "T", "must be at least 10");
-  p.require(raise_every >= 1 && raise_every <= samples, "T_raise", "must be 1 to T");
-  p.require(step > 0 && step < 1, "delta", "must be in (0, 1) m");
-  p.require(neighbours >= 1 && neighbours <= 100, "k", "must be 1 to 100");
+  samples = static_cast<int>(p.get_int("T", samples, "sampling iterations per roadmap expansion", Range::at_least(10)));
+  raise_every = static_cast<int>(p.get_int("T_raise", raise_every,
+                                           "sampling iterations between raises of the sampling limit K (at most T)",
+                                           Range::at_least(1)));
+  step = p.get_double("delta", step, "m, the longest roadmap edge", Range::open(0, 1));
+  neighbours = static_cast<int>(
+      p.get_int("k", neighbours, "nearest nodes a new node tries to join by an edge", Range::closed(1, 100)));
+  p.require(raise_every <= samples, "T_raise", "must be at most T");
 }
 
 Roadmap::Roadmap(const collision::CollisionWorld& world, const collision::Footprint& footprint,

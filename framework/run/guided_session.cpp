@@ -124,7 +124,7 @@ GuidedSession::Outcome GuidedSession::guide(const std::string& object, const Eig
   io::OperatorInput input{object, centre, d, false, 0.0, {}};
   const auto t0 = Clock::now();
   plugin::PlanningContext context = s.context(std::min(s.options.push_time, s.time_left()), s.record.inputs.size() + 1);
-  plugin::PushAnswer answer = s.plugins.samplers.push->push(context, {*index, centre, d / 2, &s.state, s.gripper});
+  plugin::PushAnswer answer = s.plugins.samplers.push->push(context, {*index, centre, d / 2, s.state, s.gripper});
   input.planning_time = seconds_since(t0);
   s.planning += input.planning_time;
   Outcome out;
@@ -168,9 +168,9 @@ GuidedSession::Outcome GuidedSession::finish() {
   s.planning += reach_time;
   s.finished = true;
   s.finished_at = Clock::now();
-  s.counters["propagations"] += out.propagations;
+  s.counters[counter::propagations] += out.propagations;
   s.result.counters = s.counters;
-  s.result.counters["guides"] = s.guidance.size();
+  s.result.counters[counter::guides] = s.guidance.size();
   s.result.time.motion_planning = reach_time;
   s.result.time.total = s.planning;
   if (!out.path) {

@@ -5,7 +5,7 @@
 
 #include "cluttertamp/core/memory_limit.hpp"
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
@@ -81,8 +81,8 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   const auto& planner = plugins.planner;
 
   std::map<std::string, std::uint64_t> counters;
-  std::unique_ptr<collision::CollisionWorld> world;
-  if (problem.robot.loaded) world = std::make_unique<collision::CollisionWorld>(problem.scene, problem.robot.loaded);
+  std::unique_ptr<collision::SharedWorld> world;
+  if (problem.robot.loaded) world = std::make_unique<collision::SharedWorld>(problem.scene, problem.robot.loaded);
   plugin::PlanningContext context{problem, plugin::Deadline::after(outcome.info.time_limit), outcome.info.seed,
                                   counters, samplers, world.get()};
   std::map<std::string, PhaseTotals> phases;

@@ -23,7 +23,6 @@
 #include <set>
 #include <string>
 
-#include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
@@ -171,7 +170,7 @@ class Streams {
   /// call_max_checks collision checks (work, not time: a call's values do not depend on
   /// the machine).
   plugin::PlanningContext call_context(plugin::PlanningContext& context, plugin::Samplers& samplers, std::uint64_t seed) const {
-    plugin::PlanningContext c{context.problem, context.deadline, seed, context.counters, samplers, context.world,
+    plugin::PlanningContext c{context.problem, context.deadline, seed, context.counters, samplers, context.worlds,
                               context.checks_until};
     return c.with_checks(static_cast<std::uint64_t>(settings_.call_max_checks));
   }
@@ -188,7 +187,7 @@ class Streams {
     std::optional<Trajectory> back;
     if (released) {
       from.removed[*released] = true;
-      plugin::MotionAnswer a = context.samplers.motion->plan(context, plugin::MotionQuery{from.robot_configuration, home_, &from});
+      plugin::MotionAnswer a = context.samplers.motion->plan(context, plugin::MotionQuery{from.robot_configuration, home_, from});
       back = std::move(a.trajectory);
       why = a.failure;
     } else {
@@ -281,9 +280,8 @@ class PlanPlace final : public plugin::StreamGenerator {
     StreamBatch batch;
     plugin::Samplers samplers = context.samplers;
     plugin::PlanningContext c = streams_->call_context(context, samplers, mix(seed_, calls_++));
-    auto checker = c.world->make_context();
     WorldState state = streams_->among_fixed(object_, Eigen::Isometry3d::Identity());
-    state.world_T_objects[object_] = c.world->tool_pose(streams_->home(), *checker) * grasp_->gripper_T_object();
+    state.world_T_objects[object_] = c.world_at(state)->tool_pose(streams_->home()) * grasp_->gripper_T_object();
     state.held = object_;
     manipulation::ActionOutcome placed = manipulation::place(c, state, region_);
     std::optional<Failure> why;
@@ -330,9 +328,8 @@ class Test final : public plugin::StreamGenerator {
 std::optional<Failure> trajectory_hits(plugin::PlanningContext& context, const Streams& streams, const MotionValue& motion,
                                        ObjectIndex other, const Eigen::Isometry3d& pose) {
   if (other == motion.object()) return std::nullopt;  // the object it moves
-  collision::CollisionWorld& world = *context.world;
-  auto checker = world.make_context();
   WorldState state = streams.alone(other, pose);
+  const std::unique_ptr<plugin::WorldView> robot_only = context.world_at(state);  // the tool's poses
   const auto& supports = context.scene().objects[motion.object()].supports;
   const bool supported_by_other = std::find(supports.begin(), supports.end(), other) != supports.end();
   for (const MotionValue::Part& part : motion.parts()) {
@@ -344,9 +341,9 @@ std::optional<Failure> trajectory_hits(plugin::PlanningContext& context, const S
       state.held = motion.object();
       state.removed[motion.object()] = false;
       state.robot_configuration = q.front();
-      state.world_T_objects[motion.object()] = world.tool_pose(q.front(), *checker) * motion.gripper_T_object();
+      state.world_T_objects[motion.object()] = robot_only->tool_pose(q.front()) * motion.gripper_T_object();
     }
-    world.sync(state);
+    const std::unique_ptr<plugin::WorldView> world = context.world_at(state);
     // Lifting off a support starts in contact with it: that touch is no collision.
     const std::size_t skip = part.held && supported_by_other && part.segment.name == "lift" ? 2 : 0;
     std::size_t step = 0;
@@ -357,7 +354,7 @@ std::optional<Failure> trajectory_hits(plugin::PlanningContext& context, const S
         const Eigen::VectorXd at = i == 0 ? q[0] : Eigen::VectorXd(q[i - 1] + (q[i] - q[i - 1]) * (double(k) / double(n)));
         if (step < skip) continue;
         context.count(counter::collision_checks);
-        if (world.touches_object(at, *checker)) {  // `other` is the only object present
+        if (world->touches_object(at)) {  // `other` is the only object present
           return Failure{"test-cfree-traj-pose", "the " + part.segment.name + " motion of '" +
                                                      context.scene().objects[motion.object()].id + "' hits '" +
                                                      context.scene().objects[other].id + "'",
@@ -372,19 +369,19 @@ std::optional<Failure> trajectory_hits(plugin::PlanningContext& context, const S
 class ClutterStreams final : public plugin::StreamSampler {
  public:
   void configure(const Parameters& p) override {
-    settings_.resolution = p.get_double("resolution", settings_.resolution);
+    settings_.resolution = p.get_double("resolution", settings_.resolution,
+                                        "rad between collision checks along a trajectory", Range::open(0, 1));
     p.require(!p.contains("call_time"), "call_time",
               "is no longer read: a call's budget is work, so that a seed gives the same values on any machine; "
               "set call_max_checks (collision checks per call, default 1500000)");
-    settings_.call_max_checks = p.get_int("call_max_checks", settings_.call_max_checks);
-    p.require(settings_.resolution > 0 && settings_.resolution < 1, "resolution", "must be in (0, 1) rad");
-    p.require(settings_.call_max_checks > 0, "call_max_checks", "must be positive (collision checks)");
+    settings_.call_max_checks = p.get_int("call_max_checks", settings_.call_max_checks,
+                                          "collision checks per generator call (the work budget)", Range::above(0));
   }
 
   std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext& context, std::string_view stream,
                                                        const std::vector<StreamValue>& in,
                                                        const std::vector<plugin::StreamFact>&) override {
-    if (!context.world || !context.problem.robot.loaded || !context.samplers.grasp || !context.samplers.placement ||
+    if (!context.worlds || !context.problem.robot.loaded || !context.samplers.grasp || !context.samplers.placement ||
         !context.samplers.motion) {
       throw std::invalid_argument("clutter_streams needs a robot and grasp, placement and motion samplers");
     }
@@ -418,9 +415,8 @@ class ClutterStreams final : public plugin::StreamSampler {
       auto streams = streams_;
       return std::make_unique<Test>([=](plugin::PlanningContext& c) -> std::optional<Failure> {
         if (a == b) return std::nullopt;
-        c.world->sync(streams->alone(b, pb));
         const ObjectIndex ignore[] = {a};
-        const auto r = c.world->shape_contacts(c.scene().objects[a].shape, pa, ignore);
+        const plugin::Contacts r = c.world_at(streams->alone(b, pb))->shape_contacts(c.scene().objects[a].shape, pa, ignore);
         if (std::find(r.objects.begin(), r.objects.end(), b) == r.objects.end()) return std::nullopt;
         return Failure{"test-cfree-pose-pose", "'" + c.scene().objects[a].id + "' would overlap '" + c.scene().objects[b].id + "'", {b}};
       });

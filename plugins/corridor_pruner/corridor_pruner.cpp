@@ -17,8 +17,9 @@ using namespace cluttertamp;
 class CorridorPruner final : public plugin::ObjectPruner {
  public:
   void configure(const Parameters& parameters) override {
-    finger_thickness_ = parameters.get_double("finger_thickness", finger_thickness_);
-    parameters.require(finger_thickness_ >= 0, "finger_thickness", "must not be negative (metres)");
+    finger_thickness_ = parameters.get_double("finger_thickness", finger_thickness_,
+                                              "m added to the target's radius for the corridor's half width (r_f)",
+                                              Range::at_least(0));
   }
 
   plugin::PruneAnswer prune(plugin::PlanningContext& context, const WorldState& state) override {

@@ -47,12 +47,13 @@ bool unproven(const retrieval::RemovalCheck& check) {
 class Exhaustive final : public plugin::TaskPlanner {
  public:
   void configure(const Parameters& p) override {
-    region_ = p.get_string("region", region_);
-    max_removals_ = static_cast<int>(p.get_int("max_removals", max_removals_));
-    p.require(max_removals_ >= 0, "max_removals", "must be at least 0");
-    const std::int64_t draws = p.get_int("motion_draws", motion_draws_);
-    p.require(draws >= 1 && draws <= 100, "motion_draws", "must be 1 to 100");
-    motion_draws_ = static_cast<int>(draws);
+    region_ = p.get_string("region", region_, "the scene's region removed objects are placed in");
+    max_removals_ = static_cast<int>(
+        p.get_int("max_removals", max_removals_, "objects removed at most before the target", Range::at_least(0)));
+    motion_draws_ = static_cast<int>(p.get_int("motion_draws", motion_draws_,
+                                               "draws of the samplers before a check failing for want of a motion "
+                                               "counts as failed",
+                                               Range::closed(1, 100)));
   }
 
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
@@ -86,8 +87,8 @@ class Exhaustive final : public plugin::TaskPlanner {
     }
 
     checker.record_times(result, start);
-    result.counters["removal_sets_checked"] = counts.sets_checked;
-    result.counters["checks_without_motion"] = counts.unproven;
+    result.counters[counter::removal_sets_checked] = counts.sets_checked;
+    result.counters[counter::checks_without_motion] = counts.unproven;
     result.solved = solved;
     if (!solved) {
       const std::string size = std::to_string(k);

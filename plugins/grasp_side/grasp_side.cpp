@@ -10,7 +10,7 @@
 #include <span>
 #include <string>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/manipulation/base_placement.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
@@ -32,47 +32,41 @@ constexpr double kWideStep = 10.0;
 class SideGrasps final : public plugin::GraspSampler {
  public:
   void configure(const Parameters& p) override {
-    directions_ = p.get_int("directions", directions_);
-    spread_ = p.get_double("spread", spread_);
-    wide_spread_ = p.get_double("wide_spread", wide_spread_);
-    heights_ = p.get_vector("heights", heights_);
-    random_ = p.get_int("random", random_);
-    approach_ = p.get_double("approach", approach_);
-    lift_ = p.get_double("lift", lift_);
-    clearance_ = p.get_double("clearance", clearance_);
-    tight_clearance_ = p.get_double("tight_clearance", tight_clearance_);
-    steps_ = p.get_int("approach_steps", steps_);
-    resolution_ = p.get_double("resolution", resolution_);
-    max_usable_ = p.get_int("max_usable", max_usable_);
-    base_distance_ = p.get_double("base_distance", base_distance_);
-    p.require(base_distance_ >= 0 && base_distance_ < 3, "base_distance", "must be 0 (off) to 3 m");
-    p.require(directions_ >= 1 && directions_ <= 64, "directions", "must be 1 to 64");
-    p.require(spread_ >= 0 && spread_ <= 180, "spread", "must be 0 to 180 (degrees either side)");
-    p.require(wide_spread_ >= 0 && wide_spread_ <= 180, "wide_spread", "must be 0 to 180 (degrees either side; 0: off)");
-    p.require(!heights_.empty() && std::all_of(heights_.begin(), heights_.end(), [](double h) { return h > 0 && h < 1; }),
-              "heights", "must list fractions of the object's height in (0, 1)");
-    p.require(random_ >= 0 && random_ <= 1000, "random", "must be 0 to 1000");
-    p.require(approach_ > 0 && approach_ < 1, "approach", "must be in (0, 1) m");
-    p.require(lift_ >= 0 && lift_ < 1, "lift", "must be in [0, 1) m");
-    p.require(clearance_ >= 0 && clearance_ < 0.05, "clearance", "must be in [0, 0.05) m");
-    p.require(tight_clearance_ >= 0 && tight_clearance_ <= clearance_, "tight_clearance", "must be in [0, clearance] m");
-    p.require(steps_ >= 1 && steps_ <= 100, "approach_steps", "must be 1 to 100");
-    p.require(resolution_ > 0 && resolution_ < 1, "resolution", "must be in (0, 1) rad");
-    p.require(max_usable_ >= 1, "max_usable", "must be at least 1");
+    directions_ = p.get_int("directions", directions_, "approach directions facing the robot", Range::closed(1, 64));
+    spread_ = p.get_double("spread", spread_, "degrees either side of facing the robot", Range::closed(0, 180));
+    wide_spread_ = p.get_double("wide_spread", wide_spread_,
+                                "degrees either side, tried when nothing within spread is usable (0: off)",
+                                Range::closed(0, 180));
+    heights_ = p.get_vector("heights", heights_, "grasp heights, fractions of the object's height", Range::open(0, 1));
+    p.require(!heights_.empty(), "heights", "must list at least one height");
+    random_ = p.get_int("random", random_, "seeded random grasps besides the preset ones", Range::closed(0, 1000));
+    approach_ = p.get_double("approach", approach_, "m from the pre-grasp to the grasp", Range::open(0, 1));
+    lift_ = p.get_double("lift", lift_, "m the object is lifted", Range::closed_open(0, 1));
+    clearance_ = p.get_double("clearance", clearance_, "m between each finger and the object", Range::closed_open(0, 0.05));
+    tight_clearance_ = p.get_double("tight_clearance", tight_clearance_,
+                                    "m, tried where the usual clearance touches a neighbour (at most clearance)",
+                                    Range::at_least(0));
+    p.require(tight_clearance_ <= clearance_, "tight_clearance", "must be at most clearance");
+    steps_ = p.get_int("approach_steps", steps_, "collision checks along the approach at the least", Range::closed(1, 100));
+    resolution_ = p.get_double("resolution", resolution_, "rad between collision checks", Range::open(0, 1));
+    max_usable_ = p.get_int("max_usable", max_usable_, "usable grasps after which sampling stops", Range::at_least(1));
+    base_distance_ = p.get_double("base_distance", base_distance_,
+                                  "m from a mobile base to the grasp, placed behind it (0: off)", Range::closed_open(0, 3));
   }
 
   GraspAnswer sample(plugin::PlanningContext& context, const plugin::GraspQuery& query) override {
     GraspAnswer answer;
-    if (!context.world || !context.problem.robot.loaded) {
+    // The world as the query has it, with nothing in the hand (a held object stays where it is).
+    WorldState empty_handed = query.state;
+    empty_handed.held.reset();
+    const std::unique_ptr<plugin::WorldView> world = context.world_at(empty_handed);
+    if (!world || !context.problem.robot.loaded) {
       answer.failure = Failure{"grasp", "the problem has no robot to grasp with", {}};
       return answer;
     }
-    collision::CollisionWorld& world = *context.world;
-    world.sync(*query.state);
-    if (world.held()) world.detach(query.state->world_T_objects.at(*world.held()));
     const robot::RobotDescription& robot = context.robot();
     const SceneObject& object = context.scene().objects.at(query.object);
-    const Eigen::Isometry3d& world_T_object = query.state->world_T_objects.at(query.object);
+    const Eigen::Isometry3d& world_T_object = query.state.world_T_objects.at(query.object);
     const auto half_width = graspable_half_width(object, world_T_object);
     if (!half_width) {
       answer.failure = Failure{"grasp", "'" + object.id + "' is not a standing cylinder or box the gripper can span", {}};
@@ -83,9 +77,8 @@ class SideGrasps final : public plugin::GraspSampler {
       answer.failure = Failure{"grasp", "'" + object.id + "' is wider than the gripper's stroke", {}};
       return answer;
     }
-    auto checker = world.make_context();
     const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
-    const Eigen::VectorXd seed = query.state->robot_configuration.size() ? query.state->robot_configuration : robot.home();
+    const Eigen::VectorXd seed = query.state.robot_configuration.size() ? query.state.robot_configuration : robot.home();
     const auto mobile = base_distance_ > 0 ? manipulation::BasePlacement::of(robot) : std::nullopt;
     std::mt19937_64 rng(context.seed ^ (0x9e3779b97f4a7c15ull * (query.object + 1)));
 
@@ -98,13 +91,13 @@ class SideGrasps final : public plugin::GraspSampler {
         context.count(counter::samples);
         Grasp grasp = make_grasp(c, *half_width, object_height(object), world_T_object, gripper);
         const std::size_t blocked_before = answer.blocked.size();
-        evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, answer);
+        evaluate(context, *world, robot, mobile, base_T_world, seed, query.object, grasp, answer);
         if (answer.blocked.size() > blocked_before && answer.blocked.back().freeable && tight_clearance_ < clearance_) {
           // Objects may stand closer than the fingers' usual clearance (the paper's shelves
           // keep no gap): the same grasp with the fingers opened just enough.
           grasp.finger_open = std::min(gripper.stroke / 2, *half_width + tight_clearance_);
           GraspAnswer tight;
-          evaluate(context, world, *checker, robot, mobile, base_T_world, seed, query.object, grasp, tight);
+          evaluate(context, *world, robot, mobile, base_T_world, seed, query.object, grasp, tight);
           if (!tight.usable.empty()) {
             answer.blocked.pop_back();
             answer.usable.push_back(std::move(tight.usable.front()));
@@ -123,7 +116,6 @@ class SideGrasps final : public plugin::GraspSampler {
     // grasps from the front: from further round, across the line between them, they
     // may come free (the paper's shelves keep no gap between objects).
     if (answer.usable.empty()) try_candidates(wide_candidates(object, world_T_object, context.scene().world_T_robot_base));
-    world.sync(*query.state);
     if (answer.usable.empty()) {
       const BlockedGrasp* best = answer.least_blocked();
       Failure failure{"grasp", "no usable grasp of '" + object.id + "'", {}};
@@ -258,13 +250,14 @@ class SideGrasps final : public plugin::GraspSampler {
   // whole robot from where it is leaves the base wherever its steps end, often in the
   // table. Then the whole robot from where it stands: the near side is often better
   // reached from there, and a fixed base has only this.
-  std::vector<Branch> ik_branches(collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
-                                  const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile,
+  std::vector<Branch> ik_branches(const plugin::WorldView& world, const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile,
                                   const Eigen::Isometry3d& base_T_world, const Eigen::VectorXd& open_seed,
                                   const Grasp& grasp) const {
     std::vector<Branch> branches;
     if (mobile) {
-      for (Eigen::VectorXd& q : mobile->solve(world, checker, grasp.world_T_gripper, open_seed, base_distance_, 1)) {
+      // Placing the base looks at fixed and self contacts: the world behind the view.
+      for (Eigen::VectorXd& q : mobile->solve(collision::synced_world(world), collision::view_checker(world),
+                                              grasp.world_T_gripper, open_seed, base_distance_, 1)) {
         branches.push_back({std::move(q), &*mobile});
       }
     }
@@ -276,14 +269,13 @@ class SideGrasps final : public plugin::GraspSampler {
   // Per IK branch, the pre-grasp and lift nearest to it; checks the approach (fingers
   // open, the object itself ignored), the grasp and the lift (object held). Files the
   // grasp as usable or blocked, with the objects in the way.
-  void evaluate(plugin::PlanningContext& context, collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
-                const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile,
+  void evaluate(plugin::PlanningContext& context, const plugin::WorldView& world, const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile,
                 const Eigen::Isometry3d& base_T_world, const Eigen::VectorXd& seed, ObjectIndex object, Grasp& grasp,
                 GraspAnswer& answer) const {
     const auto finger = robot.finger_variable();
     Eigen::VectorXd open_seed = seed;
     if (finger) open_seed[*finger] = grasp.finger_open;
-    const std::vector<Branch> branches = ik_branches(world, checker, robot, mobile, base_T_world, open_seed, grasp);
+    const std::vector<Branch> branches = ik_branches(world, robot, mobile, base_T_world, open_seed, grasp);
     for (const Branch& b : branches) grasp.ik_solutions.push_back(b.q_grasp);
     if (grasp.ik_solutions.empty()) {
       answer.blocked.push_back({grasp, {}, "unreachable: no IK solution", false});
@@ -294,11 +286,10 @@ class SideGrasps final : public plugin::GraspSampler {
     bool freeable = false, any_branch = false;
     std::string why = "unreachable: the approach or lift leaves the workspace";
     const ObjectIndex ignore_target[] = {object};
-    const Eigen::Isometry3d world_T_object = world.object_pose(object);
     for (const Branch& branch : branches) {
       const Eigen::VectorXd& q_grasp = branch.q_grasp;
       auto near = [&](const Eigen::Isometry3d& world_T_tool) {
-        return branch.placed ? branch.placed->solve_arm(world.scene().world_T_robot_base, world_T_tool, q_grasp)
+        return branch.placed ? branch.placed->solve_arm(context.scene().world_T_robot_base, world_T_tool, q_grasp)
                              : robot.ik().solve(base_T_world * world_T_tool, q_grasp);
       };
       const auto pre = near(grasp.world_T_pregrasp);
@@ -312,38 +303,36 @@ class SideGrasps final : public plugin::GraspSampler {
       collision::ObjectSet objects;
       bool hits_fixed = false, self = false;
       std::string fixed_contacts;  // which link met which fixed body, first time seen
-      auto check = [&](const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
+      auto check = [&](const plugin::WorldView& at, const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
         context.count(counter::collision_checks);
-        const collision::CollisionReport r = world.check(q, checker, ignored);
+        const plugin::Contacts r = at.contacts(q, ignored);
         objects.insert(objects.end(), r.objects.begin(), r.objects.end());
-        if (r.fixed && !hits_fixed) fixed_contacts = world.describe_fixed_contacts(q, checker);
+        if (r.fixed && !hits_fixed) fixed_contacts = at.describe_fixed_contacts(q);
         hits_fixed = hits_fixed || r.fixed;
         self = self || r.self;
       };
       // Straight joint-space segments, checked every `resolution_` radians; a blocked
       // segment reports the objects at a few of its colliding steps.
-      auto segment = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b, std::span<const ObjectIndex> ignored,
-                         double resolution) {
+      auto segment = [&](const plugin::WorldView& at, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                         std::span<const ObjectIndex> ignored, double resolution) {
         const int n = std::max<int>(static_cast<int>(steps_),
                                     static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / resolution)));
         int blocked_at = -1;
         for (int s = 0; s <= n && blocked_at < 0; ++s) {
           context.count(counter::collision_checks);
-          if (!world.is_valid(a + (b - a) * (double(s) / n), checker, ignored)) blocked_at = s;
+          if (!at.is_valid(a + (b - a) * (double(s) / n), ignored)) blocked_at = s;
         }
         if (blocked_at < 0) return;
         // What is in the way: the full collision sets where it was met (so that a blocked
         // segment never reads as free), at both ends and in the middle.
-        check(a + (b - a) * (double(blocked_at) / n), ignored);
-        for (int r = 0; r <= 2; ++r) check(a + (b - a) * (r / 2.0), ignored);
+        check(at, a + (b - a) * (double(blocked_at) / n), ignored);
+        for (int r = 0; r <= 2; ++r) check(at, a + (b - a) * (r / 2.0), ignored);
       };
       Eigen::VectorXd closed = motion.grasp;
       if (finger) closed[*finger] = grasp.finger_closed;
       auto both = [&](double resolution) {
-        segment(motion.pregrasp, motion.grasp, ignore_target, resolution);
-        world.attach(object, grasp.gripper_T_object);
-        segment(closed, motion.lift, {}, resolution);
-        world.detach(world_T_object);
+        segment(world, motion.pregrasp, motion.grasp, ignore_target, resolution);
+        segment(*world.holding(object, grasp.gripper_T_object), closed, motion.lift, {}, resolution);
       };
       both(resolution_);
       // A grasp free at the coarse resolution is checked as densely as pick checks it

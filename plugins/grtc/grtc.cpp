@@ -33,16 +33,16 @@ class GrtcPlanner final : public plugin::TaskPlanner {
  public:
   void configure(const Parameters& p) override {
     search_.read(p);
-    guidance_ = p.get_string("guidance", guidance_);
+    guidance_ = p.get_string("guidance", guidance_, "guidance file, relative to the problem file, or auto");
     guidance_where_ = p.location("guidance");
-    max_guides_ = static_cast<int>(p.get_int("max_guides", max_guides_));
-    diameter_ = p.get_double("guide_diameter", diameter_);
-    unsatisfied_ = p.get_string("unsatisfied_guides", unsatisfied_);
+    max_guides_ = static_cast<int>(
+        p.get_int("max_guides", max_guides_, "guides generated at most (guidance auto)", Range::at_least(0)));
+    diameter_ = p.get_double("guide_diameter", diameter_, "m across each generated guide's region", Range::above(0));
+    unsatisfied_ = p.get_string("unsatisfied_guides", unsatisfied_,
+                                "a guide that cannot be satisfied: skip (pass it over) or stop (end the run)");
     reach_.read(p);
     p.require(unsatisfied_ == "skip" || unsatisfied_ == "stop", "unsatisfied_guides", "must be skip or stop");
     p.require(!guidance_.empty(), "guidance", "must be a guidance file or 'auto'");
-    p.require(max_guides_ >= 0, "max_guides", "must not be negative");
-    p.require(diameter_ > 0, "guide_diameter", "must be positive (m)");
   }
 
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
@@ -64,9 +64,9 @@ class GrtcPlanner final : public plugin::TaskPlanner {
                                       ? physics::generate_guidance(initial_world, initial_world.state_of(initial, exit), exit.head<2>(),
                                                           max_guides_, diameter_)
                                       : io::load_guidance(guidance_file(context), scene, initial_world.support_region());
-    result.counters["guides"] = guidance.size();
-    result.counters["guides_satisfied"] = 0;
-    result.counters["guides_skipped"] = 0;
+    result.counters[counter::guides] = guidance.size();
+    result.counters[counter::guides_satisfied] = 0;
+    result.counters[counter::guides_skipped] = 0;
 
     // Algorithm 1, lines 2-6: satisfy each guide in order, from where the last push left things.
     WorldState state = initial;
@@ -82,11 +82,11 @@ class GrtcPlanner final : public plugin::TaskPlanner {
         physics::plan_pushes(world, world.state_of(state, gripper), goal, search_,
                              physics::PushBudget::of(search_, context.deadline.remaining()),
                              context.seed + guidance.size() + 1);
-    context.count("propagations", out.propagations);
+    context.count(counter::propagations, out.propagations);
     if (!out.path) {
-      const std::uint64_t skipped = result.counters["guides_skipped"];
+      const std::uint64_t skipped = result.counters[counter::guides_skipped];
       result.reason = (skipped == 0 ? "the guidance was satisfied (" + std::to_string(guidance.size()) + " guides)"
-                                    : std::to_string(result.counters["guides_satisfied"]) + " of " +
+                                    : std::to_string(result.counters[counter::guides_satisfied]) + " of " +
                                           std::to_string(guidance.size()) + " guides satisfied, " +
                                           std::to_string(skipped) + " skipped") +
                       ", then reaching the target failed: " + out.reason;
@@ -118,13 +118,13 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     const Scene& scene = context.scene();
     for (std::size_t k = 0; k < guidance.size(); ++k) {
       const physics::Guide& g = guidance[k];
-      plugin::PushAnswer answer = context.samplers.push->push(context, {g.object, g.centre, g.diameter / 2, &state, gripper});
+      plugin::PushAnswer answer = context.samplers.push->push(context, {g.object, g.centre, g.diameter / 2, state, gripper});
       if (!answer.step) {
         Failure f = answer.failure.value_or(Failure{"push", "the push sampler gave no push and no reason", {}});
         f.reason = "guide " + std::to_string(k + 1) + " (" + describe(scene, g) + ") not satisfied: " + f.reason;
         result.failures.push_back(f);
         if (skip) {
-          result.counters["guides_skipped"] += 1;
+          result.counters[counter::guides_skipped] += 1;
           continue;
         }
         result.reason = f.reason;
@@ -135,7 +135,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
       add_step(std::move(*answer.step), result);
       state = std::move(*answer.resulting_state);
       gripper = answer.gripper_end;
-      result.counters["guides_satisfied"] += 1;
+      result.counters[counter::guides_satisfied] += 1;
     }
     return true;
   }
@@ -152,7 +152,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
 
   static Result& finish(Result& result, const plugin::PlanningContext& context, Clock::time_point started) {
     result.time.total = std::chrono::duration<double>(Clock::now() - started).count();
-    if (!result.solved && result.counters["guides_satisfied"] + result.counters["guides_skipped"] < result.counters["guides"]) {
+    if (!result.solved && result.counters[counter::guides_satisfied] + result.counters[counter::guides_skipped] < result.counters[counter::guides]) {
       result.time.task_planning = result.time.total;  // stopped at a guide: no reach
     }
     result.time.motion_planning = result.time.total - result.time.task_planning;

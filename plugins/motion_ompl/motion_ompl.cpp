@@ -23,10 +23,10 @@
 #include <ompl/geometric/planners/rrt/RRTstar.h>
 #include <ompl/util/Console.h>
 
-#include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
 
 namespace {
 
@@ -77,38 +77,33 @@ class OmplMotion final : public plugin::MotionSampler {
     p.require(!p.contains("time_limit"), "time_limit",
               "is no longer read: a query's budget is work, so that a seed gives the same motion on any machine; "
               "set max_checks (collision checks per query, default " + std::to_string(kDefaultMaxChecks) + ")");
-    planner_ = p.get_string("planner", planner_);
+    planner_ = p.get_string("planner", planner_, "OMPL planner: rrtconnect, rrt or rrtstar");
     p.require(planner_ != "prm", "planner",
               "prm is no longer offered: OMPL's PRM looks for its solution in a second thread, so its paths depend "
               "on timing; use rrtconnect, rrt or rrtstar");
-    max_checks_ = p.get_int("max_checks", max_checks_);
-    resolution_ = p.get_double("resolution", resolution_);
-    range_ = p.get_double("range", range_);
-    p.require(range_ > 0 && range_ <= 100, "range", "must be in (0, 100] (joint-space distance)");
-    shortcuts_ = p.get_int("shortcuts", shortcuts_);
-    velocity_scale_ = p.get_double("velocity_scale", velocity_scale_);
-    relaxed_share_ = p.get_double("relaxed_share", relaxed_share_);
-    p.require(relaxed_share_ > 0 && relaxed_share_ < 1, "relaxed_share", "must be in (0, 1)");
-    p.require(planner_ == "rrtconnect" || planner_ == "rrt" || planner_ == "rrtstar", "planner",
+    p.require(planner_ == "prm" || planner_ == "rrtconnect" || planner_ == "rrt" || planner_ == "rrtstar", "planner",
               "must be rrtconnect, rrt or rrtstar");
-    p.require(max_checks_ >= 100, "max_checks", "must be at least 100 (collision checks per query)");
-    p.require(resolution_ > 0 && resolution_ < 1, "resolution", "must be in (0, 1) rad");
-    p.require(shortcuts_ >= 0, "shortcuts", "must not be negative");
-    p.require(velocity_scale_ > 0 && velocity_scale_ <= 1, "velocity_scale", "must be in (0, 1]");
+    max_checks_ = p.get_int("max_checks", max_checks_, "collision checks per query (the work budget)", Range::at_least(100));
+    resolution_ = p.get_double("resolution", resolution_, "rad between collision checks along a motion", Range::open(0, 1));
+    range_ = p.get_double("range", range_, "the trees' step, joint-space distance", Range::open_closed(0, 100));
+    shortcuts_ = p.get_int("shortcuts", shortcuts_, "shortcutting passes over a path", Range::at_least(0));
+    velocity_scale_ = p.get_double("velocity_scale", velocity_scale_, "fraction of the joints' velocity limits",
+                                   Range::open_closed(0, 1));
+    relaxed_share_ = p.get_double("relaxed_share", relaxed_share_,
+                                  "share of the budget for the search through movable objects", Range::open(0, 1));
   }
 
   plugin::MotionAnswer plan(plugin::PlanningContext& context, const plugin::MotionQuery& query) override {
     plugin::MotionAnswer answer;
     context.count(counter::motion_planning_calls);
-    if (!context.world) {
+    // The world the motion passes through, the held object travelling with the hand.
+    const std::unique_ptr<plugin::WorldView> world = context.world_at(query.state);
+    if (!world) {
       answer.failure = Failure{"motion", "the problem has no robot", {}};
       return answer;
     }
-    collision::CollisionWorld& world = *context.world;
-    world.sync(*query.state);
     const robot::RobotDescription& robot = context.robot();
     const std::vector<int> joints = arm_variables(robot);
-    auto checker = world.make_context();
 
     std::vector<Eigen::VectorXd> path;
     // Where the query's work went, by how it ended (motion.straight, motion.relaxed,
@@ -123,17 +118,16 @@ class OmplMotion final : public plugin::MotionSampler {
     // objects: collision checks, and never more than the caller's own budget.
     const std::uint64_t budget = std::min<std::uint64_t>(static_cast<std::uint64_t>(max_checks_), context.checks_left());
     std::uint64_t checks = 0;
-    const collision::ObjectSet none;
     auto valid = [&](const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
       ++checks;
       context.count(counter::collision_checks);
-      return world.is_valid(q, *checker, ignored);
+      return world->is_valid(q, ignored);
     };
     if (!valid(query.start, {}) || !valid(query.goal, {})) {
       // An endpoint in collision: report what it touches.
       Failure failure{"motion", "the start or goal configuration is in collision", {}};
       for (const Eigen::VectorXd* q : {&query.start, &query.goal}) {
-        const collision::CollisionReport r = world.check(*q, *checker);
+        const plugin::Contacts r = world->contacts(*q);
         failure.blocking_objects.insert(failure.blocking_objects.end(), r.objects.begin(), r.objects.end());
         if (r.fixed || r.self) failure.reason += r.fixed ? " (fixed geometry)" : " (the arm itself)";
       }
@@ -165,7 +159,7 @@ class OmplMotion final : public plugin::MotionSampler {
         const int steps = std::max(1, static_cast<int>(std::ceil((relaxed[k + 1] - relaxed[k]).cwiseAbs().maxCoeff() / resolution_)));
         for (int s = 0; s <= steps; ++s) {
           context.count(counter::collision_checks);
-          const collision::CollisionReport r = world.check(relaxed[k] + (relaxed[k + 1] - relaxed[k]) * (double(s) / steps), *checker);
+          const plugin::Contacts r = world->contacts(relaxed[k] + (relaxed[k + 1] - relaxed[k]) * (double(s) / steps));
           through.insert(through.end(), r.objects.begin(), r.objects.end());
           other_contact = other_contact || r.self || r.fixed;
         }

@@ -15,7 +15,7 @@
 #include <memory>
 #include <set>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/perception/visibility.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
@@ -37,15 +37,19 @@ struct Settings {
 
   void read(const Parameters& p) {
     roadmap.read(p);
-    region = p.get_string("region", region);
-    visibility.min_visible_fraction = p.get_double("min_visible", visibility.min_visible_fraction);
-    visibility.horizontal_fov = p.get_double("horizontal_fov", visibility.horizontal_fov);
-    visibility.vertical_fov = p.get_double("vertical_fov", visibility.vertical_fov);
-    max_attempts = static_cast<int>(p.get_int("max_attempts", max_attempts));
-    p.require(visibility.min_visible_fraction > 0 && visibility.min_visible_fraction <= 1, "min_visible", "must be in (0, 1]");
-    p.require(visibility.horizontal_fov > 0 && visibility.horizontal_fov < M_PI, "horizontal_fov", "must be in (0, pi) rad");
-    p.require(visibility.vertical_fov > 0 && visibility.vertical_fov < M_PI, "vertical_fov", "must be in (0, pi) rad");
-    p.require(max_attempts >= 1, "max_attempts", "must be at least 1");
+    region = p.get_string("region", region, "the scene's region removed objects are placed in");
+    visibility.min_visible_fraction =
+        p.get_double("min_visible", visibility.min_visible_fraction,
+                     "fraction of an object's camera-facing surface seen for it to count as observed",
+                     Range::open_closed(0, 1));
+    visibility.horizontal_fov = p.get_double("horizontal_fov", visibility.horizontal_fov,
+                                             "rad, the camera's full horizontal field of view", Range::open(0, M_PI));
+    visibility.vertical_fov = p.get_double("vertical_fov", visibility.vertical_fov,
+                                           "rad, the camera's full vertical field of view", Range::open(0, M_PI));
+    max_attempts = static_cast<int>(p.get_int("max_attempts", max_attempts,
+                                              "failed removals of one object before it is avoided (of the target: "
+                                              "before the run ends)",
+                                              Range::at_least(1)));
   }
 };
 
@@ -73,7 +77,7 @@ class Run {
   Result run() {
     const auto start = Clock::now();
     Result result;
-    count_known(result, "observed_initially");
+    count_known(result, counter::observed_initially);
     if (seen_at_first_.empty()) {
       result.reason = "the camera sees no object at the start: nothing to plan from";
       return result;
@@ -81,7 +85,7 @@ class Run {
     const Eigen::Vector2d x_s = scene_.world_T_exit.translation().head<2>();
     area_ = area();
     sync_roadmap();
-    roadmap_ = std::make_unique<retrieval::Roadmap>(*context_.world, footprint_, area_, x_s, x_s, scene_.target, context_.seed);
+    roadmap_ = std::make_unique<retrieval::Roadmap>(*collision::shared_world(context_), footprint_, area_, x_s, x_s, scene_.target, context_.seed);
     int limit = 1;
     roadmap_->expand(limit, settings_.roadmap);
     while (!context_.deadline.expired() && result.reason.empty()) {
@@ -94,15 +98,15 @@ class Run {
         break;
       }
       // An iteration of Algorithm 4: planning towards a new goal.
-      if ((goal->x - roadmap_->graph()[1].x).norm() > 1e-9 || result.counters["iterations"] == 0) {
+      if ((goal->x - roadmap_->graph()[1].x).norm() > 1e-9 || result.counters[counter::iterations] == 0) {
         roadmap_->move_goal(goal->x, settings_.roadmap);
-        ++result.counters["iterations"];
+        ++result.counters[counter::iterations];
       }
       std::optional<ObjectSet> order = way(limit);
       if (!order) {
         if (limit < known_movable()) {
           roadmap_->expand(++limit, settings_.roadmap);
-          result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
+          result.counters[counter::exploration_limit] = static_cast<std::uint64_t>(limit);
           continue;
         }
         // At the full limit an unjoined roadmap may only lack samples (a goal in a narrow
@@ -110,14 +114,14 @@ class Run {
         if (extra_expansions_[goal->behind] < kExtraExpansions) {
           ++extra_expansions_[goal->behind];
           roadmap_->expand(limit, settings_.roadmap);
-          ++result.counters["extra_expansions"];
+          ++result.counters[counter::extra_expansions];
           continue;
         }
         if (world_.known(scene_.target)) {
           // The graph's footprint is conservative and objects given up on stand in it
           // (one the target itself blocks, say): the robot may still get the target out.
           if (attempts_[scene_.target] < settings_.max_attempts) {
-            ++result.counters["retrievals_without_a_way"];
+            ++result.counters[counter::retrievals_without_a_way];
             if (retrieve(result)) {
               mark_solved(result);
               break;
@@ -129,7 +133,7 @@ class Run {
         }
         // No way behind this object: look behind the next one (next_goal skips it).
         unreachable_.insert(goal->behind);
-        ++result.counters["temporary_goals_given_up"];
+        ++result.counters[counter::temporary_goals_given_up];
         continue;
       }
       if (order->empty() && world_.known(scene_.target)) {
@@ -151,8 +155,8 @@ class Run {
     result.time.total = std::chrono::duration<double>(Clock::now() - start).count();
     result.time.motion_planning = motion_seconds_;
     result.time.task_planning = std::max(0.0, result.time.total - motion_seconds_);
-    result.counters["roadmap_nodes"] = roadmap_->size();
-    count_known(result, "observed");
+    result.counters[counter::roadmap_nodes] = roadmap_->size();
+    count_known(result, counter::observed);
     return result;
   }
 
@@ -163,7 +167,7 @@ class Run {
   };
 
   // The world the actions are planned in: the known objects where they are now.
-  void sync() { context_.world->sync(world_.belief()); }
+  void sync() { collision::shared_world(context_)->sync(world_.belief()); }
 
   // The world the roadmap is queried in (it reads it live): every known object where it
   // stood at the start, moved ones too, as retrieval_graph keeps its initial world;
@@ -173,7 +177,7 @@ class Run {
     WorldState state = initial_;
     for (ObjectIndex o = 0; o < scene_.objects.size(); ++o) state.removed[o] = initial_.removed[o] || !world_.known(o);
     state.held.reset();
-    context_.world->sync(state);
+    collision::shared_world(context_)->sync(state);
   }
 
   // Objects the retrieval graph does not count: unseen, or already taken away.
@@ -245,7 +249,7 @@ class Run {
       const Eigen::Vector2d away = (position(o) - x_s).normalized();
       const double r = footprint_radius(scene_.objects[o].shape, world_.truth().world_T_objects[o]);
       const Eigen::Vector2d x = position(o) + (r + footprint_.radius + 0.01) * away;
-      if (shelf.contains(x) && context_.world->fixed_clearance(x, footprint_) >= footprint_.radius) return Goal{x, o};
+      if (shelf.contains(x) && collision::shared_world(context_)->fixed_clearance(x, footprint_) >= footprint_.radius) return Goal{x, o};
     }
     return std::nullopt;
   }
@@ -282,7 +286,7 @@ class Run {
   std::vector<ObjectIndex> hidden_in_the_way(const PlanStep& step) {
     std::vector<ObjectIndex> hit;
     if (!step.trajectory) return hit;
-    collision::CollisionWorld& world = *context_.world;
+    collision::CollisionWorld& world = *collision::shared_world(context_);
     world.sync(world_.truth());
     if (world.held()) world.detach(world.object_pose(*world.held()));  // the hand's own load is not in the way
     auto checker = world.make_context();
@@ -321,8 +325,8 @@ class Run {
     };
     const bool grasp_failed = check.failure && check.failure->stage == "grasp";
     if (!grasp_failed || (!blockers.empty() && std::none_of(blockers.begin(), blockers.end(), waits))) return blockers;
-    context_.world->sync(belief);
-    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &belief});
+    collision::shared_world(context_)->sync(belief);
+    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, belief});
     std::optional<std::vector<ObjectIndex>> best;
     for (const plugin::BlockedGrasp& g : answer.blocked) {
       if (!g.freeable || g.blocking_objects.empty()) continue;
@@ -345,7 +349,7 @@ class Run {
     const std::uint64_t salt = static_cast<std::uint64_t>(attempts_[object]);
     const retrieval::RemovalCheck check = checker->remove(order, salt);
     motion_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
-    ++result.counters["removal_attempts"];
+    ++result.counters[counter::removal_attempts];
     if (!check.ok) {
       if (check.failure) retrieval::record_failure_once(result, *check.failure);
       if (check.failure) waits_for_[object].insert(check.failure->blocking_objects.begin(), check.failure->blocking_objects.end());
@@ -370,7 +374,7 @@ class Run {
     moved_.insert(object);
     done_.push_back({object, salt, std::move(checker)});
     const std::vector<ObjectIndex> revealed = world_.update(check.state);
-    result.counters["revealed"] += revealed.size();
+    result.counters[counter::revealed] += revealed.size();
     // The world changed: what could not be removed before may come out now.
     blockers_.clear();
     blocked_.clear();
@@ -385,7 +389,7 @@ class Run {
 
   void found_by_touch(const std::vector<ObjectIndex>& hidden, Result& result) {
     const std::vector<ObjectIndex> found = world_.touch(hidden);
-    result.counters["found_by_touch"] += found.size();
+    result.counters[counter::found_by_touch] += found.size();
     sync_roadmap();
     roadmap_->reveal(found);
   }
@@ -399,7 +403,7 @@ class Run {
     const std::uint64_t salt = static_cast<std::uint64_t>(attempts_[scene_.target]);
     const retrieval::RemovalCheck check = checker->retrieve({}, salt);
     motion_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
-    ++result.counters["removal_attempts"];
+    ++result.counters[counter::removal_attempts];
     if (!check.ok) {
       if (check.failure) retrieval::record_failure_once(result, *check.failure);
       const std::vector<ObjectIndex> known_blockers = not_waiting(scene_.target, blockers_of(check, scene_.target), check, belief);
@@ -429,7 +433,7 @@ class Run {
 
   void mark_solved(Result& result) const {
     result.solved = true;
-    result.counters["final_sequence"] = final_sequence();
+    result.counters[counter::final_sequence] = final_sequence();
   }
 
   // Tian et al.'s Table II counts the final removal sequence: objects moved only to

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/manipulation/base_placement.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/placement_sampler.hpp"
@@ -18,10 +18,8 @@ using namespace cluttertamp;
 class RegionPlacements final : public plugin::PlacementSampler {
  public:
   void configure(const Parameters& p) override {
-    attempts_ = p.get_int("attempts", attempts_);
-    margin_ = p.get_double("margin", margin_);
-    p.require(attempts_ >= 1 && attempts_ <= 100000, "attempts", "must be 1 to 100000");
-    p.require(margin_ >= 0 && margin_ < 0.1, "margin", "must be in [0, 0.1) m");
+    attempts_ = p.get_int("attempts", attempts_, "candidate poses tried per query", Range::closed(1, 100000));
+    margin_ = p.get_double("margin", margin_, "m kept from the region's sides", Range::closed_open(0, 0.1));
   }
 
   plugin::PlacementAnswer sample(plugin::PlanningContext& context, const plugin::PlacementQuery& query) override {
@@ -33,14 +31,14 @@ class RegionPlacements final : public plugin::PlacementSampler {
       answer.failure = Failure{"placement", "the scene has no region '" + query.region + "'", {}};
       return answer;
     }
-    if (!context.world) {
+    // The world as the query has it, the held object standing where the state has it.
+    WorldState empty_handed = query.state;
+    empty_handed.held.reset();
+    const std::unique_ptr<plugin::WorldView> world = context.world_at(empty_handed);
+    if (!world) {
       answer.failure = Failure{"placement", "the problem has no robot", {}};
       return answer;
     }
-    collision::CollisionWorld& world = *context.world;
-    world.sync(*query.state);
-    if (world.held()) world.detach(query.state->world_T_objects.at(*world.held()));
-    auto checker = world.make_context();
     const robot::RobotDescription& robot = context.robot();
     // A mobile base stands behind the tool (IK of the whole robot can leave it in a table).
     const auto mobile = manipulation::BasePlacement::of(robot);
@@ -69,13 +67,13 @@ class RegionPlacements final : public plugin::PlacementSampler {
       // Lifted 1 mm off its support: it must then touch nothing at all.
       Eigen::Isometry3d lifted = pose;
       lifted.translation().z() += 1e-3;
-      const collision::CollisionReport contacts = world.shape_contacts(object.shape, lifted, self);
+      const plugin::Contacts contacts = world->shape_contacts(object.shape, lifted, self);
       if (!contacts.valid()) {
         ++blocked;
         continue;
       }
       const Eigen::Isometry3d grip = query.gripper_T_object ? *query.gripper_T_object : facing_grip(scene, pose);
-      const auto configuration = reachable(context, world, *checker, robot, mobile, pose, grip, query);
+      const auto configuration = reachable(context, *world, robot, mobile, pose, grip, query);
       if (!configuration) {
         ++unreachable;
         continue;
@@ -90,7 +88,6 @@ class RegionPlacements final : public plugin::PlacementSampler {
                                                 std::to_string(outside) + " did not fit",
                                {}};
     }
-    world.sync(*query.state);
     return answer;
   }
 
@@ -107,25 +104,23 @@ class RegionPlacements final : public plugin::PlacementSampler {
     return tool.inverse() * world_T_object;
   }
 
-  std::optional<Eigen::VectorXd> reachable(plugin::PlanningContext& context, collision::CollisionWorld& world,
-                                           collision::CollisionWorld::Context& checker,
+  std::optional<Eigen::VectorXd> reachable(plugin::PlanningContext& context, const plugin::WorldView& world,
                                            const robot::RobotDescription& robot,
                                            const std::optional<manipulation::BasePlacement>& mobile,
                                            const Eigen::Isometry3d& world_T_object, const Eigen::Isometry3d& gripper_T_object,
                                            const plugin::PlacementQuery& query) const {
     const Eigen::Isometry3d world_T_tool = world_T_object * gripper_T_object.inverse();
-    const Eigen::VectorXd seed = query.state->robot_configuration.size() ? query.state->robot_configuration : robot.home();
-    const auto solutions = manipulation::reach(robot, mobile, world, checker, world_T_tool, seed);
+    const Eigen::VectorXd seed = query.state.robot_configuration.size() ? query.state.robot_configuration : robot.home();
+    // A mobile base is placed against fixed and self contacts: the world behind the view.
+    const auto solutions = manipulation::reach(robot, mobile, collision::synced_world(world),
+                                               collision::view_checker(world), world_T_tool, seed);
     if (solutions.empty()) return std::nullopt;
-    const Eigen::Isometry3d original = world.object_pose(query.object);
-    world.set_object_pose(query.object, world_T_object);
-    world.attach(query.object, gripper_T_object);
+    const std::unique_ptr<plugin::WorldView> holding = world.holding(query.object, gripper_T_object);
     std::optional<Eigen::VectorXd> found;
     for (std::size_t i = 0; i < std::min<std::size_t>(solutions.size(), 2) && !found; ++i) {
       context.count(counter::collision_checks);
-      if (world.is_valid(solutions[i], checker)) found = solutions[i];
+      if (holding->is_valid(solutions[i])) found = solutions[i];
     }
-    world.detach(original);
     return found;
   }
 

@@ -51,24 +51,25 @@ class PushOmpl final : public plugin::PushSampler {
 
   void configure(const Parameters& p) override {
     search_.read(p);
-    gap_ = p.get_double("approach_gap", gap_);
-    approach_position_ = p.get_double("approach_position", approach_position_);
-    approach_heading_ = p.get_double("approach_heading", approach_heading_);
-    approach_share_ = p.get_double("approach_share", approach_share_);
-    quick_rounds_ = static_cast<int>(p.get_int("quick_rounds", quick_rounds_));
-    quick_stroke_ = p.get_double("quick_stroke", quick_stroke_);
-    p.require(quick_rounds_ >= 0, "quick_rounds", "must not be negative (0: no quick pass)");
-    p.require(quick_stroke_ > 0, "quick_stroke", "must be positive (m)");
-    p.require(gap_ >= 0, "approach_gap", "must not be negative (m)");
-    p.require(approach_position_ > 0, "approach_position", "must be positive (m)");
-    p.require(approach_heading_ > 0, "approach_heading", "must be positive (rad)");
-    p.require(approach_share_ > 0 && approach_share_ < 1, "approach_share", "must be in (0, 1)");
+    gap_ = p.get_double("approach_gap", gap_, "m between the object's enclosing circle and the gripper at the approach",
+                        Range::at_least(0));
+    approach_position_ = p.get_double("approach_position", approach_position_,
+                                      "m from an approach state within which the approach is reached", Range::above(0));
+    approach_heading_ = p.get_double("approach_heading", approach_heading_,
+                                     "rad from an approach state's heading within which the approach is reached",
+                                     Range::above(0));
+    approach_share_ = p.get_double("approach_share", approach_share_,
+                                   "share of the query's propagations for the approach, at most", Range::open(0, 1));
+    quick_rounds_ = static_cast<int>(
+        p.get_int("quick_rounds", quick_rounds_, "rounds of the quick feedback pass (0: none)", Range::at_least(0)));
+    quick_stroke_ = p.get_double("quick_stroke", quick_stroke_, "m the quick pass pushes per round, at most",
+                                 Range::above(0));
   }
 
   plugin::PushAnswer push(plugin::PlanningContext& context, const plugin::PushQuery& q) override {
     plugin::PushAnswer answer;
     const Scene& scene = context.scene();
-    const WorldState& before = *q.state;
+    const WorldState& before = q.state;
     const physics::PushWorld world(scene, before);
     const std::string& id = scene.objects.at(q.object).id;
     const auto fail = [&](const std::string& reason, std::vector<ObjectIndex> blocking = {}) {
@@ -88,7 +89,7 @@ class PushOmpl final : public plugin::PushSampler {
     std::string quick_failure;
     if (quick_rounds_ > 0) {
       if (auto path = quick_push(world, start, q, context.deadline, quick_failure)) {
-        context.count("quick_pushes");
+        context.count(counter::quick_pushes);
         return done(world, *path, before, answer);
       }
     }
@@ -99,14 +100,14 @@ class PushOmpl final : public plugin::PushSampler {
         search_, context.deadline.remaining(), q.max_propagations > 0 ? q.max_propagations : physics::PushBudget::kNone);
     const physics::GripperPoseGoal approach(approach_states(world, start, q), approach_position_, approach_heading_);
     const auto approached = physics::plan_pushes(world, start, approach, search_, budget.share(approach_share_), seed);
-    context.count("propagations", approached.propagations);
+    context.count(counter::propagations, approached.propagations);
     if (!approached.path) {
       return fail("no approach to '" + id + "' (face or side towards " + xy(q.goal_xy) + "): " + approached.reason +
                   quick_note(quick_failure));
     }
     const auto pushed = physics::plan_pushes(world, approached.path->states.back(), in_region, search_,
                                              budget.after(approached.propagations, context.deadline.remaining()), seed + 1);
-    context.count("propagations", pushed.propagations);
+    context.count(counter::propagations, pushed.propagations);
     if (!pushed.path) {
       return fail("approached '" + id + "' but could not push it within " + metres(q.goal_radius) + " of " +
                   xy(q.goal_xy) + ": " + pushed.reason + quick_note(quick_failure));

@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <variant>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/object_pruner.hpp"
@@ -44,23 +44,26 @@ struct Settings {
 
   void read(const Parameters& p) {
     roadmap.read(p);
-    initial_limit = p.get_string("initial_L", initial_limit);
-    region = p.get_string("region", region);
-    shorten = p.get_bool("shorten", shorten);
+    initial_limit = p.get_string("initial_L", initial_limit,
+                                 "the first exploration limit L: one, nodecol (|n_g.NodeCol|) or objects (|O|)");
+    region = p.get_string("region", region, "the scene's region removed objects are placed in");
+    shorten = p.get_bool("shorten", shorten, "drop the objects a working order does not need");
     p.require(!p.contains("shorten_time"), "shorten_time",
               "is no longer read: shortening's budget is work, so that a seed gives the same plan on any machine; "
               "set shorten_max_checks (collision checks per shorter order tried, default 300000)");
-    shorten_max_checks = p.get_int("shorten_max_checks", shorten_max_checks);
-    restart = p.get_bool("restart", restart);
-    area_margin = p.get_double("area_margin", area_margin);
-    const std::int64_t branches = p.get_int("goal_branches", goal_branches);
-    p.require(branches >= 1 && branches <= 100, "goal_branches", "must be 1 to 100");
-    goal_branches = static_cast<int>(branches);
-    const std::int64_t orders = p.get_int("grasp_orders", grasp_orders);
-    p.require(orders >= 0 && orders <= 100, "grasp_orders", "must be 0 to 100");
-    grasp_orders = static_cast<int>(orders);
-    p.require(area_margin >= 0 && area_margin <= 5, "area_margin", "must be 0 to 5 m");
-    p.require(shorten_max_checks > 0, "shorten_max_checks", "must be positive (collision checks)");
+    shorten_max_checks = p.get_int("shorten_max_checks", shorten_max_checks, "collision checks per shorter order tried",
+                                   Range::above(0));
+    restart = p.get_bool("restart", restart,
+                         "when every limit has failed, forget the feedback and search again with fresh draws");
+    area_margin = p.get_double("area_margin", area_margin,
+                               "m beyond the objects and x_s on every side where the roadmap samples",
+                               Range::closed(0, 5));
+    goal_branches = static_cast<int>(p.get_int("goal_branches", goal_branches,
+                                               "target grasps' blocker sets fed back side by side (1: one node)",
+                                               Range::closed(1, 100)));
+    grasp_orders = static_cast<int>(p.get_int("grasp_orders", grasp_orders,
+                                              "target grasps' blocker sets shortening also tries (0: off)",
+                                              Range::closed(0, 100)));
     p.require(initial_limit == "one" || initial_limit == "nodecol" || initial_limit == "objects", "initial_L",
               "must be one, nodecol or objects");
   }
@@ -101,7 +104,7 @@ class Search {
     for (const SceneObject& o : scene.objects) area.extend(o.world_T_object.translation().head<2>());
     area.min().array() -= footprint_.radius + settings.area_margin;
     area.max().array() += footprint_.radius + settings.area_margin;
-    world_ = context.world;
+    world_ = collision::shared_world(context);
     world_->sync(initial_);
     roadmap_ = std::make_unique<retrieval::Roadmap>(*world_, footprint_, area, scene.world_T_exit.translation().head<2>(),
                                                     initial.world_T_objects[target_].translation().head<2>(), target_,
@@ -267,15 +270,15 @@ class Search {
       if (context_.stopped()) break;
       const bool exhausted = limit > objects && !((stuck || unjoined) && ++rounds_at_full_limit < kRoundsAtFullLimit);
       const bool cut_off = settings_.restart && limits_without_path >= kLimitsWithoutPath &&
-                           result.counters["planning_sequences"] > sequences_at_restart;
+                           result.counters[counter::planning_sequences] > sequences_at_restart;
       if (exhausted || cut_off) {
         // Every limit tried, or the feedback cut every way out: the feedback collected
         // with these draws (grasps blocked by objects that only other grasps could free)
         // leaves no sequence. Start over with fresh draws and no feedback, keeping the
         // roadmap, while time remains, but only if this round checked a sequence (else
         // the next would do the same).
-        if (!settings_.restart || result.counters["planning_sequences"] == sequences_at_restart) break;
-        sequences_at_restart = result.counters["planning_sequences"];
+        if (!settings_.restart || result.counters[counter::planning_sequences] == sequences_at_restart) break;
+        sequences_at_restart = result.counters[counter::planning_sequences];
         // The same feedback as after an earlier round: the draws did not matter (grasps
         // blocked whatever the seed), and another round would learn it again.
         if (++rounds_seen[round_signature()] >= kSameRounds) {
@@ -283,7 +286,7 @@ class Search {
           break;
         }
         forget_feedback();
-        ++result.counters["restarts"];
+        ++result.counters[counter::restarts];
         limit = initial_limit();
         rounds_at_full_limit = 0;
         limits_without_path = 0;
@@ -292,9 +295,9 @@ class Search {
       stuck = false;
       unjoined = false;
       // After a restart, the limits already explored keep their roadmap.
-      if (result.counters["restarts"] == 0 || limit > explored_limit) roadmap_->expand(limit, settings_.roadmap);
+      if (result.counters[counter::restarts] == 0 || limit > explored_limit) roadmap_->expand(limit, settings_.roadmap);
       explored_limit = std::max(explored_limit, limit);
-      result.counters["iterations"] = ++iterations;
+      result.counters[counter::iterations] = ++iterations;
       for (int attempt = 0; attempt < settings_.max_feedback && !context_.stopped(); ++attempt) {
         retrieval::RetrievalGraph g = graph();
         auto removal = g.removal_sequence();
@@ -311,7 +314,7 @@ class Search {
           break;
         }
         removal->objects_in_order = in_precedence_order(std::move(removal->objects_in_order));
-        ++result.counters["planning_sequences"];
+        ++result.counters[counter::planning_sequences];
         const Attempt attempt_result = execute(g, *removal, result);
         if (attempt_result == Attempt::solved) {
           result.solved = true;
@@ -325,11 +328,11 @@ class Search {
         }
       }
       ++limit;
-      result.counters["exploration_limit"] = static_cast<std::uint64_t>(limit);
+      result.counters[counter::exploration_limit] = static_cast<std::uint64_t>(limit);
     }
     result.reason = context_.deadline.expired() ? "time limit reached before the target was retrieved"
                     : context_.stopped()        ? "work budget (collision checks) used up before the target was retrieved"
-                    : repeated                  ? stuck_reason(result.counters["restarts"] + 1)
+                    : repeated                  ? stuck_reason(result.counters[counter::restarts] + 1)
                                                 : "no removal sequence works within the exploration limit";
     finish(result, start);
     return result;
@@ -371,9 +374,9 @@ class Search {
     };
     drop_pass(false);
     if (dropped > 0) drop_pass(true);
-    result.counters["removals_dropped"] = dropped;
+    result.counters[counter::removals_dropped] = dropped;
     if (settings_.grasp_orders > 0) {
-      result.counters["grasp_orders_taken"] = grasp_order(order, tried, run) ? 1 : 0;
+      result.counters[counter::grasp_orders_taken] = grasp_order(order, tried, run) ? 1 : 0;
     }
     return order;
   }
@@ -472,8 +475,8 @@ class Search {
     checker_.record_times(result, start);
     result.time.motion_planning += push_seconds_;  // pushes and the checks around them
     result.time.task_planning = std::max(0.0, result.time.task_planning - push_seconds_);
-    result.counters["roadmap_nodes"] = roadmap_->size();
-    result.counters["feedback_nodes"] = feedback_.size();
+    result.counters[counter::roadmap_nodes] = roadmap_->size();
+    result.counters[counter::feedback_nodes] = feedback_.size();
     draw(result);
   }
 
@@ -673,7 +676,7 @@ class Search {
   std::vector<ObjectSet> grasp_blocker_sets(ObjectIndex object, const WorldState& state, bool unseen) {
     std::vector<ObjectSet> sets;
     if (!context_.samplers.grasp) return sets;
-    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, &state});
+    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, state});
     for (const plugin::BlockedGrasp& b : answer.blocked) {
       if (!b.freeable || !freeable_for(object, b.blocking_objects)) continue;
       ObjectSet set = removable(b.blocking_objects);
@@ -730,8 +733,8 @@ class Search {
       if (settings_.push) {
         const retrieval::PushReplacement pushes =
             retrieval::write_plan_with_pushes(context_, checker_, order, settings_.region, reseeds_, result);
-        result.counters["pushes"] = pushes.pushes;
-        result.counters["pushes_tried"] = pushes.pushes_tried;
+        result.counters[counter::pushes] = pushes.pushes;
+        result.counters[counter::pushes_tried] = pushes.pushes_tried;
         push_seconds_ = pushes.seconds;
       } else {
         checker_.write_plan(order, reseeds_, result);
@@ -773,7 +776,8 @@ class RetrievalGraphPlanner final : public plugin::TaskPlanner {
  public:
   void configure(const Parameters& p) override {
     settings_.read(p);
-    settings_.push = p.get_bool("push", settings_.push);
+    settings_.push = p.get_bool("push", settings_.push,
+                                "push instead of pick-and-place where a push works (needs a push sampler)");
   }
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     std::optional<std::string> why = retrieval::retrieval_inputs_missing(context, "retrieval_graph");
@@ -802,17 +806,18 @@ class RetrievalGraphPruner final : public plugin::ObjectPruner {
  public:
   void configure(const Parameters& p) override {
     settings_.read(p);
-    checked_ = p.get_bool("checked", checked_);
+    checked_ = p.get_bool("checked", checked_,
+                          "start from the objects a full run with robot checks moved (false: the task level alone)");
     p.require(!p.contains("checked_time"), "checked_time",
               "is no longer read: the checked run's budget is work, so that a seed gives the same removal sequences "
               "on any machine; set checked_max_checks (collision checks, default 4000000)");
-    checked_max_checks_ = p.get_int("checked_max_checks", checked_max_checks_);
-    p.require(checked_max_checks_ > 0, "checked_max_checks", "must be positive (collision checks)");
+    checked_max_checks_ = p.get_int("checked_max_checks", checked_max_checks_, "collision checks of the checked run",
+                                    Range::above(0));
   }
 
   plugin::PruneAnswer prune(plugin::PlanningContext& context, const WorldState& state) override {
     plugin::PruneAnswer answer;
-    if (!context.world || !context.problem.robot.loaded) {
+    if (!context.worlds || !context.problem.robot.loaded) {
       answer.failure = Failure{"object_pruner", "the problem has no robot", {}};
       return answer;
     }

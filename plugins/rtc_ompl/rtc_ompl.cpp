@@ -35,14 +35,14 @@ class RtcPlanner final : public plugin::TaskPlanner {
     const physics::KinodynamicOutcome out =
         physics::plan_pushes(world, start, goal, search_, physics::PushBudget::of(search_, context.deadline.remaining()),
                              context.seed);
-    result.counters["propagations"] = out.propagations;
+    result.counters[counter::propagations] = out.propagations;
     result.counters[counter::samples] = out.propagations;
     if (!out.path) {
       result.reason = out.reason;
     } else {
       PlanStep step = physics::push_step(world, *out.path, initial);
       result.moved_objects = step.objects;
-      result.counters["plan_controls"] = out.path->controls.size();
+      result.counters[counter::plan_controls] = out.path->controls.size();
       result.plan.push_back(std::move(step));
       result.solved = true;
     }

@@ -129,7 +129,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
         }
         std::uint64_t n = 0;
         for (bool m : movable) n += m;
-        result.counters["movable_objects"] = n;
+        result.counters[counter::movable_objects] = n;
         pruned_to_nothing = n == 0;
       }
       if (std::find(movable.begin(), movable.end(), false) != movable.end()) {
@@ -140,7 +140,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
           if (!movable[o] && o != context.scene().target) pruned_problem->scene.objects[o].movable = false;
         }
         pruned_context.emplace(plugin::PlanningContext{*pruned_problem, context.deadline, context.seed, context.counters,
-                                                        context.samplers, context.world, context.checks_until, context.phases});
+                                                        context.samplers, context.worlds, context.checks_until, context.phases});
       }
       stream::SceneProblem derived = stream::scene_problem(context.scene(), movable, domain.name);
       problem = std::move(derived.problem);
@@ -166,13 +166,13 @@ class StreamPlanner final : public plugin::TaskPlanner {
     }
     for (const stream::StreamPlanStep& step : s.plan) result.plan.push_back(plan_step(step, s, sp.values, scene_objects, result));
     const auto& st = s.statistics;
-    result.counters["stream_calls"] = st.stream_calls;
-    result.counters["stream_instances"] = st.stream_instances;
-    result.counters["searches"] = st.searches;
-    result.counters["skeletons"] = st.skeletons;
-    result.counters["level"] = st.level;
-    result.counters["plan_length"] = s.plan.size();
-    result.counters["plans_found"] = st.plans;
+    result.counters[counter::stream_calls] = st.stream_calls;
+    result.counters[counter::stream_instances] = st.stream_instances;
+    result.counters[counter::searches] = st.searches;
+    result.counters[counter::skeletons] = st.skeletons;
+    result.counters[counter::level] = st.level;
+    result.counters[counter::plan_length] = s.plan.size();
+    result.counters[counter::plans_found] = st.plans;
     result.cost = s.cost;
     for (const auto& [stream_name, calls] : st.calls_per_stream) result.counters["calls_" + stream_name] = calls;
     result.time.total = since(start);

@@ -13,7 +13,7 @@
 #include <boost/graph/adjacency_list.hpp>
 #include <boost/graph/dijkstra_shortest_paths.hpp>
 
-#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -32,7 +32,9 @@ constexpr double kObjectCost = 1000.0;
 
 class TraversabilityGraph final : public plugin::TaskPlanner {
  public:
-  void configure(const Parameters& p) override { region_ = p.get_string("region", region_); }
+  void configure(const Parameters& p) override {
+    region_ = p.get_string("region", region_, "the scene's region removed objects are placed in");
+  }
 
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     Result result;
@@ -44,7 +46,7 @@ class TraversabilityGraph final : public plugin::TaskPlanner {
     const ObjectIndex target = context.scene().target;
     retrieval::RemovalChecker checker(context, initial, region_);
     Graph graph = build(context, initial);
-    result.counters["traversability_edges"] = boost::num_edges(graph) / 2;
+    result.counters[counter::traversability_edges] = boost::num_edges(graph) / 2;
 
     std::uint64_t sequences = 0;
     while (!context.deadline.expired()) {
@@ -72,7 +74,7 @@ class TraversabilityGraph final : public plugin::TaskPlanner {
     }
     if (!result.solved && result.reason.empty()) result.reason = "time limit reached before the target was retrieved";
     checker.record_times(result, start);
-    result.counters["planning_sequences"] = sequences;
+    result.counters[counter::planning_sequences] = sequences;
     return result;
   }
 
@@ -93,7 +95,7 @@ class TraversabilityGraph final : public plugin::TaskPlanner {
     std::vector<Eigen::Vector2d> at{scene.world_T_exit.translation().head<2>()};
     for (ObjectIndex o = 0; o < n; ++o) at.push_back(initial.world_T_objects[o].translation().head<2>());
 
-    collision::CollisionWorld& world = *context.world;
+    collision::CollisionWorld& world = *collision::shared_world(context);
     world.sync(initial);
     Graph graph(n + 1);
     for (std::size_t u = 0; u <= n; ++u) {

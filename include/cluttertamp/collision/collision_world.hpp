@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -11,6 +12,7 @@
 #include "cluttertamp/core/scene.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/export.hpp"
+#include "cluttertamp/plugin/world_view.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 
 namespace cluttertamp::collision {
@@ -18,13 +20,9 @@ namespace cluttertamp::collision {
 /// Movable objects, sorted by index, without repeats.
 using ObjectSet = std::vector<ObjectIndex>;
 
-/// What a robot configuration collides with.
-struct CollisionReport {
-  bool self = false;   ///< two robot links (not adjacent) overlap
-  bool fixed = false;  ///< the robot or the held object touches fixed geometry
-  ObjectSet objects;   ///< every movable object the robot or held object touches
-  bool valid() const { return !self && !fixed && objects.empty(); }
-};
+/// What a robot configuration collides with (the SDK's type, so that a view answers
+/// with what the world computes).
+using CollisionReport = plugin::Contacts;
 
 /// A robot link (or the held object) touching a fixed body: what "fixed geometry is in
 /// the way" means, for messages and diagnosis.
@@ -62,6 +60,8 @@ class CLUTTERTAMP_API CollisionWorld {
   CollisionWorld& operator=(const CollisionWorld&) = delete;
 
   const Scene& scene() const;
+  /// The robot the world was built with; null for a world without a robot.
+  const robot::RobotDescription* robot() const;
 
   // ---- changing the world ---------------------------------------------------------
   void set_object_pose(ObjectIndex object, const Eigen::Isometry3d& world_T_object);
@@ -79,6 +79,9 @@ class CLUTTERTAMP_API CollisionWorld {
   /// Poses, removed objects and the held object of `state`; the held object's grip
   /// is taken from its pose relative to the tool at state.robot_configuration.
   void sync(const WorldState& state);
+  /// Changes with every call that changes the world (the calls above): a view that
+  /// synced at one value knows the world is still at its state while it holds.
+  std::uint64_t generation() const;
 
   // ---- robot queries ----------------------------------------------------------------
   /// Per-thread scratch space: link poses and the robot's FCL objects. Made by

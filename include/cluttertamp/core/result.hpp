@@ -72,11 +72,51 @@ struct PhaseTotals {
   double seconds = 0.0;                ///< wall-clock, nested phases included
 };
 
-/// Names of the counters every planner is expected to fill (others may be added).
+/// The names of the counters in Result::counters and result.json, one constant each,
+/// so that producers and readers cannot disagree on a spelling. Every planner fills
+/// the first three; the others belong to the planners that name them. A plugin may add
+/// its own.
 namespace counter {
-inline constexpr const char* samples = "samples";
-inline constexpr const char* collision_checks = "collision_checks";
-inline constexpr const char* motion_planning_calls = "motion_planning_calls";
+inline constexpr const char* samples = "samples";  ///< candidate grasps, placements and other samples drawn
+inline constexpr const char* collision_checks = "collision_checks";  ///< collision checks made: the unit of every work budget
+inline constexpr const char* motion_planning_calls = "motion_planning_calls";  ///< queries to the motion sampler
+inline constexpr const char* iterations = "iterations";  ///< rounds of the task planner's main loop (retrieval_graph: roadmap expansions; occlusion: goals tried)
+inline constexpr const char* planning_sequences = "planning_sequences";  ///< removal sequences planned on the retrieval graph
+inline constexpr const char* restarts = "restarts";  ///< times the retrieval search started again from a larger roadmap
+inline constexpr const char* exploration_limit = "exploration_limit";  ///< the roadmap's exploration limit when the search stopped
+inline constexpr const char* roadmap_nodes = "roadmap_nodes";  ///< nodes of the roadmap
+inline constexpr const char* feedback_nodes = "feedback_nodes";  ///< nodes added to the roadmap where a motion failed (feedback)
+inline constexpr const char* removals_dropped = "removals_dropped";  ///< removals the shortener found unnecessary
+inline constexpr const char* grasp_orders_taken = "grasp_orders_taken";  ///< 1 when another grasp order replaced the planned one
+inline constexpr const char* pushes = "pushes";  ///< pushes made instead of pick-and-place removals
+inline constexpr const char* pushes_tried = "pushes_tried";  ///< pushes attempted
+inline constexpr const char* actions_planned = "actions_planned";  ///< pick, place and carry actions planned with robot motions
+inline constexpr const char* removal_sets_checked = "removal_sets_checked";  ///< sets of objects to remove that the exhaustive planner checked
+inline constexpr const char* checks_without_motion = "checks_without_motion";  ///< removal sets accepted at the task level without motions
+inline constexpr const char* traversability_edges = "traversability_edges";  ///< edges of the traversability graph
+inline constexpr const char* extra_expansions = "extra_expansions";  ///< roadmap expansions beyond the first to reach a goal (occlusion)
+inline constexpr const char* retrievals_without_a_way = "retrievals_without_a_way";  ///< times no way to the target was found (occlusion)
+inline constexpr const char* temporary_goals_given_up = "temporary_goals_given_up";  ///< temporary goals abandoned as unreachable (occlusion)
+inline constexpr const char* removal_attempts = "removal_attempts";  ///< objects the occlusion planner tried to remove
+inline constexpr const char* revealed = "revealed";  ///< objects seen after a removal uncovered them (occlusion)
+inline constexpr const char* observed_initially = "observed_initially";  ///< objects seen at the start (occlusion)
+inline constexpr const char* observed = "observed";  ///< objects known at the end (occlusion)
+inline constexpr const char* found_by_touch = "found_by_touch";  ///< hidden objects found by touching them (occlusion)
+inline constexpr const char* final_sequence = "final_sequence";  ///< length of the final removal sequence (occlusion)
+inline constexpr const char* propagations = "propagations";  ///< physics propagations of the pushing planners
+inline constexpr const char* quick_pushes = "quick_pushes";  ///< pushes found by the push sampler's quick pass
+inline constexpr const char* plan_controls = "plan_controls";  ///< controls of the pushing plan
+inline constexpr const char* guides = "guides";  ///< guides in the guidance
+inline constexpr const char* guides_satisfied = "guides_satisfied";  ///< guides whose push reached its disc
+inline constexpr const char* guides_skipped = "guides_skipped";  ///< guides passed over (unsatisfied_guides: skip)
+inline constexpr const char* movable_objects = "movable_objects";  ///< objects the stream planner left movable after pruning
+inline constexpr const char* stream_calls = "stream_calls";  ///< calls of stream generators
+inline constexpr const char* stream_instances = "stream_instances";  ///< stream instances given a generator
+inline constexpr const char* searches = "searches";  ///< symbolic searches of the stream planner
+inline constexpr const char* skeletons = "skeletons";  ///< plan skeletons whose streams were bound
+inline constexpr const char* level = "level";  ///< the highest complexity level the stream search reached
+inline constexpr const char* plan_length = "plan_length";  ///< steps of the plan
+inline constexpr const char* plans_found = "plans_found";  ///< plans the stream search found (the last is the best)
 }  // namespace counter
 
 /// The outcome of a planning run. A failed run is a Result with solved = false and a

@@ -12,10 +12,8 @@
 #include "cluttertamp/core/result.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/export.hpp"
+#include "cluttertamp/plugin/world_view.hpp"
 
-namespace cluttertamp::collision {
-class CollisionWorld;
-}
 namespace cluttertamp::robot {
 class RobotDescription;
 }
@@ -76,10 +74,9 @@ struct PlanningContext {
   std::uint64_t seed;  ///< derive every random generator of the call from it
   std::map<std::string, std::uint64_t>& counters;  ///< see cluttertamp::counter
   const Samplers& samplers;
-  /// The scene and robot over FCL, shared by every plugin of the run. A sampler syncs
-  /// it to its query's WorldState before checking (CollisionWorld::sync) and may leave
-  /// it in any state. Null when the problem has no robot (e.g. pure PDDL tasks).
-  collision::CollisionWorld* world = nullptr;
+  /// Views of the scene and robot at a state (see world_at); null when the problem has
+  /// no robot (e.g. pure PDDL tasks).
+  WorldSource* worlds = nullptr;
   /// The value of counters[counter::collision_checks] at which this sub-task's work
   /// budget ends; no budget by default.
   std::uint64_t checks_until = std::numeric_limits<std::uint64_t>::max();
@@ -87,6 +84,11 @@ struct PlanningContext {
   std::map<std::string, PhaseTotals>* phases = nullptr;
 
   const Scene& scene() const { return problem.scene; }
+  /// The scene and robot at `state`, for collision and kinematics queries; null when
+  /// the problem has no robot.
+  std::unique_ptr<WorldView> world_at(const WorldState& state) const {
+    return worlds ? worlds->at(state) : nullptr;
+  }
   /// The problem's robot; precondition: problem.robot.loaded is set.
   const robot::RobotDescription& robot() const { return *problem.robot.loaded; }
   void count(const std::string& name, std::uint64_t n = 1) { counters[name] += n; }

@@ -42,7 +42,7 @@ struct BlockedGrasp {
 
 struct GraspQuery {
   ObjectIndex object = 0;
-  const WorldState* state = nullptr;  ///< not null
+  const WorldState& state;  ///< the world the grasp is for; views: PlanningContext::world_at
 };
 
 struct GraspAnswer {

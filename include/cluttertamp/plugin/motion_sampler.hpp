@@ -13,7 +13,7 @@ namespace cluttertamp::plugin {
 struct MotionQuery {
   Eigen::VectorXd start;  ///< joint values, robot's joint order
   Eigen::VectorXd goal;
-  const WorldState* state = nullptr;  ///< not null; state.held travels with the gripper
+  const WorldState& state;  ///< the world to move through; state.held travels with the gripper
 };
 
 struct MotionAnswer {

@@ -15,7 +15,7 @@ namespace cluttertamp::plugin {
 struct PlacementQuery {
   ObjectIndex object = 0;
   std::string region;                 ///< a Scene::regions id
-  const WorldState* state = nullptr;  ///< not null
+  const WorldState& state;  ///< the world to put it down in (it is held there)
   std::size_t max_placements = 1;
   /// How the object is held; reachability is checked for this grip. Absent: for a
   /// side grasp facing the robot.

@@ -9,15 +9,15 @@
 
 namespace cluttertamp::plugin {
 
-/// Raised whenever an interface in include/cluttertamp/plugin/, a type it passes by
-/// value, or a core class plugins build on their own stack (such as the pushing goals)
-/// changes layout. The registry refuses plugins built against another value. 13:
-/// Parameters hold Value trees (maps, lists), PddlTask::values. 9: work
-/// budgets (PlanningContext::checks_until, PushQuery::max_propagations,
-/// KinodynamicSettings::max_propagations; PlanningContext::within is gone).
+/// Raised whenever the SDK (the headers of core/ and plugin/) changes: an interface, a
+/// type it passes by value, or a core class plugins build on their own stack. The test
+/// `plugin_abi` fails when the SDK's fingerprint changes without it (cmake/plugin_abi.txt
+/// records both). The registry refuses plugins built against another value. 17: queries
+/// hold `const WorldState&`, samplers see the world through WorldView
+/// (PlanningContext::world_at).
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>_<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 16
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 17
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.

@@ -18,7 +18,7 @@ struct PushQuery {
   ObjectIndex object = 0;
   Eigen::Vector2d goal_xy = Eigen::Vector2d::Zero();
   double goal_radius = 0.0;
-  const WorldState* state = nullptr;  ///< not null
+  const WorldState& state;  ///< every object where it stands before the push
   Eigen::Vector3d gripper = Eigen::Vector3d::Zero();
   /// At most this many physics propagations for the whole query (0: the sampler's own
   /// budget). Work, not time, so that a push's outcome is the same on any machine.
