@@ -13,6 +13,7 @@
 
 #include "cluttertamp/search/grounding.hpp"
 #include "cluttertamp/search/planner.hpp"
+#include "stream/evaluator.hpp"
 #include "stream/fact_base.hpp"
 #include "stream/support.hpp"
 
@@ -126,9 +127,7 @@ class StreamSearch {
   }
 
   /// Destroys every generator (plugin code, which must not outlive its sampler).
-  void release_generators() {
-    for (std::size_t i = 0; i < base_.instance_count(); ++i) base_.instance_at(static_cast<int>(i)).generator.reset();
-  }
+  void release_generators() { evaluator_.release_generators(); }
 
   StreamSolution run() {
     try {
@@ -202,12 +201,6 @@ class StreamSearch {
     d.throw_if_any();
   }
 
-  const StreamOptions& stream_options(const StreamDecl& d) const {
-    static const StreamOptions defaults;
-    const auto it = options_.streams.find(d.name);
-    return it == options_.streams.end() ? defaults : it->second;
-  }
-
   void load_initial() {
     for (const pddl::TypedName& c : domain_.constants) add_named(c);
     for (const pddl::TypedName& o : problem_.problem->objects) add_named(o);
@@ -237,151 +230,6 @@ class StreamSearch {
       }
     }
     return false;
-  }
-
-  // ---- evaluating streams ---------------------------------------------------
-
-  // The highest complexity of an instance's domain facts when they all hold as real
-  // facts; nothing when one does not (yet).
-  std::optional<int> real_domain(const Instance& inst) {
-    int c = 0;
-    const Env env = base_.env_of(inst);
-    for (const pddl::Atom& a : base_.decl(inst.stream).domain) {
-      const auto fact = base_.ground(a, env);
-      const FactInfo* info = fact ? base_.real_fact(*fact) : nullptr;
-      if (!info) return std::nullopt;
-      c = std::max(c, info->complexity);
-    }
-    return c;
-  }
-
-  plugin::StreamValue value_of(ObjectId id) const {
-    const ObjectRecord& o = base_.object(id);
-    return o.value ? *o.value : plugin::StreamValue(o.name);
-  }
-
-  // One call of a real instance's generator; its outputs become objects and its
-  // certified facts real. Returns whether it produced anything.
-  bool call(int id) {
-    Instance& inst = base_.instance_at(id);
-    const StreamDecl& d = base_.decl(inst.stream);
-    if (inst.exhausted) return false;
-    // As for optimistic facts, the number of calls does not count: the k-th value of a
-    // stream is as usable as its first (advance() bounds the calls per level).
-    const int complexity = real_domain(inst).value_or(0) + 1;
-    if (d.kind == StreamDecl::Kind::rule) {
-      inst.exhausted = true;
-      inst.results.push_back({});
-      certify(id, {}, complexity);
-      return true;
-    }
-    const auto start = Clock::now();
-    if (!inst.generator) {
-      std::vector<plugin::StreamValue> inputs;
-      for (ObjectId o : inst.inputs) inputs.push_back(value_of(o));
-      std::vector<plugin::StreamFact> fluents;
-      for (const FactKey& f : inst.fluent_state.value_or(std::vector<FactKey>{})) {
-        plugin::StreamFact fact{base_.predicate_name(f[0]), {}};
-        for (std::size_t i = 1; i < f.size(); ++i) fact.args.push_back(value_of(f[i]));
-        fluents.push_back(std::move(fact));
-      }
-      inst.generator = problem_.bindings.at(d.name)->instantiate(context_, d.name, inputs, fluents);
-      ++out_.statistics.stream_instances;
-      if (!inst.generator) {
-        inst.exhausted = true;
-        fail(d, "its sampler made no generator for these inputs");
-        return false;
-      }
-    }
-    const plugin::StreamBatch batch = inst.generator->next(context_);
-    ++inst.calls;
-    ++out_.statistics.stream_calls;
-    ++out_.statistics.calls_per_stream[d.name];
-    out_.statistics.stream_seconds += since(start);
-    bool produced = false;
-    for (const auto& values : batch.outputs) {
-      if (d.kind == StreamDecl::Kind::function) {
-        if (values.size() != 1 || !std::holds_alternative<double>(values[0])) {
-          fail(d, "a function must yield one number");
-          continue;
-        }
-        inst.value = std::get<double>(values[0]);
-        inst.exhausted = produced = true;
-        break;
-      }
-      if (values.size() != d.outputs.size()) {
-        fail(d, "yielded " + std::to_string(values.size()) + " value(s) for " + std::to_string(d.outputs.size()) +
-                    " output(s)");
-        continue;
-      }
-      std::vector<ObjectId> ids;
-      for (std::size_t i = 0; i < values.size(); ++i) ids.push_back(object_for(values[i], d.outputs[i].name));
-      inst.results.push_back(ids);
-      certify(id, ids, complexity);
-      produced = true;
-    }
-    if (d.is_test() || batch.exhausted) inst.exhausted = true;
-    if (batch.failure) fail(d, batch.failure->reason, batch.failure->blocking_objects);
-    return produced;
-  }
-
-  ObjectId object_for(const plugin::StreamValue& value, const std::string& variable) {
-    // A stream may answer with an existing object's name (a discrete value).
-    if (const auto* name = std::get_if<std::string>(&value)) {
-      if (const auto id = base_.find(*name)) return *id;
-    }
-    ++out_.statistics.values;
-    ObjectRecord r;
-    r.name = variable;  // "?p" -> "#p3"
-    r.name[0] = '#';
-    r.name += std::to_string(++generated_);
-    r.value = value;
-    return base_.add_object(std::move(r));
-  }
-
-  void certify(int id, const std::vector<ObjectId>& outputs, int complexity) {
-    const Instance& inst = base_.instance_at(id);
-    const Env env = base_.env_of(inst, &outputs);
-    for (const pddl::Atom& a : base_.decl(inst.stream).certified) {
-      const auto fact = base_.ground(a, env);
-      if (!fact) continue;
-      if (inst.fluent_state) base_.add_state_fact(*fact, FactInfo{false, complexity, id});
-      else base_.add_fact(*fact, FactInfo{false, complexity, id});
-    }
-  }
-
-  void fail(const StreamDecl& d, const std::string& reason, std::vector<ObjectIndex> blocking = {}) {
-    Failure f{"stream " + d.name, reason, std::move(blocking)};
-    const bool seen = std::any_of(out_.failures.begin(), out_.failures.end(), [&](const Failure& g) {
-      return g.stage == f.stage && g.reason == f.reason && g.blocking_objects == f.blocking_objects;
-    });
-    if (!seen && out_.failures.size() < 100) out_.failures.push_back(std::move(f));
-  }
-
-  // Rules and functions whose domains hold with real facts: evaluated at once.
-  void close_real() {
-    for (bool changed = true; changed && !context_.deadline.expired();) {
-      changed = false;
-      for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
-        const StreamDecl& d = base_.decl(s);
-        const bool eager = stream_options(d).eager;
-        if (d.kind != StreamDecl::Kind::rule && d.kind != StreamDecl::Kind::function && !eager) continue;
-        for (int id : real_instances(s)) {
-          const Instance& inst = base_.instance_at(id);
-          if (inst.exhausted || (eager && inst.calls > 0)) continue;  // an eager stream: once each
-          changed |= call(id) && (d.kind == StreamDecl::Kind::rule || (eager && !d.is_test()));
-        }
-      }
-    }
-  }
-
-  std::vector<int> real_instances(int stream) {
-    std::vector<std::vector<ObjectId>> found;
-    const StreamDecl& d = base_.decl(stream);
-    base_.bindings(d.inputs, d.domain, false, [&](const std::vector<ObjectId>& inputs, int) { found.push_back(inputs); });
-    std::vector<int> ids;
-    for (const auto& inputs : found) ids.push_back(base_.instance(stream, inputs));
-    return ids;
   }
 
   // ---- symbolic search --------------------------------------------------------
@@ -469,7 +317,7 @@ class StreamSearch {
     const auto start = Clock::now();
     std::map<std::string, double> cost_of;  // of every real operator
     try {
-      close_real();  // every cost function on the real values
+      evaluator_.close_real();  // every cost function on the real values
       if (!context_.deadline.expired() && every_function_valued()) {
         const pddl::Problem p = symbolic_problem(false);
         search::Task task;
@@ -522,7 +370,7 @@ class StreamSearch {
   bool every_function_valued() {
     for (int s = 0; s < static_cast<int>(problem_.streams->streams.size()); ++s) {
       if (base_.decl(s).kind != StreamDecl::Kind::function) continue;
-      for (int id : real_instances(s)) {
+      for (int id : evaluator_.real_instances(s)) {
         if (!base_.instance_at(id).value) return false;
       }
     }
@@ -548,7 +396,7 @@ class StreamSearch {
         pddl::NumericFact f;
         f.function.predicate = d.name;
         for (ObjectId o : inputs) f.function.args.push_back({base_.object(o).name, false, {}});
-        f.value = inst.value.value_or(stream_options(d).optimistic_value);
+        f.value = inst.value.value_or(evaluator_.options_of(d).optimistic_value);
         p.numeric_init.push_back(f);
       });
     }
@@ -630,8 +478,8 @@ class StreamSearch {
       const auto id = test_instance(fact);
       if (!id) continue;  // no test applies: false by the closed world
       Instance& inst = base_.instance_at(*id);
-      if (!real_domain(inst)) continue;
-      if (inst.calls == 0 && !inst.exhausted) call(*id);
+      if (!evaluator_.real_domain(inst)) continue;
+      if (inst.calls == 0 && !inst.exhausted) evaluator_.call(*id);
       if (!inst.results.empty()) return false;
     }
     return true;
@@ -762,7 +610,7 @@ class StreamSearch {
 
   void incremental() {
     for (;;) {
-      close_real();
+      evaluator_.close_real();
       if (context_.deadline.expired()) return;
       if (auto steps = plan_symbolic(false); steps && verify(*steps) && accept(std::move(*steps))) return;
       if (improved_enough()) return;  // checked after every search: improve_work 0 stops at once
@@ -771,7 +619,7 @@ class StreamSearch {
         const StreamDecl::Kind kind = base_.decl(s).kind;
         if (kind == StreamDecl::Kind::rule || kind == StreamDecl::Kind::function) continue;
         if (context_.deadline.expired()) return;
-        for (int id : real_instances(s)) {
+        for (int id : evaluator_.real_instances(s)) {
           if (!base_.instance_at(id).exhausted) open.push_back(id);
         }
       }
@@ -783,7 +631,7 @@ class StreamSearch {
       for (int id : open) {
         if (context_.deadline.expired()) return;
         const std::uint64_t checks_before = context_.checks_done();
-        call(id);
+        evaluator_.call(id);
         work_ += options_.call_cost + static_cast<double>(context_.checks_done() - checks_before);
       }
     }
@@ -815,7 +663,7 @@ class StreamSearch {
         const StreamDecl& d = base_.decl(s);
         if (d.kind == StreamDecl::Kind::function) continue;
         if (d.is_test() && negated_tests_.count(d.certified.front().predicate)) continue;  // false until tested
-        if (stream_options(d).p_success == 0.0) continue;  // only real evaluations certify its facts
+        if (evaluator_.options_of(d).p_success == 0.0) continue;  // only real evaluations certify its facts
         std::size_t facts = 0;
         for (const pddl::Atom& a : d.domain) facts += base_.fact_count(a.predicate);
         if (std::exchange(seen[static_cast<std::size_t>(s)], facts) == facts) continue;
@@ -935,11 +783,11 @@ class StreamSearch {
     std::vector<int> ordered;
     for (const auto& [id, at] : needed) ordered.push_back(id);
     auto failure_cost = [&](int id) {
-      const StreamOptions& o = stream_options(base_.decl(base_.instance_at(id).stream));
+      const StreamOptions& o = evaluator_.options_of(base_.decl(base_.instance_at(id).stream));
       return o.p_success < 1.0 ? o.overhead / (1.0 - o.p_success) : std::numeric_limits<double>::infinity();
     };
     std::stable_sort(ordered.begin(), ordered.end(), [&](int a, int b) { return failure_cost(a) < failure_cost(b); });
-    auto deferred_stream = [&](int id) { return stream_options(base_.decl(base_.instance_at(id).stream)).defer; };
+    auto deferred_stream = [&](int id) { return evaluator_.options_of(base_.decl(base_.instance_at(id).stream)).defer; };
     for (const bool deferred : {false, true}) {
       for (const int id : ordered) {
         if (deferred_stream(id) != deferred) continue;
@@ -1008,14 +856,14 @@ class StreamSearch {
     }
     const int id = base_.instance(optimistic.stream, inputs, fluent_state);
     Instance& inst = base_.instance_at(id);
-    const std::optional<int> domain = inst.real ? real_domain(inst) : std::nullopt;
+    const std::optional<int> domain = inst.real ? evaluator_.real_domain(inst) : std::nullopt;
     if (!domain) {  // an earlier value broke this branch
       sk.stack.pop_back();
       return std::nullopt;
     }
     if (planned.negated) {
       if (inst.calls == 0 && !inst.exhausted) {
-        call(id);
+        evaluator_.call(id);
         move = Move::called;
       }
       if (!inst.results.empty()) sk.stack.pop_back();  // the test holds: this branch fails
@@ -1039,7 +887,7 @@ class StreamSearch {
       std::rotate(sk.stack.begin(), sk.stack.end() - 1, sk.stack.end());
       move = Move::waiting;
     } else {
-      call(id);
+      evaluator_.call(id);
       inst.disabled = true;
       move = Move::called;
     }
@@ -1083,7 +931,7 @@ class StreamSearch {
   void adaptive() {
     std::set<std::string> queued;
     while (!context_.deadline.expired()) {
-      close_real();
+      evaluator_.close_real();
       const bool pruned = instantiate_optimistic(level_);
       const auto steps = plan_symbolic(true);
       bool fresh = false, too_long = false;
@@ -1162,7 +1010,6 @@ class StreamSearch {
   std::uint64_t ticks_ = 0;  // keep_time_limit's calls
   std::optional<std::pair<std::size_t, int>> shortest_;  // adaptive: shortest plan, its level
   int level_ = 0;  // adaptive: the complexity bound of optimistic instances and calls
-  int generated_ = 0;
   double work_ = 0;  // of searches and stream evaluation so far, in StreamSearchOptions' units
   std::optional<Costed> best_;  // the cheapest plan found
   std::optional<double> improve_from_;  // work_ when the first plan above success_cost was found
@@ -1171,6 +1018,7 @@ class StreamSearch {
   search::Grounding optimistic_grounding_{domain_};
   search::Grounding real_grounding_{domain_};
   StreamSolution out_;
+  StreamEvaluator evaluator_{problem_, base_, context_, options_, out_};
 };
 
 }  // namespace
