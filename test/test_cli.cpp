@@ -356,6 +356,12 @@ TEST_F(Cli, ValidateChecksTheStreamFilesAndBindingsOfAStreamProblem) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("stream.pddl:11:3: error: 'plan-place' is bound to no stream_sampler"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("stream 'plan-plaice' is not declared in"), std::string::npos) << r.output;
+  // plan reads the same parse at load: the same errors, before any planning.
+  const CliRun planned = plan(file, "");
+  EXPECT_EQ(planned.exit_code, 2) << planned.output;
+  EXPECT_NE(planned.output.find("stream.pddl:11:3: error: 'plan-place' is bound to no stream_sampler"), std::string::npos)
+      << planned.output;
+  EXPECT_NE(planned.output.find("stream 'plan-plaice' is not declared in"), std::string::npos) << planned.output;
 }
 
 // compare: four settings, one seed each, as a table, JSON, CSV and SVG.

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/stream/stream_task.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "test_support.hpp"
 
@@ -24,6 +25,18 @@ TEST(ProblemIo, LoadsAGoodProblem) {
   ASSERT_NE(p.robot.loaded, nullptr);
   EXPECT_EQ(p.robot.loaded->name(), "ur10_ag95");
   EXPECT_EQ(robot::initial_configuration(p.robot), p.robot.loaded->home());
+}
+
+// A pddl task's files are parsed once, at load: the domain, the stream file, their warnings.
+TEST(ProblemIo, APddlTasksFilesAreParsedAtLoad) {
+  const Problem problem = io::load_problem(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "problems/stacked/stacked4.yaml");
+  const auto* task = std::get_if<PddlTask>(&problem.task);
+  ASSERT_NE(task, nullptr);
+  ASSERT_TRUE(task->parsed);
+  ASSERT_TRUE(task->parsed->streams);
+  EXPECT_FALSE(task->parsed->domain.actions.empty());
+  EXPECT_NE(task->parsed->streams->find("plan-place"), nullptr);
+  EXPECT_EQ(stream::parsed_task(*task), task->parsed);  // no second parse
 }
 
 TEST(ProblemIo, DefaultProblemIsValid) {

@@ -358,7 +358,7 @@ TEST_F(BlocksLine, StreamOptionsAreCheckedAgainstTheStreamFile) {
 TEST_F(BlocksLine, AStreamWithoutCodeIsBadInput) {
   problem_.bindings.erase("test-cfree");
   const Diagnostics errors = test::expect_input_error([&] { solve(stream::Algorithm::adaptive, 1); });
-  EXPECT_TRUE(test::has_error(errors, 8, 3, "'test-cfree' has no code behind it"));
+  EXPECT_TRUE(test::has_error(errors, 8, 3, "'test-cfree' is bound to no stream_sampler"));
 }
 
 // ---- streams with :fluents ----------------------------------------------------------

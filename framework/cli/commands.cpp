@@ -17,6 +17,7 @@
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/pddl/sexpr.hpp"
 #include "cluttertamp/stream/stream_file.hpp"
+#include "cluttertamp/stream/stream_task.hpp"
 
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/io/result_json.hpp"
@@ -310,32 +311,11 @@ void print_objects(std::ostream& out, const Scene& scene) {
 
 }  // namespace
 
-// The PDDL files of a `task: pddl` problem, and its stream bindings against the stream
-// file: each declaration (rules aside) bound, each binding naming a declaration.
-// Returns the files' warnings.
+// The warnings of a `task: pddl` problem's files (io::load_problem parsed them and
+// checked its stream bindings, so errors have been thrown already).
 std::vector<Diagnostic> check_pddl_task(const Problem& problem) {
   const auto* task = std::get_if<PddlTask>(&problem.task);
-  if (!task) return {};
-  const pddl::Domain domain = pddl::load_domain(task->domain);
-  if (task->problem) pddl::load_problem(*task->problem, domain);
-  if (!task->streams) return domain.warnings;
-  const stream::StreamFile streams = stream::load_stream_file(*task->streams, &domain);
-  std::vector<Diagnostic> warnings = domain.warnings;
-  warnings.insert(warnings.end(), streams.warnings.begin(), streams.warnings.end());
-  std::set<std::string> bound;  // PDDL names ignore case
-  for (const auto& [name, choice] : problem.streams) bound.insert(pddl::lower_name(name));
-  Diagnostics d;
-  for (const stream::StreamDecl& s : streams.streams) {
-    if (s.kind != stream::StreamDecl::Kind::rule && !bound.count(s.name)) {
-      d.error(s.where, "'" + s.name + "' is bound to no stream_sampler under plugins: streams: of " +
-                           problem.source_file.string());
-    }
-  }
-  for (const auto& [name, choice] : problem.streams) {
-    if (!streams.find(pddl::lower_name(name))) d.error(choice.where, "stream '" + name + "' is not declared in " + task->streams->string());
-  }
-  d.throw_if_any();
-  return warnings;
+  return task ? stream::parsed_task(*task)->warnings : std::vector<Diagnostic>{};
 }
 
 int validate(const ValidateArgs& args) {

@@ -1,8 +1,11 @@
 #include "cluttertamp/io/problem_io.hpp"
 
+#include <set>
 #include <utility>
 
 #include "cluttertamp/io/robot_description_io.hpp"
+#include "cluttertamp/pddl/sexpr.hpp"
+#include "cluttertamp/stream/stream_task.hpp"
 #include "io/readers.hpp"
 #include "io/yaml_reader.hpp"
 
@@ -280,6 +283,19 @@ Problem load_problem(const fs::path& file) {
   ProblemReader reader(file, diagnostics);
   Problem problem = reader.read();
   diagnostics.throw_if_any();
+  // A pddl task's files are parsed here, once: every error is a load error, and
+  // whoever plans or checks the problem reads the same parse.
+  if (auto* task = std::get_if<PddlTask>(&problem.task)) {
+    task->parsed = stream::parse_task(*task);
+    if (task->parsed->streams) {
+      std::set<std::string> bound;  // PDDL names ignore case
+      for (const auto& [name, choice] : problem.streams) bound.insert(pddl::lower_name(name));
+      stream::check_streams_bound(*task->parsed->streams, [&](const std::string& s) { return bound.count(s) > 0; },
+                                  diagnostics);
+      stream::check_bindings_declared(*task->parsed->streams, problem.streams, diagnostics);
+      diagnostics.throw_if_any();
+    }
+  }
   return problem;
 }
 

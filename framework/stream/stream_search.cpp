@@ -13,6 +13,7 @@
 
 #include "cluttertamp/search/grounding.hpp"
 #include "cluttertamp/search/planner.hpp"
+#include "cluttertamp/stream/stream_task.hpp"
 #include "stream/evaluator.hpp"
 #include "stream/fact_base.hpp"
 #include "stream/support.hpp"
@@ -186,12 +187,11 @@ class StreamSearch {
           d.error(s.where, "'" + s.name + "' has p_success 0 (never assumed optimistically) and is not eager: the adaptive search would never evaluate it, so its facts could never hold");
         }
       }
-      if (s.kind == StreamDecl::Kind::rule) continue;
-      const auto it = problem_.bindings.find(s.name);
-      if (it == problem_.bindings.end() || !it->second) {
-        d.error(s.where, "'" + s.name + "' has no code behind it: bind it to a stream_sampler plugin under plugins: streams:");
-      }
     }
+    check_streams_bound(*problem_.streams, [&](const std::string& name) {
+      const auto it = problem_.bindings.find(name);
+      return it != problem_.bindings.end() && it->second;
+    }, d);
     for (const auto& [name, unused] : options_.streams) {
       const auto& declared = problem_.streams->streams;
       if (std::none_of(declared.begin(), declared.end(), [&](const StreamDecl& s) { return s.name == name; })) {

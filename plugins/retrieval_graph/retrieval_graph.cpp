@@ -22,11 +22,16 @@
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/retrieval/removal_checker.hpp"
 #include "cluttertamp/retrieval/roadmap.hpp"
+#include "feedback_graph.hpp"
+#include "shortener.hpp"
 
 namespace {
 
 using namespace cluttertamp;
 using retrieval::ObjectSet;
+using retrieval_graph_plugin::Endpoint;
+using retrieval_graph_plugin::Feedback;
+using retrieval_graph_plugin::FeedbackGraph;
 using Clock = std::chrono::steady_clock;
 
 struct Settings {
@@ -69,30 +74,6 @@ struct Settings {
   }
 };
 
-// A place a feedback node attaches to: a roadmap cluster (by one of its roadmap nodes)
-// or an earlier feedback node (by its index), so the graph can be rebuilt after the
-// roadmap grows.
-using Endpoint = std::variant<std::size_t, int>;
-// A feedback node goes on the edge before → after (carrying the target out failed
-// there); or on every edge into the nodes holding `object` (the robot could not remove
-// it: whichever way a path comes, the blockers go first); or before the start node (an
-// object every path meets first is blocked); or after the goal node, the target's
-// position (the target itself cannot be reached): on every path.
-// A target grasp failure may also name other grasps' blockers (`alternatives`): each
-// becomes a branch from the goal, so the search takes whichever way costs least once
-// later feedback prices them (on Table VI's min4 shelf two grasps tie at two blockers,
-// and one of them needs a third object moved first).
-struct Feedback {
-  enum class Where { edge, object, before_start, after_goal, branch };
-  Endpoint before, after;
-  ObjectSet objects;
-  Where where = Where::edge;
-  ObjectIndex object = 0;  ///< Where::object: the object the blockers must precede
-  std::vector<ObjectSet> alternatives = {};  ///< Where::after_goal: other grasps' blockers
-};
-// (Where::branch: the blockers join the NodeCol of the goal branch `before`, as the
-// target's grasp that way needs them gone too.)
-
 class Search {
  public:
   Search(plugin::PlanningContext& context, const Settings& settings, const WorldState& initial)
@@ -117,110 +98,6 @@ class Search {
     });
   }
 
-  // The graph of the current roadmap with every feedback node; objects already removed
-  // do not count.
-  retrieval::RetrievalGraph graph() {
-    auto position = [&](ObjectIndex o) -> Eigen::Vector2d { return initial_.world_T_objects[o].translation().head<2>(); };
-    // Clustering depends on the roadmap only: once per expansion.
-    if (!clustered_ || clustered_size_ != roadmap_->size()) {
-      clustered_ = roadmap_->cluster(initial_.removed, position, node_of_);
-      clustered_size_ = roadmap_->size();
-    }
-    retrieval::RetrievalGraph g = *clustered_;
-    std::vector<int> feedback_node;
-    guard_of_.clear();
-    auto resolve = [&](const Endpoint& e) {
-      return std::holds_alternative<std::size_t>(e) ? node_of_[std::get<std::size_t>(e)] : feedback_node[std::get<int>(e)];
-    };
-    for (const Feedback& f : feedback_) {
-      using Where = Feedback::Where;
-      const ObjectSet live = with_blockers(removable(f.objects), f.where == Where::object ? f.object : target_);
-      if (f.where == Where::object) {
-        const auto guards = g.guard_object(f.object, live, centre(live, position(f.object)));
-        for (int guard : guards) guard_of_[guard] = static_cast<int>(feedback_node.size());
-        feedback_node.push_back(guards.empty() ? g.goal() : guards.front());
-        continue;
-      }
-      if (f.where == Where::branch) {
-        const int branch = resolve(f.before);
-        g.add_to_node_col(branch, live);
-        feedback_node.push_back(branch);  // endpoint() finds the branch's own index first
-        continue;
-      }
-      if (f.where == Where::after_goal && !f.alternatives.empty()) {
-        add_goal_branches(g, f, feedback_node);
-        continue;
-      }
-      const int a = f.where == Where::edge ? resolve(f.before) : f.where == Where::before_start ? g.start() : g.goal();
-      const int b = f.where == Where::edge ? resolve(f.after) : a;
-      const int n = g.add_node(live, centre(live, g.node(b).position));
-      if (f.where != Where::edge) {
-        g.add_edge(n, a);
-        f.where == Where::before_start ? g.set_start(n) : g.set_goal(n);
-      } else {
-        g.remove_edge(a, b);
-        g.add_edge(a, n);
-        g.add_edge(n, b);
-      }
-      feedback_node.push_back(n);
-    }
-    feedback_nodes_ = feedback_node;
-    // Objects that can leave only after the target (every grasp of theirs is blocked by
-    // it: cylinders touching) stand next to it, where no way out can go around them:
-    // the graph lets the target's way pass them, and the robot's check says whether it
-    // can. Blocking them cut every way out at once, and each restart found the same.
-    for (std::size_t v = 0; v < g.size(); ++v) g.remove_from_node_col(static_cast<int>(v), stays_);
-    for (ObjectIndex o : blocked_) g.block_object(o);
-    g.update();
-    return g;
-  }
-
-  // Every grasp's blockers of `f` on a branch from the goal to a new goal. Adds the
-  // same number of feedback nodes (branches, then the new goal) whatever the graph.
-  // A branch that failed twice with nothing to blame keeps its node but loses its edges.
-  // Branches rank by kBranchRank metres each: more than any tie-break distance in a shelf.
-  static constexpr double kBranchRank = 100.0;
-  void add_goal_branches(retrieval::RetrievalGraph& g, const Feedback& f, std::vector<int>& feedback_node) {
-    const int goal = g.goal();
-    const int joined = g.add_node({}, g.node(goal).position);
-    std::vector<ObjectSet> sets{f.objects};
-    sets.insert(sets.end(), f.alternatives.begin(), f.alternatives.end());
-    for (std::size_t k = 0; k < sets.size(); ++k) {
-      const ObjectSet& set = sets[k];
-      const ObjectSet live = with_blockers(removable(set), target_);
-      const int branch = g.add_node(live, centre(live, g.node(goal).position));
-      // Among equally blocked grasps, the sampler's order (its least blocked first).
-      g.set_entry_cost(branch, kBranchRank * static_cast<double>(k));
-      const int index = static_cast<int>(feedback_node.size());
-      branches_.insert(index);
-      if (!dead_branches_.count(index)) {
-        g.add_edge(goal, branch);
-        g.add_edge(branch, joined);
-      }
-      feedback_node.push_back(branch);
-    }
-    g.set_goal(joined);
-    feedback_node.push_back(joined);
-  }
-
-  // Where a feedback node with `objects` lies in the plane: their mean initial position.
-  Eigen::Vector2d centre(const ObjectSet& objects, const Eigen::Vector2d& if_empty) const {
-    if (objects.empty()) return if_empty;
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    for (ObjectIndex o : objects) sum += initial_.world_T_objects[o].translation().head<2>();
-    return sum / double(objects.size());
-  }
-
-  Endpoint endpoint(int node) const {
-    if (const auto it = guard_of_.find(node); it != guard_of_.end()) return it->second;
-    for (std::size_t i = 0; i < feedback_nodes_.size(); ++i) {
-      if (feedback_nodes_[i] == node) return static_cast<int>(i);
-    }
-    const auto it = std::find(node_of_.begin(), node_of_.end(), node);
-    if (it == node_of_.end()) throw std::logic_error("retrieval_graph: a graph node that is neither a cluster nor feedback");
-    return static_cast<std::size_t>(it - node_of_.begin());
-  }
-
   // Task planning only (object pruning for the symbolic layer): the removal sequence
   // of the first exploration limit that has one, without checking it with the robot.
   plugin::PruneAnswer prune() {
@@ -228,10 +105,10 @@ class Search {
     const int objects = static_cast<int>(context_.scene().objects.size());
     for (int limit = initial_limit(); limit <= objects && !context_.deadline.expired(); ++limit) {
       roadmap_->expand(limit, settings_.roadmap);
-      retrieval::RetrievalGraph g = graph();
+      retrieval::RetrievalGraph g = feedback_graph_.graph(*roadmap_);
       const auto removal = g.removal_sequence();
       if (removal && static_cast<int>(removal->objects_in_order.size()) <= limit) {
-        answer.removal_sequences.push_back(in_precedence_order(removal->objects_in_order));
+        answer.removal_sequences.push_back(feedback_graph_.in_precedence_order(removal->objects_in_order));
         return answer;
       }
     }
@@ -281,7 +158,7 @@ class Search {
         sequences_at_restart = result.counters[counter::planning_sequences];
         // The same feedback as after an earlier round: the draws did not matter (grasps
         // blocked whatever the seed), and another round would learn it again.
-        if (++rounds_seen[round_signature()] >= kSameRounds) {
+        if (++rounds_seen[feedback_graph_.signature()] >= kSameRounds) {
           repeated = true;
           break;
         }
@@ -299,11 +176,11 @@ class Search {
       explored_limit = std::max(explored_limit, limit);
       result.counters[counter::iterations] = ++iterations;
       for (int attempt = 0; attempt < settings_.max_feedback && !context_.stopped(); ++attempt) {
-        retrieval::RetrievalGraph g = graph();
+        retrieval::RetrievalGraph g = feedback_graph_.graph(*roadmap_);
         auto removal = g.removal_sequence();
         if (!removal) {
-          if (!feedback_.empty()) ++limits_without_path;  // without feedback: K still too low
-          unjoined = feedback_.empty();
+          if (!feedback_graph_.empty()) ++limits_without_path;  // without feedback: K still too low
+          unjoined = feedback_graph_.empty();
           break;
         }
         limits_without_path = 0;
@@ -313,7 +190,7 @@ class Search {
           if (limit < explored_limit) limit = std::min(needed, explored_limit + 1) - 1;
           break;
         }
-        removal->objects_in_order = in_precedence_order(std::move(removal->objects_in_order));
+        removal->objects_in_order = feedback_graph_.in_precedence_order(std::move(removal->objects_in_order));
         ++result.counters[counter::planning_sequences];
         const Attempt attempt_result = execute(g, *removal, result);
         if (attempt_result == Attempt::solved) {
@@ -339,132 +216,6 @@ class Search {
   }
 
  private:
-  // A working removal order with every object dropped that the target comes out
-  // without (last first; each try reuses the checked prefix): the graph's sequence
-  // can hold objects only an earlier, failed way needed. Each try gets at most
-  // `shorten_max_checks` collision checks: dropping is an improvement, not worth a long
-  // motion search.
-  // When that dropped something, the order mixed two ways out, and what is left of one
-  // may work only in another order: a second pass tries each drop with the rest
-  // ordered nearest the exit first (on Table VI's min4 shelf a run moved o5 and o15 of
-  // one way out and then o1, o9, o10 of the other, which works only front first).
-  // Then, with `grasp_orders`, grasp_order.
-  ObjectSet shortened(ObjectSet order, Result& result) {
-    struct Restore {  // the run's own budget back, however this returns
-      plugin::PlanningContext& context;
-      std::uint64_t checks_until;
-      ~Restore() { context.checks_until = checks_until; }
-    } restore{context_, context_.checks_until};
-    const plugin::PlanningContext run = context_;
-    std::uint64_t dropped = 0;
-    std::set<ObjectSet> tried;
-    auto drop_pass = [&](bool exit_first) {
-      for (std::size_t i = order.size(); i-- > 0 && !run.stopped();) {
-        ObjectSet shorter = order;
-        shorter.erase(shorter.begin() + static_cast<std::ptrdiff_t>(i));
-        if (exit_first) nearest_exit_first(shorter);
-        if (!tried.insert(shorter).second) continue;
-        context_.checks_until = run.with_checks(checks(settings_.shorten_max_checks)).checks_until;
-        if (checker_.retrieve(shorter, reseeds_).ok) {
-          order = std::move(shorter);
-          ++dropped;
-          if (exit_first) i = order.size();  // a new order: every object may go now
-        }
-      }
-    };
-    drop_pass(false);
-    if (dropped > 0) drop_pass(true);
-    result.counters[counter::removals_dropped] = dropped;
-    if (settings_.grasp_orders > 0) {
-      result.counters[counter::grasp_orders_taken] = grasp_order(order, tried, run) ? 1 : 0;
-    }
-    return order;
-  }
-
-  static std::uint64_t checks(std::int64_t n) { return static_cast<std::uint64_t>(std::max<std::int64_t>(n, 0)); }
-
-  // Replaces `order` by the blockers of one of the target's own freeable grasps in the
-  // initial state when they alone let the target out: true when it did. The graph's
-  // footprint path counts objects a carry may lift the target over (a table has no
-  // board above), so one grasp's blockers can be fewer than the graph's way (on bench
-  // mobile tables, one object where the way had two). At most `grasp_orders` distinct
-  // sets not `tried` yet, each smaller than `order`, fewest objects first (the
-  // sampler's order among equals), each set nearest x_s first, each within
-  // `shorten_max_checks` per object plus one. Off by default: in shelves the carry
-  // cannot lift the target over anything, and the failed tries cost Table I's shelf20
-  // a median of 1.3 s instead of 0.2 s. `run`: the run's context, with its own budget.
-  bool grasp_order(ObjectSet& order, std::set<ObjectSet>& tried, const plugin::PlanningContext& run) {
-    if (order.size() < 2 || run.stopped()) return false;  // no smaller set would remove anything
-    int tries = 0;
-    for (ObjectSet set : grasp_blocker_sets(context_.scene().target, initial_, false)) {
-      if (set.size() >= order.size() || tries >= settings_.grasp_orders || run.stopped()) break;
-      nearest_exit_first(set);
-      if (!tried.insert(set).second) continue;
-      ++tries;
-      const std::uint64_t per_object = checks(settings_.shorten_max_checks), objects = set.size() + 1;
-      const std::uint64_t budget = per_object > ~std::uint64_t{0} / objects ? ~std::uint64_t{0} : per_object * objects;
-      context_.checks_until = run.with_checks(budget).checks_until;
-      if (checker_.retrieve(set, reseeds_).ok) {
-        order = std::move(set);
-        return true;
-      }
-    }
-    return false;
-  }
-
-  // Sorts `objects` by the distance of their initial positions from the exit x_s (in
-  // the shelf's plane), nearest first; ties keep their order.
-  void nearest_exit_first(ObjectSet& objects) const {
-    const Eigen::Vector2d exit = context_.scene().world_T_exit.translation().head<2>();
-    auto distance = [&](ObjectIndex o) { return (initial_.world_T_objects[o].translation().head<2>() - exit).norm(); };
-    std::stable_sort(objects.begin(), objects.end(), [&](ObjectIndex a, ObjectIndex b) { return distance(a) < distance(b); });
-  }
-
-  // `set` with the objects fed back as blocking its objects, and theirs, but never
-  // `except` (the object a guard node guards): a feedback node that holds an object
-  // must hold what has to go before it, as the object's guard is passed only on the
-  // way into the roadmap's nodes that hold it.
-  ObjectSet with_blockers(ObjectSet set, ObjectIndex except) const {
-    std::vector<ObjectIndex> todo = set;
-    while (!todo.empty()) {
-      const ObjectIndex o = todo.back();
-      todo.pop_back();
-      for (const Feedback& f : feedback_) {
-        if (f.where != Feedback::Where::object || f.object != o) continue;
-        for (ObjectIndex b : removable(f.objects)) {
-          if (b == except || std::find(set.begin(), set.end(), b) != set.end()) continue;
-          set.push_back(b);
-          todo.push_back(b);
-        }
-      }
-    }
-    std::sort(set.begin(), set.end());
-    return set;
-  }
-
-  // The path's objects in the path's order, except that the objects fed back as
-  // blocking one go before it (a guard node can be passed before a node holding the
-  // object that a later guard added); objects blocking each other keep the path's order.
-  ObjectSet in_precedence_order(ObjectSet remaining) const {
-    auto waits = [&](ObjectIndex o) {
-      for (const Feedback& f : feedback_) {
-        if (f.where != Feedback::Where::object || f.object != o) continue;
-        for (ObjectIndex b : f.objects) {
-          if (b != o && std::find(remaining.begin(), remaining.end(), b) != remaining.end()) return true;
-        }
-      }
-      return false;
-    };
-    ObjectSet order;
-    while (!remaining.empty()) {
-      auto next = std::find_if_not(remaining.begin(), remaining.end(), waits);
-      if (next == remaining.end()) next = remaining.begin();
-      order.push_back(*next);
-      remaining.erase(next);
-    }
-    return order;
-  }
-
   int initial_limit() {
     if (settings_.initial_limit == "objects") return static_cast<int>(context_.scene().objects.size());
     if (settings_.initial_limit == "nodecol") return std::max(1, static_cast<int>(roadmap_->col(roadmap_->graph()[1].x).size()));
@@ -476,7 +227,7 @@ class Search {
     result.time.motion_planning += push_seconds_;  // pushes and the checks around them
     result.time.task_planning = std::max(0.0, result.time.task_planning - push_seconds_);
     result.counters[counter::roadmap_nodes] = roadmap_->size();
-    result.counters[counter::feedback_nodes] = feedback_.size();
+    result.counters[counter::feedback_nodes] = feedback_graph_.size();
     draw(result);
   }
 
@@ -491,7 +242,7 @@ class Search {
     }
     result.drawings.push_back(std::move(roadmap));
 
-    const retrieval::RetrievalGraph g = graph();
+    const retrieval::RetrievalGraph g = feedback_graph_.graph(*roadmap_);
     const Scene& scene = context_.scene();
     PlaneDrawing drawing{"retrieval graph", {}, {}, {}, {}};
     const retrieval::Graph& gg = g.graph();
@@ -516,21 +267,21 @@ class Search {
   bool feed_back(const retrieval::RetrievalGraph& g, const retrieval::RetrievalGraph::Removal& removal, ObjectIndex object,
                  const Failure& failure, const WorldState& at_failure, Result& result) {
     retrieval::record_failure_once(result, failure);
-    ObjectSet blocking = removable(failure.blocking_objects);
+    ObjectSet blocking = feedback_graph_.removable(failure.blocking_objects);
     // The goal branch (a target grasp's blockers) the path took to the target, if any:
     // the last one on it (guards and other feedback can lie between it and the goal).
     std::optional<int> branch;
     if (object == target_ && failure.stage != "carry") {
       for (std::size_t i = removal.nodes.size(); i-- > 0;) {
-        const Endpoint e = endpoint(removal.nodes[i]);
-        if (std::holds_alternative<int>(e) && branches_.count(std::get<int>(e))) {
+        const Endpoint e = feedback_graph_.endpoint(removal.nodes[i]);
+        if (std::holds_alternative<int>(e) && feedback_graph_.is_branch(std::get<int>(e))) {
           branch = std::get<int>(e);
           break;
         }
       }
     }
     // A grasp the target or an avoided object blocks cannot be freed: blame another.
-    if (!freeable_for(object, failure.blocking_objects)) {
+    if (!feedback_graph_.freeable_for(object, failure.blocking_objects)) {
       const auto other = other_grasp_blockers(object, failure, at_failure);
       if (!other && !branch && object != target_ && blocked_by_target(failure)) return stay(object, failure);
       if (!other) return branch ? kill_branch(*branch) : avoid(object, failure);
@@ -567,54 +318,29 @@ class Search {
     }
     // Reaching the target is needed on every path; carrying it out is this path's.
     if (branch) {  // this grasp's way needs more: on the branch, not on every way
-      feedback_.push_back({*branch, {}, blocking, Feedback::Where::branch});
+      feedback_graph_.add({*branch, {}, blocking, Feedback::Where::branch});
     } else if (object == target_ && failure.stage != "carry") {
-      feedback_.push_back({{}, {}, blocking, Feedback::Where::after_goal, 0, other_grasps(object, at_failure)});
+      feedback_graph_.add({{}, {}, blocking, Feedback::Where::after_goal, 0, other_grasps(object, at_failure)});
     } else if (fail == 0) {
-      feedback_.push_back({{}, {}, blocking, Feedback::Where::before_start});
+      feedback_graph_.add({{}, {}, blocking, Feedback::Where::before_start});
     } else if (object != target_) {
-      feedback_.push_back({{}, {}, blocking, Feedback::Where::object, object});
+      feedback_graph_.add({{}, {}, blocking, Feedback::Where::object, object});
     } else {
-      feedback_.push_back({endpoint(removal.nodes[fail - 1]), endpoint(removal.nodes[fail]), blocking});
+      feedback_graph_.add(
+          {feedback_graph_.endpoint(removal.nodes[fail - 1]), feedback_graph_.endpoint(removal.nodes[fail]), blocking});
     }
     return true;
   }
 
-  // The objects of `objects` that removing could still help with: sorted, once each,
-  // neither the target nor already removed.
-  ObjectSet removable(const std::vector<ObjectIndex>& objects) const {
-    ObjectSet out;
-    for (ObjectIndex o : objects) {
-      if (o != target_ && !initial_.removed[o]) out.push_back(o);
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-  }
-
-  // False when `blocking` holds an object that cannot leave before `object` does: the
-  // target (for any other object) or one the graph avoids.
-  bool freeable_for(ObjectIndex object, const std::vector<ObjectIndex>& blocking) const {
-    return std::none_of(blocking.begin(), blocking.end(), [&](ObjectIndex b) {
-      return (b == target_ && object != target_) || std::find(blocked_.begin(), blocked_.end(), b) != blocked_.end();
-    });
-  }
-
   void forget_feedback() {
     ++reseeds_;
-    feedback_.clear();
-    feedback_nodes_.clear();
-    branches_.clear();
-    dead_branches_.clear();
+    feedback_graph_.clear();
     unexplained_branch_.clear();
-    guard_of_.clear();
     unexplained_.clear();
-    blocked_.clear();
-    stays_.clear();
     seen_failures_.clear();
   }
 
-  bool kill_branch(int branch) { return dead_branches_.insert(branch).second; }
+  bool kill_branch(int branch) { return feedback_graph_.kill_branch(branch); }
 
   // Keeps the retrieval graph away from `object`; the target cannot be avoided.
   bool avoid(ObjectIndex object, const Failure& why) {
@@ -622,8 +348,7 @@ class Search {
       why_stuck_[object] = why;
       return false;
     }
-    if (std::find(blocked_.begin(), blocked_.end(), object) != blocked_.end()) return false;
-    blocked_.push_back(object);
+    if (!feedback_graph_.block(object)) return false;
     why_stuck_[object] = why;
     return true;
   }
@@ -635,25 +360,10 @@ class Search {
 
   // Lets the graph's ways pass `object`, which can leave only after the target.
   bool stay(ObjectIndex object, const Failure& why) {
-    if (std::find(stays_.begin(), stays_.end(), object) != stays_.end()) return avoid(object, why);
-    stays_.push_back(object);
-    std::sort(stays_.begin(), stays_.end());
+    if (feedback_graph_.stays(object)) return avoid(object, why);
+    feedback_graph_.let_stay(object);
     why_stuck_[object] = why;
     return true;
-  }
-
-  // What the feedback of this round holds, to tell a round after a restart that learnt
-  // exactly what an earlier one did: then fresh draws change nothing.
-  std::vector<std::vector<std::uint64_t>> round_signature() const {
-    std::vector<std::vector<std::uint64_t>> out;
-    for (const Feedback& f : feedback_) {
-      std::vector<std::uint64_t> row{static_cast<std::uint64_t>(f.where), f.object};
-      row.insert(row.end(), f.objects.begin(), f.objects.end());
-      out.push_back(std::move(row));
-    }
-    out.emplace_back(blocked_.begin(), blocked_.end());
-    out.emplace_back(stays_.begin(), stays_.end());
-    return out;
   }
 
   // Why no sequence works once rounds repeat: the objects the feedback could not get
@@ -678,8 +388,8 @@ class Search {
     if (!context_.samplers.grasp) return sets;
     const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, state});
     for (const plugin::BlockedGrasp& b : answer.blocked) {
-      if (!b.freeable || !freeable_for(object, b.blocking_objects)) continue;
-      ObjectSet set = removable(b.blocking_objects);
+      if (!b.freeable || !feedback_graph_.freeable_for(object, b.blocking_objects)) continue;
+      ObjectSet set = feedback_graph_.removable(b.blocking_objects);
       if (set.empty() || (unseen && seen_failures_[object].count(set))) continue;
       if (std::find(sets.begin(), sets.end(), set) == sets.end()) sets.push_back(std::move(set));
     }
@@ -729,7 +439,10 @@ class Search {
     }
     const retrieval::RemovalCheck check = checker_.retrieve(removal.objects_in_order, reseeds_);
     if (check.ok) {
-      const ObjectSet order = settings_.shorten ? shortened(removal.objects_in_order, result) : removal.objects_in_order;
+      const ObjectSet order =
+          settings_.shorten ? shortener_.shortened(removal.objects_in_order, reseeds_,
+                                                   [&] { return grasp_blocker_sets(target_, initial_, false); }, result)
+                            : removal.objects_in_order;
       if (settings_.push) {
         const retrieval::PushReplacement pushes =
             retrieval::write_plan_with_pushes(context_, checker_, order, settings_.region, reseeds_, result);
@@ -753,21 +466,15 @@ class Search {
   collision::Footprint footprint_;
   collision::CollisionWorld* world_ = nullptr;
   std::unique_ptr<retrieval::Roadmap> roadmap_;
-  std::vector<Feedback> feedback_;
-  std::vector<int> feedback_nodes_;
-  std::set<int> branches_, dead_branches_;  // goal branches' feedback nodes (endpoint indices)
+  FeedbackGraph feedback_graph_{initial_, context_.scene().target};
   std::map<int, int> unexplained_branch_;   // failures with nothing to blame, per goal branch
-  std::map<int, int> guard_of_;  // every guard node of the last graph: its feedback's index
   std::map<ObjectIndex, int> unexplained_;  // failures with nothing to blame, per object
-  std::optional<retrieval::RetrievalGraph> clustered_;  // the roadmap's clusters, no feedback
-  std::size_t clustered_size_ = 0;  // roadmap nodes when clustered_ was made
-  std::vector<int> node_of_;
-  std::vector<ObjectIndex> blocked_;
-  ObjectSet stays_;  // objects only the target's leaving frees: the graph's ways may pass them
   std::map<ObjectIndex, Failure> why_stuck_;  // avoided objects (and the target), with why
   std::map<ObjectIndex, std::set<ObjectSet>> seen_failures_;
   std::vector<ObjectSet> tried_;  // every removal order checked, in order
   retrieval::RemovalChecker checker_;
+  retrieval_graph_plugin::Shortener shortener_{context_, checker_, initial_, settings_.shorten_max_checks,
+                                               settings_.grasp_orders};
   std::uint64_t reseeds_ = 0;
   double push_seconds_ = 0.0;
 };

@@ -23,6 +23,7 @@
 #include "cluttertamp/stream/scene_facts.hpp"
 #include "cluttertamp/stream/stream_file.hpp"
 #include "cluttertamp/stream/stream_search.hpp"
+#include "cluttertamp/stream/stream_task.hpp"
 
 namespace {
 
@@ -102,8 +103,10 @@ class StreamPlanner final : public plugin::TaskPlanner {
       result.reason = "stream_planner needs task: pddl: {domain, streams[, problem]} in the problem file";
       return result;
     }
-    const pddl::Domain domain = pddl::load_domain(task->domain);
-    const stream::StreamFile streams = stream::load_stream_file(*task->streams, &domain);
+    // Parsed once, when the problem was loaded.
+    const std::shared_ptr<const stream::ParsedTask> parsed = stream::parsed_task(*task);
+    const pddl::Domain& domain = parsed->domain;
+    const stream::StreamFile& streams = *parsed->streams;
 
     // The facts: the PDDL problem, or the scene with the movable objects chosen.
     pddl::Problem problem;
@@ -114,7 +117,7 @@ class StreamPlanner final : public plugin::TaskPlanner {
     std::optional<Problem> pruned_problem;
     std::optional<plugin::PlanningContext> pruned_context;
     if (task->problem) {
-      problem = pddl::load_problem(*task->problem, domain);
+      problem = *parsed->problem;
       sp.values = object_values(*task, domain, problem);
     } else {
       std::vector<bool> movable;

@@ -20,6 +20,9 @@ namespace cluttertamp {
 namespace robot {
 class RobotDescription;
 }
+namespace stream {
+struct ParsedTask;
+}
 
 /// Carry the scene's target out to its exit pose x_s, removing what is in the way.
 struct RetrievalTask {
@@ -36,6 +39,9 @@ struct PddlTask {
   /// stream search hands them to streams (numbers, lists of numbers and strings as
   /// such, anything else as a plugin::ValuePayload).
   std::map<std::string, Value> values;
+  /// The files parsed (io::load_problem parses them once, with every error located);
+  /// null for a task built in code (stream::parsed_task parses it then).
+  std::shared_ptr<const stream::ParsedTask> parsed;
 };
 
 /// Reach the scene's target with the gripper moving in the shelf plane, pushing what is
