@@ -1,6 +1,7 @@
 // End-to-end runs of the `cluttertamp` program: exit codes, output and result.json.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -14,7 +15,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli/statistics.hpp"
+#include "bench/statistics.hpp"
+#include "bench/svg_plot.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/io/guidance_io.hpp"
@@ -421,12 +423,38 @@ TEST_F(Cli, GeneratedShelfProblemIsSolved) {
 
 // The bench's 90th percentile: linear between the closest ranks, as NumPy's default.
 TEST(BenchStatistics, PercentileInterpolatesBetweenRanks) {
-  EXPECT_DOUBLE_EQ(cli::percentile({}, 90), 0.0);
-  EXPECT_DOUBLE_EQ(cli::percentile({3.0}, 90), 3.0);
-  EXPECT_DOUBLE_EQ(cli::percentile({4.0, 1.0, 3.0, 2.0}, 0), 1.0);
-  EXPECT_DOUBLE_EQ(cli::percentile({4.0, 1.0, 3.0, 2.0}, 100), 4.0);
-  EXPECT_DOUBLE_EQ(cli::percentile({4.0, 1.0, 3.0, 2.0}, 50), 2.5);
-  EXPECT_NEAR(cli::percentile({1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 90), 9.1, 1e-12);
+  EXPECT_DOUBLE_EQ(bench::percentile({}, 90), 0.0);
+  EXPECT_DOUBLE_EQ(bench::percentile({3.0}, 90), 3.0);
+  EXPECT_DOUBLE_EQ(bench::percentile({4.0, 1.0, 3.0, 2.0}, 0), 1.0);
+  EXPECT_DOUBLE_EQ(bench::percentile({4.0, 1.0, 3.0, 2.0}, 100), 4.0);
+  EXPECT_DOUBLE_EQ(bench::percentile({4.0, 1.0, 3.0, 2.0}, 50), 2.5);
+  EXPECT_NEAR(bench::percentile({1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 90), 9.1, 1e-12);
+}
+
+// The benches' plots: y axes in round steps, each tick labelled with a grid line.
+TEST(BenchPlots, AxesRunInRoundStepsWithGridLines) {
+  EXPECT_DOUBLE_EQ(bench::tick_step(100), 25.0);
+  EXPECT_DOUBLE_EQ(bench::tick_step(0.8), 0.2);
+  EXPECT_DOUBLE_EQ(bench::tick_step(17.3), 5.0);
+  EXPECT_DOUBLE_EQ(bench::tick_step(0), 1.0);
+  EXPECT_DOUBLE_EQ(bench::tick_step(std::nan("")), 1.0);
+  bench::SvgPlot plot(400, 300);
+  const bench::SvgPlot::Panel panel = plot.panel(50, 30, 300, 200, 17.3, "time <s>", "");
+  EXPECT_DOUBLE_EQ(panel.y_max, 20.0);
+  EXPECT_DOUBLE_EQ(panel.y(0), 230.0);
+  EXPECT_DOUBLE_EQ(panel.y(20), 30.0);
+  plot.bar(panel, 60, 10, 25.0, "#000000");  // clipped to the axis
+  const fs::path file = fs::temp_directory_path() / "cluttertamp_bench_plot_test.svg";
+  plot.write(file);
+  std::ifstream in(file);
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  fs::remove(file);
+  for (const char* tick : {">0<", ">5<", ">10<", ">15<", ">20<"}) EXPECT_NE(svg.find(tick), std::string::npos) << tick;
+  EXPECT_NE(svg.find("time &lt;s&gt;"), std::string::npos);
+  EXPECT_NE(svg.find("<rect x='60' y='30' width='10' height='200'"), std::string::npos) << svg;
+  std::size_t grid_lines = 0;
+  for (std::size_t at = svg.find("#dddddd"); at != std::string::npos; at = svg.find("#dddddd", at + 1)) ++grid_lines;
+  EXPECT_EQ(grid_lines, 4u) << svg;  // at 5, 10, 15 and 20
 }
 
 // generate --min-gap: the least distance between cylinders (default 0, the paper's
@@ -709,11 +737,11 @@ TEST_F(Cli, RetrievalWithPushesPushesAsideWhatItCanAndRetrievesTheTarget) {
 // Fisher's exact test as bench push reports it, against the exact sums of binomial
 // coefficients (computed apart, in Python) and the tea-tasting table; equal rates give 1.
 TEST(BenchStatistics, FishersExactTestMatchesKnownValues) {
-  EXPECT_NEAR(cli::fisher_exact_p(3, 4, 1, 4), 0.4857, 1e-4);
-  EXPECT_NEAR(cli::fisher_exact_p(38, 60, 30, 60), 0.19701, 1e-5);
-  EXPECT_NEAR(cli::fisher_exact_p(10, 10, 0, 10), 1.0825e-5, 1e-8);
-  EXPECT_NEAR(cli::fisher_exact_p(5, 10, 5, 10), 1.0, 1e-12);
-  EXPECT_NEAR(cli::fisher_exact_p(0, 10, 10, 10), cli::fisher_exact_p(10, 10, 0, 10), 1e-15);
+  EXPECT_NEAR(bench::fisher_exact_p(3, 4, 1, 4), 0.4857, 1e-4);
+  EXPECT_NEAR(bench::fisher_exact_p(38, 60, 30, 60), 0.19701, 1e-5);
+  EXPECT_NEAR(bench::fisher_exact_p(10, 10, 0, 10), 1.0825e-5, 1e-8);
+  EXPECT_NEAR(bench::fisher_exact_p(5, 10, 5, 10), 1.0, 1e-12);
+  EXPECT_NEAR(bench::fisher_exact_p(0, 10, 10, 10), bench::fisher_exact_p(10, 10, 0, 10), 1e-15);
 }
 
 // A guide that cannot be satisfied (its region is where a fixed post stands) is kept as

@@ -8,9 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "cluttertamp/bench/bench.hpp"
+
 namespace cluttertamp::cli {
 
-enum class Verbosity { quiet, normal, verbose };
+using Verbosity = bench::Verbosity;
+using bench::BenchArgs;
+using bench::CompareArgs;
 
 struct PlanArgs {
   std::filesystem::path problem;
@@ -127,69 +131,5 @@ struct SelfCollisionArgs {
 };
 /// Counts self contacts per link pair over random configurations; exit code 0.
 int self_collisions(const SelfCollisionArgs& args);
-
-struct BenchArgs {
-  std::string what;  ///< "collision", "pddl", "samplers", "retrieval", "physics" or "push"
-  std::uint64_t seed = 1;
-  std::size_t samples = 5000;
-  int objects = 20;
-  std::filesystem::path json;  ///< empty: no JSON file
-  std::filesystem::path robot;  ///< robot description file
-  std::filesystem::path pddl_instances;  ///< bench pddl: <dir>/<family>/{domain*,p*}.pddl
-  std::vector<std::string> searches;     ///< bench pddl
-  int parse_objects = 200000;            ///< bench pddl: objects of the generated problem it parses (0: none)
-  double time_limit = 60;                ///< bench pddl, per search; bench retrieval, per run
-  int instances = 5;                     ///< bench retrieval: scenes per object count
-  std::vector<int> sizes;                ///< bench retrieval: object counts (default 12 16 20)
-  std::filesystem::path csv;             ///< bench retrieval, push
-  std::filesystem::path svg;             ///< bench push
-  std::filesystem::path push_scenes;     ///< bench push: directory of reach problems
-  double goal_distance = 0.005;          ///< bench push: ReachTolerances::distance for every planner, m
-  double goal_heading = 0.5;             ///< bench push: ReachTolerances::heading for every planner, rad
-  double steer = 0.0;                    ///< bench push: KinodynamicSettings::steer for every planner's reach
-  std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
-  std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
-  std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml
-  double min_gap = 0.0;                  ///< bench retrieval: m between generated cylinders (0: the paper's)
-  double table_v_width = 0.0;            ///< bench retrieval: Table V cabinet width, m; 0: ShelfSpec's
-  std::string mobile_tables = "fig9";    ///< bench mobile: "fig9" (Tian et al.'s Fig. 9 tables) or "random"
-  std::vector<std::string> occlusion_layouts;  ///< bench occlusion: "columns", "random" (default both)
-  Verbosity verbosity = Verbosity::normal;
-  int runs = 3;                          ///< bench pddl
-};
-/// Exit code 0 when every speed goal is met, 1 when one is missed.
-struct CompareArgs {
-  std::vector<std::filesystem::path> problems;  ///< stream problems (task: pddl)
-  int runs = 5;
-  std::uint64_t seed = 0;
-  std::optional<double> time_limit;  ///< per run; default: each problem's
-  std::optional<std::filesystem::path> json, csv, svg;
-  std::vector<std::filesystem::path> plugin_paths;
-  Verbosity verbosity = Verbosity::normal;
-};
-/// {adaptive, incremental} x {pruned, all movable} on each problem, `runs` seeds each:
-/// a table beside Tian et al.'s Table IV; exit code 0 when every run solved, else 1.
-int compare(const CompareArgs& args);
-
-int bench_collision(const BenchArgs& args);
-/// The occlusion planner on generated occlusion shelves (Table II of Tian et al.);
-/// exit code 0 when success >= 95 % and the median time <= 1 s for every size, else 1.
-int bench_occlusion(const BenchArgs& args);
-/// retrieval_graph with a mobile manipulator on generated tables, initial L = 1,
-/// |n_g.NodeCol| and |O| (Table III of Tian et al.); exit code 0 when L = 1 moves at
-/// most 2.2 objects on average with a median <= 1 s, else 1.
-int bench_mobile(const BenchArgs& args);
-/// Pushing physics speed (times real time) on a generated shelf; exit code 0 when the
-/// 10-object goal (>= 20) is met or another size was asked for, 1 otherwise.
-int bench_physics(const BenchArgs& args);
-/// Prints a table per instance and search; exit code 0.
-int bench_pddl(const BenchArgs& args);
-/// Grasp, motion and pick-and-place medians; exit code 0 when every goal is met.
-int bench_samplers(const BenchArgs& args);
-/// Tables I, V and VI of Tian et al.; exit code 0.
-int bench_retrieval(const BenchArgs& args);
-/// RRT, KPIECE and guided reaching through clutter on shelf scenes, beside Papallas &
-/// Dogar's Fig. 6; exit code 0 when guided beats both on success rate, 1 otherwise.
-int bench_push(const BenchArgs& args);
 
 }  // namespace cluttertamp::cli

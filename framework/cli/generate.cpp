@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
-#include "cli/shelf_support.hpp"
+#include "cluttertamp/run/shelf_runs.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/io/scene_io.hpp"
@@ -22,47 +22,6 @@ namespace cluttertamp::cli {
 
 namespace fs = std::filesystem;
 
-plugin::Samplers shipped_samplers(const plugin::Registry& registry) {
-  plugin::Samplers samplers;
-  samplers.grasp = registry.create<plugin::GraspSampler>("grasp_side");
-  samplers.motion = registry.create<plugin::MotionSampler>("motion_ompl");
-  samplers.placement = registry.create<plugin::PlacementSampler>("placement_region");
-  return samplers;
-}
-
-Result plan_scene(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
-                  plugin::TaskPlanner& planner, const plugin::Samplers& samplers, std::uint64_t seed, double seconds) {
-  Problem problem;
-  problem.scene = scene;
-  problem.robot.loaded = robot;
-  problem.task = RetrievalTask{scene.objects[scene.target].id};
-  collision::SharedWorld world(scene, robot);
-  std::map<std::string, std::uint64_t> counters;
-  plugin::PlanningContext context{problem, plugin::Deadline::after(seconds), seed, counters, samplers, &world};
-  std::map<std::string, PhaseTotals> phases;
-  context.phases = &phases;
-  WorldState state = WorldState::initial(scene);
-  state.robot_configuration = robot->home();
-  Result result = planner.solve(context, state);
-  // As the runner does: the work counted on the context is the run's.
-  for (const auto& [key, value] : counters) result.counters[key] += value;
-  result.phases = std::move(phases);
-  return result;
-}
-
-bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
-                               const plugin::Samplers& samplers, std::uint64_t seed) {
-  Problem problem;
-  problem.scene = scene;
-  problem.robot.loaded = robot;
-  collision::SharedWorld world(scene, robot);
-  std::map<std::string, std::uint64_t> counters;
-  plugin::PlanningContext context{problem, plugin::Deadline::after(10), seed, counters, samplers, &world};
-  WorldState state = WorldState::initial(scene);
-  state.robot_configuration = robot->home();
-  return manipulation::retrieve(context, state).ok;
-}
-
 namespace {
 
 // Seeds the exhaustive search runs with: motion planning is randomized, so a set one
@@ -75,7 +34,7 @@ constexpr std::uint64_t kProofSeeds = 3;
 std::optional<std::string> min_removals_differ(const Scene& scene, const GenerateArgs& args,
                                                const std::shared_ptr<const robot::RobotDescription>& robot,
                                                const plugin::Registry& registry, const plugin::Samplers& samplers) {
-  const Result quick = plan_scene(scene, robot, *registry.create<plugin::TaskPlanner>("retrieval_graph"), samplers, 0, 10);
+  const Result quick = run::plan_scene(scene, robot, *registry.create<plugin::TaskPlanner>("retrieval_graph"), samplers, 0, 10);
   if (quick.solved && static_cast<int>(quick.moved_objects.size()) < args.min_removals) {
     return "retrieval_graph moves only " + std::to_string(quick.moved_objects.size());
   }
@@ -83,7 +42,7 @@ std::optional<std::string> min_removals_differ(const Scene& scene, const Generat
   limit.set("max_removals", static_cast<std::int64_t>(args.min_removals - 1));
   for (std::uint64_t seed = 0; seed < kProofSeeds; ++seed) {
     const Result best =
-        plan_scene(scene, robot, *registry.create<plugin::TaskPlanner>("exhaustive", limit), samplers, seed, args.check_time);
+        run::plan_scene(scene, robot, *registry.create<plugin::TaskPlanner>("exhaustive", limit), samplers, seed, args.check_time);
     const std::string with = "exhaustive (seed " + std::to_string(seed) + ")";
     if (!best.solved) return with + ": " + best.reason;
     if (static_cast<int>(best.moved_objects.size()) != args.min_removals) {
@@ -99,7 +58,7 @@ int generate(const GenerateArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
   const plugin::Registry registry(plugin::Registry::default_search_paths());
   const bool check = (args.require_removal && !args.occlusion && !args.table) || args.min_removals > 0;
-  const plugin::Samplers samplers = check ? shipped_samplers(registry) : plugin::Samplers{};
+  const plugin::Samplers samplers = check ? run::shipped_samplers(registry) : plugin::Samplers{};
   scenes::ShelfSpec spec;
   spec.objects = args.objects;
   spec.width = args.width;
@@ -143,7 +102,7 @@ int generate(const GenerateArgs& args) {
     io::write_scene(written, scene);
     scene = io::load_scene(written);
     fs::remove(written);
-    if (!args.occlusion && !args.table && args.require_removal && target_comes_out_directly(scene, robot, samplers, seed)) {
+    if (!args.occlusion && !args.table && args.require_removal && run::target_comes_out_directly(scene, robot, samplers, seed)) {
       if (args.verbosity == Verbosity::verbose) std::cerr << "seed " << seed << ": the target comes out directly; next\n";
       continue;
     }

@@ -247,13 +247,16 @@ std::vector<fs::path> Registry::default_search_paths(const std::vector<fs::path>
 
 const std::vector<SearchedDirectory>& Registry::searched() const { return impl_->searched; }
 
-const std::vector<PluginDescriptor>& Registry::plugins() const {
+std::vector<PluginDescriptor> Registry::plugins() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   for (Impl::Candidate& c : impl_->candidates) impl_->load(c);
   return impl_->descriptors;
 }
 
-const std::vector<LoadProblem>& Registry::problems() const { return impl_->problems; }
+std::vector<LoadProblem> Registry::problems() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->problems;
+}
 
 const PluginDescriptor* Registry::find(Kind kind, std::string_view name) const {
   std::lock_guard<std::mutex> lock(impl_->mutex);

@@ -9,24 +9,24 @@ namespace {
 // Runs the bench `args.what` names; defaults that differ per bench are set here, where
 // the command line says whether the user gave them.
 int run_bench(BenchArgs& args, const CLI::Option& objects, const CLI::Option& scenes, const CLI::Option& robot) {
-  if (args.what == "pddl") return bench_pddl(args);
-  if (args.what == "samplers") return bench_samplers(args);
-  if (args.what == "retrieval") return bench_retrieval(args);
-  if (args.what == "push") return bench_push(args);
+  if (args.what == "pddl") return bench::pddl(args);
+  if (args.what == "samplers") return bench::samplers(args);
+  if (args.what == "retrieval") return bench::retrieval(args);
+  if (args.what == "push") return bench::push(args);
   if (args.what == "mobile") {
     if (!scenes.count()) args.instances = 20;
     if (!robot.count()) args.robot = source_file("domains/robots/pr2_mobile.yaml");
-    return bench_mobile(args);
+    return bench::mobile(args);
   }
   if (args.what == "occlusion") {
     if (!scenes.count()) args.instances = 20;  // the paper's 20 instances per size
-    return bench_occlusion(args);
+    return bench::occlusion(args);
   }
   if (args.what == "physics") {
     if (!objects.count()) args.objects = 10;  // the physics speed goal is for 10 objects
-    return bench_physics(args);
+    return bench::physics(args);
   }
-  return bench_collision(args);
+  return bench::collision(args);
 }
 
 }  // namespace

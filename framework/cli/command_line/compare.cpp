@@ -19,7 +19,7 @@ Command declare_compare(CLI::App& app, CommonOptions& common) {
   add_plugin_paths(*compare, args->plugin_paths);
   add_memory_limit(*compare, common);
   add_verbosity(*compare, args->verbosity, "Same output as the default");
-  return {compare, [args] { return cli::compare(*args); }};
+  return {compare, [args] { return bench::compare(*args); }};
 }
 
 }  // namespace cluttertamp::cli

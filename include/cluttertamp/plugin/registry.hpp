@@ -64,14 +64,17 @@ class CLUTTERTAMP_API Registry {
   static std::vector<std::filesystem::path> default_search_paths(
       const std::vector<std::filesystem::path>& first = {});
 
+  /// The directories examined, in order (fixed at construction).
   const std::vector<SearchedDirectory>& searched() const;
-  /// Loads every library found and returns the plugins that loaded.
-  const std::vector<PluginDescriptor>& plugins() const;
-  /// Libraries and entries not used so far, and why; grows as libraries are loaded.
-  const std::vector<LoadProblem>& problems() const;
+  /// Loads every library found and returns the plugins that loaded (a copy: other
+  /// threads may load libraries meanwhile).
+  std::vector<PluginDescriptor> plugins() const;
+  /// Libraries and entries not used so far, and why (a copy of a list that grows as
+  /// libraries are loaded).
+  std::vector<LoadProblem> problems() const;
 
   /// Loads the plugin's library if needed; null when no usable plugin of that kind
-  /// and name exists.
+  /// and name exists. The descriptor lives as long as the registry.
   const PluginDescriptor* find(Kind kind, std::string_view name) const;
 
   /// Creates and configures a plugin. `where` is the place in a problem file that

@@ -8,15 +8,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/statistics.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "bench/statistics.hpp"
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/search/grounding.hpp"
 #include "cluttertamp/search/planner.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace fs = std::filesystem;
 
@@ -86,7 +86,7 @@ double parse_seconds(int objects, int runs) {
   return median(seconds);
 }
 
-int bench_pddl(const BenchArgs& args) {
+int pddl(const BenchArgs& args) {
   const std::vector<Pair> pairs = instances(args.pddl_instances);
   if (pairs.empty()) throw InputError({args.pddl_instances.string(), 0, 0}, "no PDDL instances found here");
   const std::vector<std::string> searches = args.searches.empty() ? std::vector<std::string>{"lazy-gbfs-ff", "astar-lmcut"} : args.searches;
@@ -166,4 +166,4 @@ int bench_pddl(const BenchArgs& args) {
   return run::ExitCode::solved;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

@@ -9,15 +9,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/statistics.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "bench/statistics.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace {
 
@@ -57,7 +57,7 @@ Eigen::Isometry3d tcp_pose(const Eigen::Vector3d& p, double yaw) {
 
 }  // namespace
 
-int bench_collision(const BenchArgs& args) {
+int collision(const BenchArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(
       io::load_robot_description(args.robot));
   scenes::ShelfSpec spec;
@@ -173,4 +173,4 @@ int bench_collision(const BenchArgs& args) {
   return all_met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

@@ -8,17 +8,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/shelf_support.hpp"
-#include "cli/measures.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "cluttertamp/run/shelf_runs.hpp"
+#include "bench/measures.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace {
 
@@ -40,10 +40,10 @@ std::uint64_t counter(const Result& r, const char* key) { return r.counters.coun
 
 }  // namespace
 
-int bench_occlusion(const BenchArgs& args) {
+int occlusion(const BenchArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
   const plugin::Registry registry(plugin::Registry::default_search_paths());
-  const plugin::Samplers samplers = shipped_samplers(registry);
+  const plugin::Samplers samplers = run::shipped_samplers(registry);
   const auto planner = registry.create<plugin::TaskPlanner>("occlusion", {}, {"bench occlusion", 0, 0});
   const std::vector<int> sizes = args.sizes.empty() ? std::vector<int>{12, 16, 20} : args.sizes;
   const std::vector<std::string> layouts =
@@ -67,7 +67,7 @@ int bench_occlusion(const BenchArgs& args) {
           throw InputError({"--sizes", 0, 0}, std::to_string(n) + " objects, " + layout + ": " + e.what());
         }
         for (int r = 0; r < args.runs; ++r) {
-          const Result result = plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
+          const Result result = run::plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
           rows.push_back({layout, n, scene_seed, r, result.solved, result.time.total, result.moved_objects.size(),
                           counter(result, counter::final_sequence), counter(result, counter::iterations),
                           counter(result, counter::observed_initially), counter(result, counter::found_by_touch), result.reason});
@@ -130,4 +130,4 @@ int bench_occlusion(const BenchArgs& args) {
   return goals_met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

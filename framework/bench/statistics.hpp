@@ -1,13 +1,22 @@
 #pragma once
-// Summary statistics the bench commands print: one definition of each.
+// Summary statistics and number formats the bench commands print: one definition of each.
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <iomanip>
 #include <numeric>
+#include <sstream>
 #include <string>
 #include <vector>
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
+
+/// `v` with `digits` decimals, for tables.
+inline std::string fixed(double v, int digits = 2) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
 
 /// `text` as one CSV field (RFC 4180): quoted, inner quotes doubled.
 inline std::string csv_field(const std::string& text) {
@@ -83,4 +92,4 @@ inline double fisher_exact_p(std::size_t a, std::size_t n1, std::size_t b, std::
   return std::min(1.0, p);
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

@@ -8,14 +8,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/statistics.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "bench/statistics.hpp"
 #include "cluttertamp/physics/push_world.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace {
 constexpr double kGoal = 20.0;      // times real time
@@ -23,7 +23,7 @@ constexpr double kDuration = 1.0;   // s of each control
 constexpr std::size_t kBatch = 10;  // controls per timed batch
 }  // namespace
 
-int bench_physics(const BenchArgs& args) {
+int physics(const BenchArgs& args) {
   scenes::ShelfSpec spec;
   spec.objects = args.objects;
   const Scene scene = scenes::generate_shelf_scene(spec, args.seed);
@@ -73,4 +73,4 @@ int bench_physics(const BenchArgs& args) {
   return met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

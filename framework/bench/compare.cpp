@@ -12,14 +12,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/statistics.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "bench/statistics.hpp"
+#include "bench/svg_plot.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/run/runner.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace {
 
@@ -68,12 +69,6 @@ std::vector<double> field(const Row& row, T Run::*member, bool solved_only = tru
   return out;
 }
 
-std::string fixed(double v, int digits = 2) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
-}
-
 double success(const Row& row) {
   std::size_t n = 0;
   for (const Run& r : row.runs) n += r.solved;
@@ -83,7 +78,7 @@ double success(const Row& row) {
 // Time against object count, one line per setting: median time of all runs
 // (failures count with the time limit they used).
 void write_svg(const std::vector<Row>& rows, const std::filesystem::path& file) {
-  const double w = 640, h = 400, left = 60, right = 190, top = 20, bottom = 50;
+  const double left = 60, right = 190, top = 30, bottom = 50, w = 640, h = 400;
   double max_t = 1e-3, min_x = 1e9, max_x = 0;
   for (const Row& r : rows) {
     max_t = std::max(max_t, median(field(r, &Run::seconds, false)));
@@ -92,35 +87,22 @@ void write_svg(const std::vector<Row>& rows, const std::filesystem::path& file) 
   }
   if (max_x <= min_x) max_x = min_x + 1;
   auto x = [&](double v) { return left + (v - min_x) / (max_x - min_x) * (w - left - right); };
-  auto y = [&](double t) { return h - bottom - t / max_t * (h - top - bottom); };
   const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a"};
-  std::ofstream out(file);
-  out << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h << "' font-family='sans-serif' font-size='12'>\n"
-      << "<line x1='" << left << "' y1='" << h - bottom << "' x2='" << w - right << "' y2='" << h - bottom << "' stroke='black'/>\n"
-      << "<line x1='" << left << "' y1='" << top << "' x2='" << left << "' y2='" << h - bottom << "' stroke='black'/>\n"
-      << "<text x='" << (left + w - right) / 2 << "' y='" << h - 10 << "' text-anchor='middle'>objects</text>\n"
-      << "<text x='15' y='" << (top + h - bottom) / 2 << "' transform='rotate(-90 15 " << (top + h - bottom) / 2
-      << ")' text-anchor='middle'>median time (s)</text>\n"
-      << "<text x='" << left - 5 << "' y='" << y(max_t) + 4 << "' text-anchor='end'>" << fixed(max_t, 1) << "</text>\n"
-      << "<text x='" << left - 5 << "' y='" << y(0) + 4 << "' text-anchor='end'>0</text>\n";
+  SvgPlot plot(w, h, 12);
+  const SvgPlot::Panel panel = plot.panel(left, top, w - left - right, h - top - bottom, max_t, "median time (s)", "");
+  plot.text((left + w - right) / 2, h - 10, "objects", "middle");
   std::map<std::size_t, bool> ticks;
   for (const Row& r : rows) ticks[r.objects] = true;
-  for (const auto& [n, unused] : ticks) {
-    out << "<text x='" << x(double(n)) << "' y='" << h - bottom + 16 << "' text-anchor='middle'>" << n << "</text>\n";
-  }
+  for (const auto& [n, unused] : ticks) plot.x_label(panel, x(double(n)), std::to_string(n));
   for (std::size_t s = 0; s < std::size(kSettings); ++s) {
-    std::ostringstream points;
+    std::vector<std::pair<double, double>> points;
     for (const Row& r : rows) {
-      if (r.setting.label() != kSettings[s].label()) continue;
-      const double t = median(field(r, &Run::seconds, false));
-      points << x(double(r.objects)) << ',' << y(t) << ' ';
-      out << "<circle cx='" << x(double(r.objects)) << "' cy='" << y(t) << "' r='3' fill='" << colours[s] << "'/>\n";
+      if (r.setting.label() == kSettings[s].label()) points.emplace_back(x(double(r.objects)), median(field(r, &Run::seconds, false)));
     }
-    out << "<polyline fill='none' stroke='" << colours[s] << "' stroke-width='2' points='" << points.str() << "'/>\n"
-        << "<text x='" << w - right + 10 << "' y='" << top + 20 * double(s + 1) << "' fill='" << colours[s] << "'>"
-        << kSettings[s].label() << "</text>\n";
+    plot.line(panel, points, colours[s]);
+    plot.text(w - right + 10, top + 20 * double(s + 1), kSettings[s].label(), "start", colours[s]);
   }
-  out << "</svg>\n";
+  plot.write(file);
 }
 
 // Why the runs of a row failed: each distinct reason with its count.
@@ -250,4 +232,4 @@ int compare(const CompareArgs& args) {
   return all ? 0 : 1;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

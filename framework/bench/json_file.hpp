@@ -6,7 +6,7 @@
 
 #include "cluttertamp/core/diagnostics.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 /// Writes `json` (any nlohmann JSON type) indented to `path`. Throws InputError naming
 /// the file when it cannot be written.
@@ -17,4 +17,4 @@ void write_json_file(const std::filesystem::path& path, const Json& json) {
   if (!out) throw InputError({path.string(), 0, 0}, "cannot write the JSON file");
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

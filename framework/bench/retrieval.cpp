@@ -16,10 +16,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/shelf_support.hpp"
-#include "cli/statistics.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "cluttertamp/run/shelf_runs.hpp"
+#include "bench/statistics.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
@@ -27,7 +27,7 @@
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace {
 
@@ -155,7 +155,7 @@ std::vector<Scene> generated(int objects, const BenchArgs& args, const std::shar
   std::vector<Scene> out;
   for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < args.seed + 1000; ++seed) {
     Scene scene = scenes::generate_shelf_scene(spec, seed);  // throws runtime_error: too crowded
-    if (!target_comes_out_directly(scene, robot, samplers, seed)) out.push_back(std::move(scene));
+    if (!run::target_comes_out_directly(scene, robot, samplers, seed)) out.push_back(std::move(scene));
   }
   return out;
 }
@@ -165,7 +165,7 @@ class Bench {
   explicit Bench(const BenchArgs& args)
       : args_(args),
         registry_(plugin::Registry::default_search_paths()),
-        samplers_(shipped_samplers(registry_)),
+        samplers_(run::shipped_samplers(registry_)),
         robot_(std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot))) {
     if (!args.csv.empty()) {
       csv_.open(args.csv);
@@ -209,7 +209,7 @@ class Bench {
     const auto planner = registry_.create<plugin::TaskPlanner>(row.planner, parameters);
     const std::uint64_t seed = args_.seed + static_cast<std::uint64_t>(run);
     const auto t0 = std::chrono::steady_clock::now();
-    const Result r = plan_scene(scene, robot_, *planner, samplers_, seed, args_.time_limit);
+    const Result r = run::plan_scene(scene, robot_, *planner, samplers_, seed, args_.time_limit);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++m.runs;
     m.checks.push_back(double(counter(r, counter::collision_checks)));
@@ -360,7 +360,7 @@ class Bench {
 
 }  // namespace
 
-int bench_retrieval(const BenchArgs& args) {
+int retrieval(const BenchArgs& args) {
   Bench bench(args);
   const std::vector<std::string> tables = args.tables.empty() ? std::vector<std::string>{"I"} : args.tables;
   auto wants = [&](const std::string& t) { return std::find(tables.begin(), tables.end(), t) != tables.end(); };
@@ -415,4 +415,4 @@ int bench_retrieval(const BenchArgs& args) {
   return run::ExitCode::solved;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

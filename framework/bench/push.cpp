@@ -9,14 +9,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/statistics.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "bench/statistics.hpp"
+#include "bench/svg_plot.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/run/runner.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace fs = std::filesystem;
 
@@ -40,12 +41,6 @@ struct Run {
 std::uint64_t counter(const Result& r, const std::string& name) {
   const auto it = r.counters.find(name);
   return it == r.counters.end() ? 0 : it->second;
-}
-
-std::string fixed(double v, int digits = 2) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
 }
 
 // The problem a setting runs: the scene's problem with its planner (and, guided, the
@@ -97,30 +92,18 @@ const char* colour(std::size_t setting) {
 void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& scenes, double time_limit,
                const fs::path& file) {
   const double h = 360, top = 30, bottom = 60, left1 = 50, w1 = 220, left2 = 340, w2 = 560;
-  const double base = h - bottom, height = h - top - bottom;
-  std::ofstream out(file);
-  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the SVG file");
-  out << "<svg xmlns='http://www.w3.org/2000/svg' width='" << left2 + w2 + 20 << "' height='" << h
-      << "' font-family='sans-serif' font-size='11'>\n"
-      << "<defs><pattern id='hatch' width='6' height='6' patternUnits='userSpaceOnUse' patternTransform='rotate(45)'>"
-      << "<line x1='0' y1='0' x2='0' y2='6' stroke='grey' stroke-width='2'/></pattern></defs>\n";
+  SvgPlot plot(left2 + w2 + 20, h);
   // (a) success rate.
-  out << "<text x='" << left1 << "' y='18'>(a) success rate: ours (" << fixed(time_limit, 0)
-      << " s), paper hatched (300 s)</text>\n"
-      << "<line x1='" << left1 << "' y1='" << base << "' x2='" << left1 + w1 << "' y2='" << base << "' stroke='black'/>\n"
-      << "<line x1='" << left1 << "' y1='" << top << "' x2='" << left1 << "' y2='" << base << "' stroke='black'/>\n"
-      << "<text x='" << left1 - 5 << "' y='" << top + 4 << "' text-anchor='end'>100%</text>\n"
-      << "<text x='" << left1 - 5 << "' y='" << base + 4 << "' text-anchor='end'>0</text>\n";
+  const SvgPlot::Panel rate = plot.panel(left1, top, w1, h - top - bottom, 100,
+                                         "(a) success rate: ours (" + fixed(time_limit, 0) + " s), paper hatched (300 s)",
+                                         "%");
   for (std::size_t s = 0; s < std::size(kSettings); ++s) {
     const double x = left1 + 10 + double(s) * 70;
     const double ours = summarise(runs, kSettings[s].name).success(), paper = kSettings[s].paper_success;
-    out << "<rect x='" << x << "' y='" << base - ours / 100 * height << "' width='25' height='" << ours / 100 * height
-        << "' fill='" << colour(s) << "'/>\n"
-        << "<rect x='" << x + 27 << "' y='" << base - paper / 100 * height << "' width='25' height='" << paper / 100 * height
-        << "' fill='url(#hatch)' stroke='" << colour(s) << "'/>\n"
-        << "<text x='" << x + 26 << "' y='" << base + 16 << "' text-anchor='middle'>" << kSettings[s].name << "</text>\n"
-        << "<text x='" << x + 12 << "' y='" << base - ours / 100 * height - 4 << "' text-anchor='middle'>"
-        << fixed(ours, 0) << "</text>\n";
+    plot.bar(rate, x, 25, ours, colour(s));
+    plot.bar(rate, x + 27, 25, paper, "hatch", colour(s));
+    plot.x_label(rate, x + 26, kSettings[s].name);
+    plot.text(x + 12, rate.y(ours) - 4, fixed(ours, 0), "middle");
   }
   // (b) mean time per scene.
   double max_t = 1e-3;
@@ -130,36 +113,29 @@ void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& sce
       max_t = std::max(max_t, mean(m.times) + ci95_half_width(m.times));
     }
   }
+  const SvgPlot::Panel times = plot.panel(left2, top, w2, h - top - bottom, max_t,
+                                          "(b) mean planning time of solved runs, s (95 % CI)");
   const double group = w2 / double(std::max<std::size_t>(1, scenes.size()));
-  out << "<text x='" << left2 << "' y='18'>(b) mean planning time of solved runs, s (95 % CI)</text>\n"
-      << "<line x1='" << left2 << "' y1='" << base << "' x2='" << left2 + w2 << "' y2='" << base << "' stroke='black'/>\n"
-      << "<line x1='" << left2 << "' y1='" << top << "' x2='" << left2 << "' y2='" << base << "' stroke='black'/>\n"
-      << "<text x='" << left2 - 5 << "' y='" << top + 4 << "' text-anchor='end'>" << fixed(max_t, 1) << "</text>\n"
-      << "<text x='" << left2 - 5 << "' y='" << base + 4 << "' text-anchor='end'>0</text>\n";
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     const double x0 = left2 + double(k) * group;
-    out << "<text x='" << x0 + group / 2 << "' y='" << base + 16 << "' text-anchor='middle'>P" << k + 1 << "</text>\n";
+    plot.x_label(times, x0 + group / 2, "P" + std::to_string(k + 1));
     for (std::size_t s = 0; s < std::size(kSettings); ++s) {
       const Summary m = summarise(runs, kSettings[s].name, scenes[k]);
       if (m.times.empty()) continue;
       const double bar = group / 4, x = x0 + bar / 2 + double(s) * bar, t = mean(m.times), ci = ci95_half_width(m.times);
-      const auto y = [&](double v) { return base - v / max_t * height; };
-      out << "<rect x='" << x << "' y='" << y(t) << "' width='" << bar * 0.9 << "' height='" << base - y(t) << "' fill='"
-          << colour(s) << "'/>\n"
-          << "<line x1='" << x + bar * 0.45 << "' y1='" << y(t + ci) << "' x2='" << x + bar * 0.45 << "' y2='"
-          << y(std::max(0.0, t - ci)) << "' stroke='black'/>\n";
+      plot.bar(times, x, bar * 0.9, t, colour(s));
+      plot.error_bar(times, x + bar * 0.45, t - ci, t + ci);
     }
   }
   for (std::size_t s = 0; s < std::size(kSettings); ++s) {
-    out << "<rect x='" << left2 + 10 + double(s) * 90 << "' y='" << h - 22 << "' width='10' height='10' fill='" << colour(s)
-        << "'/><text x='" << left2 + 24 + double(s) * 90 << "' y='" << h - 13 << "'>" << kSettings[s].name << "</text>\n";
+    plot.legend(left2 + 10 + double(s) * 90, h - 13, colour(s), kSettings[s].name);
   }
-  out << "</svg>\n";
+  plot.write(file);
 }
 
 }  // namespace
 
-int bench_push(const BenchArgs& args) {
+int push(const BenchArgs& args) {
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(args.push_scenes)) {
     const fs::path& p = entry.path();
@@ -286,4 +262,4 @@ int bench_push(const BenchArgs& args) {
   return met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

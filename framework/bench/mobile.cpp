@@ -11,10 +11,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/shelf_support.hpp"
-#include "cli/measures.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "cluttertamp/run/shelf_runs.hpp"
+#include "bench/measures.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
@@ -24,7 +24,7 @@
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace {
 
@@ -58,10 +58,10 @@ std::optional<std::string> unlike_figure_9(const Scene& scene, const std::shared
   Parameters one;
   one.set("max_removals", std::int64_t{1});
   const auto exhaustive = registry.create<plugin::TaskPlanner>("exhaustive", one, {"bench mobile", 0, 0});
-  const Result best = plan_scene(scene, robot, *exhaustive, all_sides, 0, 60);
+  const Result best = run::plan_scene(scene, robot, *exhaustive, all_sides, 0, 60);
   if (!best.solved) return "no single object frees the target from any side: " + best.reason;
   if (best.moved_objects.size() < 2) return "the target comes out directly";
-  const Result near = plan_scene(scene, robot, *exhaustive, robot_side, 0, 60);
+  const Result near = run::plan_scene(scene, robot, *exhaustive, robot_side, 0, 60);
   if (near.solved) return "one object frees the target from the robot's side";
   if (near.reason.find("time limit") != std::string::npos) return "the robot's side was not decided in time";
   return std::nullopt;
@@ -72,7 +72,7 @@ std::optional<std::string> unlike_figure_9(const Scene& scene, const std::shared
 std::vector<std::pair<std::uint64_t, Scene>> tables(const BenchArgs& args, int objects, const std::shared_ptr<const robot::RobotDescription>& robot,
                                                     const plugin::Registry& registry, const plugin::Samplers& all_sides) {
   const bool fig9 = args.mobile_tables == "fig9";
-  const plugin::Samplers robot_side = fig9 ? shipped_samplers(registry) : plugin::Samplers{};
+  const plugin::Samplers robot_side = fig9 ? run::shipped_samplers(registry) : plugin::Samplers{};
   std::vector<std::pair<std::uint64_t, Scene>> out;
   const std::uint64_t last = args.seed + 50 * static_cast<std::uint64_t>(args.instances);
   for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < last; ++seed) {
@@ -99,11 +99,11 @@ std::vector<std::pair<std::uint64_t, Scene>> tables(const BenchArgs& args, int o
 
 }  // namespace
 
-int bench_mobile(const BenchArgs& args) {
+int mobile(const BenchArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
   const plugin::Registry registry(plugin::Registry::default_search_paths());
   // Grasps from every side, the base first placed behind each (Section V-B).
-  plugin::Samplers samplers = shipped_samplers(registry);
+  plugin::Samplers samplers = run::shipped_samplers(registry);
   Parameters grasp;
   grasp.set("spread", 180.0);
   grasp.set("directions", std::int64_t{18});
@@ -122,7 +122,7 @@ int bench_mobile(const BenchArgs& args) {
       const auto& [scene_seed, scene] = instances[i];
       for (int r = 0; r < args.runs; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
-        const Result result = plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
+        const Result result = run::plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const std::uint64_t iterations = result.counters.count(counter::iterations) ? result.counters.at(counter::iterations) : 0;
         rows.push_back({s.parameter, scene_seed, r, result.solved, seconds, result.moved_objects.size(), iterations,
@@ -180,4 +180,4 @@ int bench_mobile(const BenchArgs& args) {
   return goals_met ? run::ExitCode::solved : run::ExitCode::no_plan;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

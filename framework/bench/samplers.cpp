@@ -8,10 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/json_file.hpp"
-#include "cli/commands.hpp"
-#include "cli/statistics.hpp"
-#include "cli/shelf_support.hpp"
+#include "bench/json_file.hpp"
+#include "cluttertamp/bench/bench.hpp"
+#include "bench/statistics.hpp"
+#include "cluttertamp/run/shelf_runs.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
@@ -22,7 +22,7 @@
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 namespace {
 using Clock = std::chrono::steady_clock;
@@ -31,9 +31,9 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 }  // namespace
 
-int bench_samplers(const BenchArgs& args) {
+int samplers(const BenchArgs& args) {
   const plugin::Registry registry(plugin::Registry::default_search_paths());
-  const plugin::Samplers samplers = shipped_samplers(registry);
+  const plugin::Samplers samplers = run::shipped_samplers(registry);
 
   std::vector<double> grasp_ms, grasp_blocked_ms, motion_ms, pick_place_ms;
   std::size_t grasps_usable = 0, grasps_blocked = 0, motions_ok = 0, motions = 0, pick_place_ok = 0, pick_places = 0;
@@ -105,4 +105,4 @@ int bench_samplers(const BenchArgs& args) {
   return all ? run::ExitCode::solved : run::ExitCode::no_plan;
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench

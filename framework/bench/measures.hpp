@@ -11,9 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/statistics.hpp"
+#include "bench/statistics.hpp"
 
-namespace cluttertamp::cli {
+namespace cluttertamp::bench {
 
 /// A column of the paper's table (means; success in %).
 struct PaperMeasures {
@@ -96,4 +96,4 @@ inline void print_measures(std::ostream& out, const std::vector<std::string>& he
   out << "\nMeasures other than the success rate are over solved runs; the paper gives means only.\n";
 }
 
-}  // namespace cluttertamp::cli
+}  // namespace cluttertamp::bench
