@@ -2,6 +2,7 @@
 // that block a grasp, determinism.
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -246,6 +247,7 @@ TEST_F(SamplerScene, WorldViewsAnswerForTheirOwnState) {
   EXPECT_FALSE(shared.world().held());
   with_cup.reset();
   EXPECT_TRUE(shared.world().present(cup));
+  EXPECT_THROW(shared.at(WorldState{}), std::invalid_argument);  // no pose per object
 }
 
 // Every bad parameter of a plugin is reported in one go, each at its value.

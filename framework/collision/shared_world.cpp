@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "cluttertamp/robot/robot_description.hpp"
@@ -22,7 +23,14 @@ class SyncedView final : public plugin::WorldView {
   SyncedView(CollisionWorld& world, WorldState state, std::optional<Grip> grip,
              std::shared_ptr<CollisionWorld::Context> checker)
       : world_(world), state_(std::move(state)), grip_(std::move(grip)), checker_(std::move(checker)) {}
-  ~SyncedView() override { ensure(); }
+  // Leaves the world at this view's state; a sync that fails here (it failed for the
+  // view's queries too, and that error is already on its way) is not thrown twice.
+  ~SyncedView() override {
+    try {
+      ensure();
+    } catch (...) {
+    }
+  }
 
   const WorldState& state() const override { return state_; }
 
@@ -100,6 +108,12 @@ SharedWorld::SharedWorld(const Scene& scene, std::shared_ptr<const robot::RobotD
 SharedWorld::~SharedWorld() = default;
 
 std::unique_ptr<plugin::WorldView> SharedWorld::at(const WorldState& state) {
+  const std::size_t objects = world_->scene().objects.size();
+  if (state.world_T_objects.size() != objects || state.removed.size() != objects) {
+    throw std::invalid_argument("a WorldState of " + std::to_string(state.world_T_objects.size()) + " poses and " +
+                                std::to_string(state.removed.size()) + " removed flags for a scene of " +
+                                std::to_string(objects) + " objects");
+  }
   return std::make_unique<SyncedView>(*world_, state, std::nullopt, checker());
 }
 

@@ -22,6 +22,8 @@ class CLUTTERTAMP_API SharedWorld final : public plugin::WorldSource {
   SharedWorld(const Scene& scene, std::shared_ptr<const robot::RobotDescription> robot);
   ~SharedWorld() override;
 
+  /// Throws std::invalid_argument for a state whose poses or removed flags do not
+  /// match the scene's objects.
   std::unique_ptr<plugin::WorldView> at(const WorldState& state) override;
 
   /// The world itself, for planners above the SDK that move objects about on their
