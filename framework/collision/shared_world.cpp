@@ -23,9 +23,11 @@ class SyncedView final : public plugin::WorldView {
   SyncedView(CollisionWorld& world, WorldState state, std::optional<Grip> grip,
              std::shared_ptr<CollisionWorld::Context> checker)
       : world_(world), state_(std::move(state)), grip_(std::move(grip)), checker_(std::move(checker)) {}
-  // Leaves the world at this view's state; a sync that fails here (it failed for the
-  // view's queries too, and that error is already on its way) is not thrown twice.
+  // A view that queried the world leaves it at its state (one only asked for tool
+  // poses never touched it). A sync that fails here (it failed for the view's queries
+  // too, and that error is already on its way) is not thrown twice.
   ~SyncedView() override {
+    if (!synced_at_) return;
     try {
       ensure();
     } catch (...) {

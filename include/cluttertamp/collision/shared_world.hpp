@@ -13,8 +13,8 @@ namespace cluttertamp::collision {
 /// The one CollisionWorld of a run, handed to plugins as views at a state
 /// (plugin::WorldView). Each view remembers the world's generation after it synced it
 /// and syncs again before a query whenever anything changed the world since, so views
-/// of different states may be used in turn. A view's destructor leaves the world at
-/// the view's state.
+/// of different states may be used in turn. A view that queried the world leaves it at
+/// the view's state when it is destroyed.
 class CLUTTERTAMP_API SharedWorld final : public plugin::WorldSource {
  public:
   /// Builds the world once (see CollisionWorld). `robot` must not be null. Every view

@@ -28,8 +28,8 @@ struct Contacts {
 ///
 /// Robot configurations are full joint vectors in the robot's joint order (rad, m);
 /// poses are in the world frame (z up, metres). Objects in `ignored` are not looked at.
-/// When the view is destroyed, the run's shared geometry is left at its state: a caller
-/// that asked a sampler about state S finds the geometry at S afterwards.
+/// When a view that answered a geometry query is destroyed, the run's shared geometry is
+/// left at its state: a caller that asked a sampler about state S finds it at S afterwards.
 ///
 /// Not thread-safe: the views of a run share one collision engine.
 class CLUTTERTAMP_API WorldView {
