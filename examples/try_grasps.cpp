@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     run::RunOptions options;
     if (args.size() == 3) options.plugin_paths.emplace_back(args[2]);
     const plugin::Registry registry(run::plugin_search_paths(problem, options));
-    const auto choice = problem.samplers.find(SamplerRole::grasp);
+    const auto choice = problem.samplers.find(plugin::KindOf<plugin::GraspSampler>::name);
     if (choice == problem.samplers.end()) {
       std::cerr << args[0] << ": the problem names no grasp_sampler\n";
       return 2;

@@ -30,7 +30,7 @@ class CorridorPruner : public ::testing::Test {
 };
 
 TEST_F(CorridorPruner, IsFoundInTheBuildTree) {
-  const plugin::PluginDescriptor* d = registry_.find(plugin::Kind::object_pruner, "corridor");
+  const plugin::PluginDescriptor* d = registry_.find("object_pruner", "corridor");
   ASSERT_NE(d, nullptr);
   EXPECT_EQ(d->version, "1.0.0");
 }

@@ -47,9 +47,9 @@ inline void add_box(Scene& scene, const std::string& id, const Eigen::Vector3d& 
 /// grasp_side, motion_ompl and placement_region from `registry`.
 inline plugin::Samplers shipped_samplers(const plugin::Registry& registry) {
   plugin::Samplers samplers;
-  samplers.grasp = registry.create<plugin::GraspSampler>("grasp_side");
-  samplers.motion = registry.create<plugin::MotionSampler>("motion_ompl");
-  samplers.placement = registry.create<plugin::PlacementSampler>("placement_region");
+  samplers.set(registry.create<plugin::GraspSampler>("grasp_side"));
+  samplers.set(registry.create<plugin::MotionSampler>("motion_ompl"));
+  samplers.set(registry.create<plugin::PlacementSampler>("placement_region"));
   return samplers;
 }
 

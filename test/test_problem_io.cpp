@@ -93,6 +93,17 @@ TEST(ProblemIo, AReachTaskNamesTheScenesTarget) {
   EXPECT_EQ(p.planner.name, "rtc_ompl");
 }
 
+// The plugins block takes any kind as a key; the task planner, stream samplers and
+// names that cannot be kinds are refused where they stand.
+TEST(ProblemIo, PluginKindKeysAreCheckedWhereTheyStand) {
+  const Diagnostics d = test::expect_input_error([] { io::load_problem(test::data("problems/bad_plugin_keys.yaml")); });
+  EXPECT_TRUE(test::has_error(d, 7, 3, "the task planner is chosen by 'planner: plugin:'"));
+  EXPECT_TRUE(test::has_error(d, 8, 3, "stream samplers are bound to streams under 'plugins: streams:'"));
+  EXPECT_TRUE(test::has_error(d, 9, 3, "'grasp-sampler' is not a plugin kind"));
+  EXPECT_TRUE(test::has_error(d, 10, 3, "'bad__kind' is not a plugin kind"));
+  EXPECT_EQ(d.size(), 4u);
+}
+
 TEST(ProblemIo, PddlTaskWithStreamsAndEveryPluginRole) {
   const Problem p = io::load_problem(test::data("problems/pddl_ok.yaml"));
   const auto& task = std::get<PddlTask>(p.task);
@@ -100,8 +111,8 @@ TEST(ProblemIo, PddlTaskWithStreamsAndEveryPluginRole) {
   EXPECT_EQ(task.problem->filename(), "problem.pddl");
   ASSERT_TRUE(task.streams.has_value());
   EXPECT_EQ(task.streams->filename(), "stream.pddl");
-  EXPECT_EQ(p.samplers.at(SamplerRole::grasp).name, "test_grasp");
-  const PluginChoice& pruner = p.samplers.at(SamplerRole::object_pruner);
+  EXPECT_EQ(p.samplers.at("grasp_sampler").name, "test_grasp");
+  const PluginChoice& pruner = p.samplers.at("object_pruner");
   EXPECT_EQ(pruner.name, "corridor");
   EXPECT_DOUBLE_EQ(pruner.parameters.get_double("finger_thickness", 0), 0.01);
   ASSERT_EQ(p.streams.size(), 2u);

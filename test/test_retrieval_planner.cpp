@@ -412,7 +412,7 @@ TEST_F(RetrievalPlanner, ExhaustiveSaysWhenItsAnswerIsNoProof) {
 
 TEST_F(RetrievalPlanner, SaysWhatIsMissing) {
   problem_.scene.target = add("target", 1.0, 0.0);
-  samplers_.placement.reset();
+  samplers_.set("placement_sampler", nullptr);
   const Result r = plan();
   EXPECT_FALSE(r.solved);
   EXPECT_NE(r.reason.find("needs a grasp_sampler, a motion_sampler and a placement_sampler"), std::string::npos);

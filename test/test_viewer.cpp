@@ -108,6 +108,43 @@ TEST_F(ViewerTest, APushWithoutObjectPathsMovesItsObjectsToTheirEndPosesAndSaysS
   EXPECT_NEAR(o3.y(), pushed[1], 1e-5);
 }
 
+// The pusher is drawn from what the result recorded (its boxes and height), not from
+// the physics' settings: a result that records other boxes gets other parts, at the
+// recorded height; one that records none is replayed without a pusher, and says so.
+TEST_F(ViewerTest, ThePusherIsDrawnFromTheResultAlone) {
+  const Problem problem = io::load_problem(kProblems / "push/retrieve-push.yaml");
+  const run::RunOutcome run = run::plan(problem, registry_, {});
+  ASSERT_TRUE(run.result.solved) << run.result.reason;
+  Json result = Json::parse(io::result_to_json(problem, run.result, run.info));
+  Json& values = result["plan"][0]["values"];
+  ASSERT_EQ(values["pusher_boxes"].size(), 15u);  // palm and two fingers, 5 numbers each
+  ASSERT_EQ(values["pusher_z"].size(), 1u);
+  values["pusher_boxes"] = Json::array({0.1, 0.2, 0.05, 0.01, 0.0});  // one box, off centre
+  values["pusher_z"] = Json::array({0.5});
+  const Json replay = Json::parse(viewer::replay_json(problem, {result.dump(), "", "edited.json"}));
+  ASSERT_EQ(replay["pusher"]["parts"].size(), 1u);
+  EXPECT_EQ(replay["pusher"]["parts"][0]["offset"], Json::array({0.01, 0.0}));
+  int with_pusher = 0;
+  for (const Json& f : replay["frames"]) {
+    if (!f.contains("pusher")) continue;
+    ++with_pusher;
+    EXPECT_DOUBLE_EQ(f["pusher"][2].get<double>(), 0.5);
+  }
+  EXPECT_GT(with_pusher, 0);
+
+  values.erase("pusher_boxes");
+  values.erase("pusher_z");
+  const Json bare = Json::parse(viewer::replay_json(problem, {result.dump(), "", "old.json"}));
+  EXPECT_FALSE(bare.contains("pusher"));
+  for (const Json& f : bare["frames"]) EXPECT_FALSE(f.contains("pusher"));
+  ASSERT_EQ(bare["warnings"].size(), 1u);
+  EXPECT_NE(bare["warnings"][0].get<std::string>().find("does not record the pusher"), std::string::npos);
+
+  values["pusher_boxes"] = Json::array({0.1, 0.2});  // not five numbers per box
+  values["pusher_z"] = Json::array({0.5});
+  EXPECT_THROW(viewer::replay_json(problem, {result.dump(), "", "bad.json"}), InputError);
+}
+
 // Objects that do not fit the buffer are carried out of the workspace (a pick with no
 // place after it): the replay takes them out of the picture; placed ones stay on it.
 TEST_F(ViewerTest, ObjectsCarriedOutOfTheWorkspaceLeaveThePicture) {

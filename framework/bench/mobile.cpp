@@ -108,7 +108,7 @@ int mobile(const BenchArgs& args) {
   grasp.set("spread", 180.0);
   grasp.set("directions", std::int64_t{18});
   grasp.set("base_distance", 0.6);
-  samplers.grasp = registry.create<plugin::GraspSampler>("grasp_side", grasp, {"bench mobile", 0, 0});
+  samplers.set(registry.create<plugin::GraspSampler>("grasp_side", grasp, {"bench mobile", 0, 0}));
   const int objects = args.sizes.empty() ? 20 : args.sizes.front();
   const auto instances = tables(args, objects, robot, registry, samplers);
   std::vector<Row> rows;

@@ -14,6 +14,7 @@
 #include "bench/statistics.hpp"
 #include "bench/svg_plot.hpp"
 #include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/plugin/push_sampler.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/run/runner.hpp"
 
@@ -55,7 +56,7 @@ Problem configured(Problem problem, const std::string& setting, const fs::path& 
     problem.planner.name = "grtc";
     problem.planner.parameters.set("guidance", fs::exists(guidance) ? guidance.string() : std::string("auto"));
     problem.planner.parameters.set("planner", std::string("rrt"));
-    problem.samplers[SamplerRole::push] = PluginChoice{"push_ompl", {}, {}};
+    problem.samplers[plugin::KindOf<plugin::PushSampler>::name] = PluginChoice{"push_ompl", {}, {}};
   } else {
     problem.planner.name = "rtc_ompl";
     problem.planner.parameters.set("planner", setting);

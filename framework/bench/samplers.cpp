@@ -51,7 +51,7 @@ int samplers(const BenchArgs& args) {
     state.robot_configuration = problem.robot.loaded->home();
     for (ObjectIndex o = 0; o < problem.scene.objects.size(); ++o) {
       auto t0 = Clock::now();
-      const plugin::GraspAnswer answer = samplers.grasp->sample(context, {o, state});
+      const plugin::GraspAnswer answer = samplers.get<plugin::GraspSampler>()->sample(context, {o, state});
       const double ms = ms_since(t0);
       (answer.usable.empty() ? grasp_blocked_ms : grasp_ms).push_back(ms);
       (answer.usable.empty() ? grasps_blocked : grasps_usable) += 1;
@@ -59,7 +59,7 @@ int samplers(const BenchArgs& args) {
       ++motions;
       t0 = Clock::now();
       const plugin::MotionAnswer m =
-          samplers.motion->plan(context, {state.robot_configuration, answer.usable[0].motions[0].pregrasp, state});
+          samplers.get<plugin::MotionSampler>()->plan(context, {state.robot_configuration, answer.usable[0].motions[0].pregrasp, state});
       motion_ms.push_back(ms_since(t0));
       motions_ok += m.trajectory.has_value();
       ++pick_places;

@@ -402,7 +402,7 @@ int plugins(const PluginsArgs& args) {
     std::cout << std::left << std::setw(18) << "KIND" << std::setw(22) << "NAME" << std::setw(9) << "VERSION"
               << std::setw(5) << "ABI" << "DESCRIPTION\n";
     for (const plugin::PluginDescriptor& d : found) {
-      std::cout << std::setw(18) << plugin::kind_name(d.kind) << std::setw(22) << d.name << std::setw(9) << d.version
+      std::cout << std::setw(18) << d.kind << std::setw(22) << d.name << std::setw(9) << d.version
                 << std::setw(5) << d.abi_version << d.description << "\n";
       if (args.verbosity == Verbosity::verbose) {
         std::cout << "    " << d.library.string() << "\n";

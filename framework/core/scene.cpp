@@ -41,15 +41,4 @@ WorldState WorldState::initial(const Scene& scene) {
   return state;
 }
 
-const char* role_key(SamplerRole role) {
-  switch (role) {
-    case SamplerRole::grasp: return "grasp_sampler";
-    case SamplerRole::placement: return "placement_sampler";
-    case SamplerRole::motion: return "motion_sampler";
-    case SamplerRole::push: return "push_sampler";
-    case SamplerRole::object_pruner: return "object_pruner";
-  }
-  return "unknown";
-}
-
 }  // namespace cluttertamp

@@ -5,6 +5,7 @@
 
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/pddl/sexpr.hpp"
+#include "cluttertamp/plugin/plugin.hpp"
 #include "cluttertamp/stream/stream_task.hpp"
 #include "io/readers.hpp"
 #include "io/yaml_reader.hpp"
@@ -68,6 +69,9 @@ class ProblemReader {
   void read_values(const YAML::Node& node, PddlTask& task);
   void read_planner(const YAML::Node& node);
   void read_plugins(const YAML::Node& node);
+  void read_kind_choice(const YAML::Node& key_node, const YAML::Node& value);
+  void read_plugin_paths(const YAML::Node& paths);
+  void read_stream_bindings(const YAML::Node& streams);
   void check_target();
 
   YamlFile file_;
@@ -220,43 +224,67 @@ void ProblemReader::read_planner(const YAML::Node& node) {
 }
 
 void ProblemReader::read_plugins(const YAML::Node& node) {
-  MapReader map(file_, node, "plugins",
-                {"paths", "grasp_sampler", "placement_sampler", "motion_sampler", "push_sampler", "object_pruner", "streams"});
-  if (!map.valid()) return;
-  if (map.has("paths")) {
-    const YAML::Node paths = map.optional("paths");
-    if (auto list = file_.strings(paths, "plugins paths")) {
-      for (std::size_t i = 0; i < list->size(); ++i) {
-        const fs::path dir = file_.resolve((*list)[i]);
-        if (!fs::is_directory(dir)) file_.error(paths[i], "plugin path '" + (*list)[i] + "' is not a directory (" + dir.string() + ")");
-        problem_.plugin_paths.push_back(dir);
-      }
+  if (!node.IsDefined()) return;
+  if (!node.IsMap()) {
+    file_.error(node, "plugins must be a map of 'paths', 'streams' and plugin kinds (grasp_sampler, ...)");
+    return;
+  }
+  for (const auto& item : node) {
+    if (!item.first.IsScalar()) {
+      file_.error(item.first, "plugins keys must be plain strings");
+      continue;
+    }
+    const std::string key = item.first.Scalar();
+    if (key == "paths") read_plugin_paths(item.second);
+    else if (key == "streams") read_stream_bindings(item.second);
+    else read_kind_choice(item.first, item.second);
+  }
+}
+
+// Any other key names a plugin kind: the bundled ones or one a plugin declares. A kind
+// no plugin has is reported when the plugins are created (with the kinds found).
+void ProblemReader::read_kind_choice(const YAML::Node& key_node, const YAML::Node& value) {
+  const std::string kind = key_node.Scalar();
+  if (kind == "task_planner") {
+    file_.error(key_node, "the task planner is chosen by 'planner: plugin:', not under plugins");
+  } else if (kind == "stream_sampler") {
+    file_.error(key_node, "stream samplers are bound to streams under 'plugins: streams:'");
+  } else if (!plugin::detail::valid_kind_name(kind)) {
+    file_.error(key_node, "'" + kind + "' is not a plugin kind: plugins holds 'paths', 'streams' and kinds such as "
+                          "grasp_sampler, placement_sampler, motion_sampler, push_sampler, object_pruner");
+  } else if (problem_.samplers.count(kind)) {
+    file_.error(key_node, "duplicate plugin kind '" + kind + "'");
+  } else if (auto choice = read_choice(file_, value, "plugins " + kind)) {
+    problem_.samplers[kind] = *choice;
+  }
+}
+
+void ProblemReader::read_plugin_paths(const YAML::Node& paths) {
+  if (auto list = file_.strings(paths, "plugins paths")) {
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const fs::path dir = file_.resolve((*list)[i]);
+      if (!fs::is_directory(dir)) file_.error(paths[i], "plugin path '" + (*list)[i] + "' is not a directory (" + dir.string() + ")");
+      problem_.plugin_paths.push_back(dir);
     }
   }
-  for (SamplerRole role : {SamplerRole::grasp, SamplerRole::placement, SamplerRole::motion, SamplerRole::push,
-                           SamplerRole::object_pruner}) {
-    const char* key = role_key(role);
-    if (!map.has(key)) continue;
-    if (auto choice = read_choice(file_, map.optional(key), std::string("plugins ") + key)) problem_.samplers[role] = *choice;
+}
+
+void ProblemReader::read_stream_bindings(const YAML::Node& streams) {
+  if (!streams.IsMap()) {
+    file_.error(streams, "plugins streams must map stream names to stream_sampler plugins");
+    return;
   }
-  if (map.has("streams")) {
-    const YAML::Node streams = map.optional("streams");
-    if (!streams.IsMap()) {
-      file_.error(streams, "plugins streams must map stream names to stream_sampler plugins");
-      return;
+  for (const auto& item : streams) {
+    if (!item.first.IsScalar()) {
+      file_.error(item.first, "stream names must be plain strings");
+      continue;
     }
-    for (const auto& item : streams) {
-      if (!item.first.IsScalar()) {
-        file_.error(item.first, "stream names must be plain strings");
-        continue;
-      }
-      const std::string stream = item.first.Scalar();
-      if (problem_.streams.count(stream)) {
-        file_.error(item.first, "duplicate stream '" + stream + "'");
-        continue;
-      }
-      if (auto choice = read_choice(file_, item.second, "stream '" + stream + "'")) problem_.streams[stream] = *choice;
+    const std::string stream = item.first.Scalar();
+    if (problem_.streams.count(stream)) {
+      file_.error(item.first, "duplicate stream '" + stream + "'");
+      continue;
     }
+    if (auto choice = read_choice(file_, item.second, "stream '" + stream + "'")) problem_.streams[stream] = *choice;
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/manipulation/base_placement.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
 #include "cluttertamp/plugin/placement_sampler.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
@@ -30,7 +31,7 @@ Eigen::Isometry3d held_pose(plugin::PlanningContext& context, const Eigen::Vecto
 // Plans a collision-free motion in `state` (its held object included).
 std::optional<Trajectory> move(plugin::PlanningContext& context, const WorldState& state, const Eigen::VectorXd& goal,
                                std::optional<Failure>& failure) {
-  const auto answer = context.samplers.motion->plan(context, {state.robot_configuration, goal, state});
+  const auto answer = context.samplers.get<plugin::MotionSampler>()->plan(context, {state.robot_configuration, goal, state});
   if (!answer.trajectory) failure = answer.failure;
   return answer.trajectory;
 }
@@ -262,14 +263,15 @@ ActionOutcome grasped(plugin::PlanningContext& context, const WorldState& state,
 }  // namespace
 
 ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, ObjectIndex object) {
-  if (!context.worlds || !context.samplers.grasp || !context.samplers.motion) {
+  const auto grasp_sampler = context.samplers.get<plugin::GraspSampler>();
+  if (!context.worlds || !grasp_sampler || !context.samplers.get<plugin::MotionSampler>()) {
     return failed("pick", "pick needs a robot, a grasp_sampler and a motion_sampler");
   }
   if (state.held) return failed("pick", "the hand already holds an object");
   const robot::RobotDescription& robot = context.robot();
   const plugin::GraspAnswer grasps = [&] {
     plugin::Phase phase(context, "pick.grasps");
-    return context.samplers.grasp->sample(context, {object, state});
+    return grasp_sampler->sample(context, {object, state});
   }();
   if (grasps.usable.empty()) {
     return failed("grasp", grasps.failure ? grasps.failure->reason : "no usable grasp",
@@ -325,7 +327,8 @@ ActionOutcome pick(plugin::PlanningContext& context, const WorldState& state, Ob
 }
 
 ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, const std::string& region) {
-  if (!context.worlds || !context.samplers.placement || !context.samplers.motion) {
+  const auto placement_sampler = context.samplers.get<plugin::PlacementSampler>();
+  if (!context.worlds || !placement_sampler || !context.samplers.get<plugin::MotionSampler>()) {
     return failed("place", "place needs a robot, a placement_sampler and a motion_sampler");
   }
   if (!state.held) return failed("place", "the hand holds nothing");
@@ -338,7 +341,7 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
   plugin::PlacementQuery query{object, region, state, 8, gripper_T_object};
   const plugin::PlacementAnswer placements = [&] {
     plugin::Phase phase(context, "place.placements");
-    return context.samplers.placement->sample(context, query);
+    return placement_sampler->sample(context, query);
   }();
   if (placements.world_T_object.empty()) {
     return failed("placement", placements.failure ? placements.failure->reason : "no placement",

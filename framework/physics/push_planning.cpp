@@ -600,6 +600,13 @@ PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldStat
   step.values["step"] = {path.step};
   std::vector<double>& controls = step.values["controls"];
   for (const PushControl& c : path.controls) controls.insert(controls.end(), {c.velocity.x(), c.velocity.y(), c.velocity.z(), c.duration});
+  // The pusher as the physics moved it, so the replay draws it from the result alone:
+  // its boxes (size x, y, z, then centre x, y in its own frame, m) and its centre's height.
+  std::vector<double>& boxes = step.values["pusher_boxes"];
+  for (const GripperBox& box : gripper_boxes(world.settings())) {
+    boxes.insert(boxes.end(), {box.size.x(), box.size.y(), box.size.z(), box.offset.x(), box.offset.y()});
+  }
+  step.values["pusher_z"] = {world.plane_z() + world.settings().gripper_size.z() / 2};
   const PushState& end = path.states.back();
   for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
     if ((end.objects[i].pose.head<2>() - before.world_T_objects[i].translation().head<2>()).norm() > 0.01) {

@@ -2,6 +2,7 @@
 // libcluttertamp, shared by every plugin) and the small helpers of the interfaces.
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 #include <cmath>
 #include <limits>
 
@@ -52,30 +53,24 @@ StreamGenerator::~StreamGenerator() = default;
 WorldView::~WorldView() = default;
 WorldSource::~WorldSource() = default;
 
-namespace {
-constexpr std::array<std::pair<Kind, const char*>, 7> kKindNames{{
-    {Kind::task_planner, "task_planner"},
-    {Kind::object_pruner, "object_pruner"},
-    {Kind::grasp_sampler, "grasp_sampler"},
-    {Kind::placement_sampler, "placement_sampler"},
-    {Kind::motion_sampler, "motion_sampler"},
-    {Kind::push_sampler, "push_sampler"},
-    {Kind::stream_sampler, "stream_sampler"},
-}};
-}  // namespace
-
-const char* kind_name(Kind kind) {
-  for (const auto& [k, name] : kKindNames) {
-    if (k == kind) return name;
-  }
-  return "unknown";
+std::shared_ptr<Plugin> Samplers::get(std::string_view kind) const {
+  const auto it = by_kind_.find(kind);
+  return it == by_kind_.end() ? nullptr : it->second;
 }
 
-std::optional<Kind> kind_from_name(std::string_view name) {
-  for (const auto& [k, n] : kKindNames) {
-    if (name == n) return k;
-  }
-  return std::nullopt;
+void Samplers::set(std::string_view kind, std::shared_ptr<Plugin> plugin) {
+  if (plugin) by_kind_.insert_or_assign(std::string(kind), std::move(plugin));
+  else if (const auto it = by_kind_.find(kind); it != by_kind_.end()) by_kind_.erase(it);
+}
+
+std::vector<std::string> Samplers::kinds() const {
+  std::vector<std::string> out;
+  for (const auto& [kind, plugin] : by_kind_) out.push_back(kind);
+  return out;
+}
+
+void Samplers::wrong_type(const char* kind) {
+  throw std::logic_error(std::string("the plugin set as ") + kind + " does not implement that kind's interface");
 }
 
 Deadline Deadline::after(double seconds) {

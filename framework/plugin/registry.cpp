@@ -15,13 +15,6 @@
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
 
-#include "cluttertamp/plugin/grasp_sampler.hpp"
-#include "cluttertamp/plugin/motion_sampler.hpp"
-#include "cluttertamp/plugin/object_pruner.hpp"
-#include "cluttertamp/plugin/placement_sampler.hpp"
-#include "cluttertamp/plugin/push_sampler.hpp"
-#include "cluttertamp/plugin/stream_sampler.hpp"
-#include "cluttertamp/plugin/task_planner.hpp"
 #include "plugin/paths.hpp"
 
 namespace cluttertamp::plugin {
@@ -33,19 +26,6 @@ namespace {
 
 // The section the CLUTTERTAMP_EXPORT_* macros put their entries in.
 constexpr const char* kSection = "ctplugin";
-
-bool implements(Kind kind, const Plugin* object) {
-  switch (kind) {
-    case Kind::task_planner: return dynamic_cast<const TaskPlanner*>(object) != nullptr;
-    case Kind::object_pruner: return dynamic_cast<const ObjectPruner*>(object) != nullptr;
-    case Kind::grasp_sampler: return dynamic_cast<const GraspSampler*>(object) != nullptr;
-    case Kind::placement_sampler: return dynamic_cast<const PlacementSampler*>(object) != nullptr;
-    case Kind::motion_sampler: return dynamic_cast<const MotionSampler*>(object) != nullptr;
-    case Kind::push_sampler: return dynamic_cast<const PushSampler*>(object) != nullptr;
-    case Kind::stream_sampler: return dynamic_cast<const StreamSampler*>(object) != nullptr;
-  }
-  return false;
-}
 
 bool is_shared_library(const fs::path& file) {
   const std::string name = file.filename().string();
@@ -76,7 +56,7 @@ std::vector<std::shared_ptr<Library>>& loaded_libraries() {
 struct Registry::Impl {
   // A plugin named by a symbol of a library's plugin section; loaded on first use.
   struct Candidate {
-    Kind kind;
+    std::string kind;
     std::string name;
     fs::path library;
     std::string symbol;
@@ -113,7 +93,7 @@ void Registry::Impl::examine(const fs::path& file) {
   }
   const std::string prefix = "cluttertamp_abi";
   for (const std::string& symbol : symbols) {
-    // cluttertamp_abi<N>_<kind>_<name>
+    // cluttertamp_abi<N>_<kind>__<name>
     std::size_t pos = prefix.size();
     std::size_t digits_end = pos;
     while (digits_end < symbol.size() && std::isdigit(static_cast<unsigned char>(symbol[digits_end]))) ++digits_end;
@@ -124,35 +104,29 @@ void Registry::Impl::examine(const fs::path& file) {
     }
     const unsigned long abi = std::stoul(symbol.substr(pos, digits_end - pos));
     const std::string rest = symbol.substr(digits_end + 1);
-    std::optional<Kind> kind;
-    std::string name;
-    for (Kind k : {Kind::task_planner, Kind::object_pruner, Kind::grasp_sampler, Kind::placement_sampler,
-                   Kind::motion_sampler, Kind::push_sampler, Kind::stream_sampler}) {
-      const std::string k_name = std::string(kind_name(k)) + "_";
-      if (rest.compare(0, k_name.size(), k_name) == 0 && rest.size() > k_name.size()) {
-        kind = k;
-        name = rest.substr(k_name.size());
-      }
-    }
+    const std::size_t split = rest.find("__");
+    const bool named = split != std::string::npos && split > 0 && split + 2 < rest.size();
+    const std::string kind = named ? rest.substr(0, split) : "";
+    const std::string name = named ? rest.substr(split + 2) : rest;
     if (abi != kAbiVersion) {
-      problems.push_back({file, "plugin '" + (kind ? name : rest) + "' was built for plugin ABI version " +
-                                    std::to_string(abi) + ", but this cluttertamp needs version " +
-                                    std::to_string(kAbiVersion) + "; rebuild it against this cluttertamp"});
+      problems.push_back({file, "plugin '" + name + "' was built for plugin ABI version " + std::to_string(abi) +
+                                    ", but this cluttertamp needs version " + std::to_string(kAbiVersion) +
+                                    "; rebuild it against this cluttertamp"});
       continue;
     }
-    if (!kind) {
-      problems.push_back({file, "symbol '" + symbol + "' names no known plugin kind"});
+    if (!named) {
+      problems.push_back({file, "symbol '" + symbol + "' names no plugin kind and name (<kind>__<name>)"});
       continue;
     }
     const auto same = std::find_if(candidates.begin(), candidates.end(),
-                                   [&](const Candidate& c) { return c.kind == *kind && c.name == name; });
+                                   [&](const Candidate& c) { return c.kind == kind && c.name == name; });
     if (same != candidates.end()) {
-      problems.push_back({file, std::string("ignored ") + kind_name(*kind) + " '" + name +
+      problems.push_back({file, "ignored " + kind + " '" + name +
                                     "': already provided by " + same->library.string()});
       continue;
     }
     Candidate candidate;
-    candidate.kind = *kind;
+    candidate.kind = kind;
     candidate.name = name;
     candidate.library = file;
     candidate.symbol = symbol;
@@ -181,7 +155,7 @@ bool Registry::Impl::load(Candidate& candidate) {
   }
   const auto* entry = static_cast<const PluginEntry*>(library->get<const void*>(candidate.symbol));
   if (entry == nullptr || entry->magic != kEntryMagic || entry->abi_version != kAbiVersion ||
-      entry->kind != candidate.kind || entry->name == nullptr || candidate.name != entry->name ||
+      entry->kind == nullptr || candidate.kind != entry->kind || entry->name == nullptr || candidate.name != entry->name ||
       entry->create == nullptr) {
     problems.push_back({candidate.library, "plugin entry '" + candidate.symbol +
                                                "' is malformed (its fields disagree with its exported name)"});
@@ -258,12 +232,19 @@ std::vector<LoadProblem> Registry::problems() const {
   return impl_->problems;
 }
 
-const PluginDescriptor* Registry::find(Kind kind, std::string_view name) const {
+const PluginDescriptor* Registry::find(std::string_view kind, std::string_view name) const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   for (Impl::Candidate& c : impl_->candidates) {
     if (c.kind == kind && c.name == name) return impl_->load(c) ? &c.descriptor : nullptr;
   }
   return nullptr;
+}
+
+std::vector<std::string> Registry::kinds() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  std::set<std::string> kinds;
+  for (const Impl::Candidate& c : impl_->candidates) kinds.insert(c.kind);
+  return {kinds.begin(), kinds.end()};
 }
 
 std::string Registry::describe_search() const {
@@ -279,7 +260,7 @@ std::string Registry::describe_search() const {
   out << "plugins found:\n";
   if (impl_->candidates.empty()) out << "  (none)\n";
   for (const Impl::Candidate& c : impl_->candidates) {
-    out << "  " << kind_name(c.kind) << " '" << c.name << "' (" << c.library.filename().string()
+    out << "  " << c.kind << " '" << c.name << "' (" << c.library.filename().string()
         << (c.state == Impl::Candidate::State::failed ? ", failed to load" : "") << ")\n";
   }
   if (!impl_->problems.empty()) {
@@ -289,7 +270,7 @@ std::string Registry::describe_search() const {
   return out.str();
 }
 
-std::shared_ptr<Plugin> Registry::make(Kind kind, std::string_view name, const SourceLocation& where,
+std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view name, const SourceLocation& where,
                                        std::string& who) const {
   const PluginDescriptor* descriptor = find(kind, name);
   const PluginEntry* entry = nullptr;
@@ -302,11 +283,17 @@ std::shared_ptr<Plugin> Registry::make(Kind kind, std::string_view name, const S
   if (entry == nullptr) {
     std::string text = describe_search();
     if (!text.empty() && text.back() == '\n') text.pop_back();
-    throw InputError(where, std::string("no usable ") + kind_name(kind) + " plugin named '" + std::string(name) +
-                                "'\n" + text);
+    const std::vector<std::string> found = kinds();
+    std::string kinds_line;
+    if (std::find(found.begin(), found.end(), kind) == found.end()) {
+      kinds_line = "\nno plugin of kind '" + std::string(kind) + "' was found; kinds found:";
+      for (const std::string& k : found) kinds_line += " " + k;
+      if (found.empty()) kinds_line += " (none)";
+    }
+    throw InputError(where, "no usable " + std::string(kind) + " plugin named '" + std::string(name) + "'" +
+                                kinds_line + "\n" + text);
   }
-  who = std::string(kind_name(kind)) + " '" + std::string(name) + "' (" +
-                          descriptor->library.filename().string() + ")";
+  who = std::string(kind) + " '" + std::string(name) + "' (" + descriptor->library.filename().string() + ")";
   std::shared_ptr<Plugin> object;
   try {
     object.reset(entry->create());
@@ -315,13 +302,16 @@ std::shared_ptr<Plugin> Registry::make(Kind kind, std::string_view name, const S
   } catch (...) {
     throw std::runtime_error("the factory of " + who + " threw a non-standard exception");
   }
-  if (!object || !implements(kind, object.get())) {
-    throw std::runtime_error("the factory of " + who + " did not create a " + kind_name(kind));
-  }
+  if (!object) throw std::runtime_error("the factory of " + who + " returned no object");
   return object;
 }
 
-std::vector<ParameterDeclaration> Registry::declared_parameters(Kind kind, std::string_view name) const {
+void Registry::not_of_kind(std::string_view kind, std::string_view name) {
+  throw std::runtime_error("the factory of " + std::string(kind) + " '" + std::string(name) + "' did not create a " +
+                           std::string(kind));
+}
+
+std::vector<ParameterDeclaration> Registry::declared_parameters(std::string_view kind, std::string_view name) const {
   std::string who;
   const std::shared_ptr<Plugin> object = make(kind, name, {}, who);
   const Parameters none;
@@ -333,7 +323,7 @@ std::vector<ParameterDeclaration> Registry::declared_parameters(Kind kind, std::
   return none.declarations();
 }
 
-std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const Parameters& parameters,
+std::shared_ptr<Plugin> Registry::create(std::string_view kind, std::string_view name, const Parameters& parameters,
                                          const SourceLocation& where) const {
   std::string who;
   std::shared_ptr<Plugin> object = make(kind, name, where, who);
@@ -354,7 +344,7 @@ std::shared_ptr<Plugin> Registry::create(Kind kind, std::string_view name, const
   Diagnostics all = given.errors();
   all.append(diagnostics);
   for (const std::string& key : given.unused()) {
-    all.error(given.location(key), std::string("unknown parameter '") + key + "' for " + kind_name(kind) + " '" +
+    all.error(given.location(key), std::string("unknown parameter '") + key + "' for " + std::string(kind) + " '" +
                                        std::string(name) + "'");
   }
   all.throw_if_any();

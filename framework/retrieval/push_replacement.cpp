@@ -68,14 +68,14 @@ PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, Removal
     const ObjectIndex object = order[i];
     const std::vector<ObjectIndex> rest(order.begin() + static_cast<std::ptrdiff_t>(i) + 1, order.end());
     bool pushed = false;
-    if (context.samplers.push && !context.deadline.expired()) {
+    if (context.samplers.get<plugin::PushSampler>() && !context.deadline.expired()) {
       const WorldState before = current->remove(picked, salt).state;  // planned already: cached
       int tries = 0;
       for (const Eigen::Vector2d& spot : push_spots(context, before, object)) {
         if (tries++ == kSpots || context.deadline.expired()) break;
         ++done.pushes_tried;
         const plugin::PushAnswer answer =
-            context.samplers.push->push(context, {object, spot, kRadius, before, from_exit, kPushPropagations});
+            context.samplers.get<plugin::PushSampler>()->push(context, {object, spot, kRadius, before, from_exit, kPushPropagations});
         if (!answer.step || answer.step->objects != std::vector<ObjectIndex>{object}) continue;
         auto next = std::make_unique<RemovalChecker>(context, *answer.resulting_state, placement_region);
         if (!next->retrieve(rest, salt).ok) continue;

@@ -8,6 +8,9 @@
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
+#include "cluttertamp/plugin/grasp_sampler.hpp"
+#include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/placement_sampler.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 
 namespace cluttertamp::retrieval {
@@ -255,7 +258,7 @@ void record_failure_once(Result& result, const Failure& failure) {
 std::optional<std::string> retrieval_inputs_missing(const plugin::PlanningContext& context, const std::string& planner) {
   if (!context.worlds || !context.problem.robot.loaded) return "the problem has no robot";
   if (!std::holds_alternative<RetrievalTask>(context.problem.task)) return planner + " plans retrieve tasks only";
-  if (!context.samplers.grasp || !context.samplers.motion || !context.samplers.placement) {
+  if (!context.samplers.get<plugin::GraspSampler>() || !context.samplers.get<plugin::MotionSampler>() || !context.samplers.get<plugin::PlacementSampler>()) {
     return planner + " needs a grasp_sampler, a motion_sampler and a placement_sampler in the problem's plugins block";
   }
   return std::nullopt;

@@ -33,8 +33,8 @@ Json box_json(const Eigen::AlignedBox2d& b) { return {b.min().x(), b.min().y(), 
 
 // The problem as the session plans it: a push sampler named, the default one if need be.
 Problem with_push_sampler(Problem problem, const GuidedSessionOptions& options) {
-  if (!problem.samplers.count(SamplerRole::push)) {
-    problem.samplers[SamplerRole::push] = PluginChoice{options.default_push_sampler, {}, {problem.source_file.string(), 0, 0}};
+  if (!problem.samplers.count(plugin::KindOf<plugin::PushSampler>::name)) {
+    problem.samplers[plugin::KindOf<plugin::PushSampler>::name] = PluginChoice{options.default_push_sampler, {}, {problem.source_file.string(), 0, 0}};
   }
   return problem;
 }
@@ -124,7 +124,7 @@ GuidedSession::Outcome GuidedSession::guide(const std::string& object, const Eig
   io::OperatorInput input{object, centre, d, false, 0.0, {}};
   const auto t0 = Clock::now();
   plugin::PlanningContext context = s.context(std::min(s.options.push_time, s.time_left()), s.record.inputs.size() + 1);
-  plugin::PushAnswer answer = s.plugins.samplers.push->push(context, {*index, centre, d / 2, s.state, s.gripper});
+  plugin::PushAnswer answer = s.plugins.samplers.get<plugin::PushSampler>()->push(context, {*index, centre, d / 2, s.state, s.gripper});
   input.planning_time = seconds_since(t0);
   s.planning += input.planning_time;
   Outcome out;

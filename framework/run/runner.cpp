@@ -7,11 +7,6 @@
 
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/core/world_state.hpp"
-#include "cluttertamp/plugin/grasp_sampler.hpp"
-#include "cluttertamp/plugin/motion_sampler.hpp"
-#include "cluttertamp/plugin/object_pruner.hpp"
-#include "cluttertamp/plugin/placement_sampler.hpp"
-#include "cluttertamp/plugin/push_sampler.hpp"
 #include "cluttertamp/plugin/stream_sampler.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -28,20 +23,11 @@ std::vector<fs::path> plugin_search_paths(const Problem& problem, const RunOptio
 
 namespace {
 
-template <class Interface>
-std::shared_ptr<Interface> create_role(const plugin::Registry& registry, const Problem& problem, SamplerRole role) {
-  auto it = problem.samplers.find(role);
-  if (it == problem.samplers.end()) return nullptr;
-  return registry.create<Interface>(it->second.name, it->second.parameters, it->second.where);
-}
-
 plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem& problem) {
   plugin::Samplers samplers;
-  samplers.grasp = create_role<plugin::GraspSampler>(registry, problem, SamplerRole::grasp);
-  samplers.placement = create_role<plugin::PlacementSampler>(registry, problem, SamplerRole::placement);
-  samplers.motion = create_role<plugin::MotionSampler>(registry, problem, SamplerRole::motion);
-  samplers.push = create_role<plugin::PushSampler>(registry, problem, SamplerRole::push);
-  samplers.object_pruner = create_role<plugin::ObjectPruner>(registry, problem, SamplerRole::object_pruner);
+  for (const auto& [kind, choice] : problem.samplers) {
+    samplers.set(kind, registry.create(kind, choice.name, choice.parameters, choice.where));
+  }
   // Bindings naming the same plugin with the same parameters share one object, so a
   // plugin serving several streams keeps one state (caches, a shared world model).
   std::map<std::string, std::shared_ptr<plugin::StreamSampler>> by_choice;

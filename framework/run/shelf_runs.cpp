@@ -13,9 +13,9 @@ namespace cluttertamp::run {
 
 plugin::Samplers shipped_samplers(const plugin::Registry& registry) {
   plugin::Samplers samplers;
-  samplers.grasp = registry.create<plugin::GraspSampler>("grasp_side");
-  samplers.motion = registry.create<plugin::MotionSampler>("motion_ompl");
-  samplers.placement = registry.create<plugin::PlacementSampler>("placement_region");
+  samplers.set(registry.create<plugin::GraspSampler>("grasp_side"));
+  samplers.set(registry.create<plugin::MotionSampler>("motion_ompl"));
+  samplers.set(registry.create<plugin::PlacementSampler>("placement_region"));
   return samplers;
 }
 

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cluttertamp/physics/push_world.hpp"
+#include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/io/shape_json.hpp"
 #include "cluttertamp/io/text_file.hpp"
@@ -140,6 +140,9 @@ class Replayer {
 
   Json take_frames() { return std::move(frames_); }
   bool pushed() const { return pushed_; }
+  /// The pusher's boxes, each {shape, offset in the pusher's frame}; empty without a push
+  /// that recorded them.
+  const Json& pusher_parts() const { return pusher_parts_; }
   bool robot_moved() const { return robot_moved_; }
   std::vector<std::string> warnings() const { return warnings_; }
 
@@ -305,6 +308,33 @@ class Replayer {
     if (state_.held) tool_T_held_ = tool_pose(links).inverse() * state_.world_T_objects[*state_.held];
   }
 
+  // The pusher's boxes and height as the push step recorded them (values pusher_boxes
+  // and pusher_z); the first push that records them gives the page its pusher. A step
+  // without them (an older result) is replayed without drawing the pusher.
+  std::optional<double> pusher_of(const Json& step) {
+    const Json& values = step.at("values");
+    const auto boxes = values.find("pusher_boxes");
+    const auto z = values.find("pusher_z");
+    if (boxes == values.end() || z == values.end()) {
+      warnings_.push_back("step " + std::to_string(step.value("index", 0)) +
+                          ": the result does not record the pusher (written by an older cluttertamp); it is not drawn");
+      return std::nullopt;
+    }
+    const auto numbers = boxes->get<std::vector<double>>();
+    const auto height = z->get<std::vector<double>>();
+    const bool finite = std::all_of(numbers.begin(), numbers.end(), [](double v) { return std::isfinite(v); });
+    if (numbers.empty() || numbers.size() % 5 != 0 || !finite || height.size() != 1 || !std::isfinite(height[0])) {
+      throw InputError({name_, 0, 0}, "a push step's pusher_boxes must be finite [size x y z, centre x y] per box and its pusher_z one height");
+    }
+    if (pusher_parts_.empty()) {
+      for (std::size_t i = 0; i < numbers.size(); i += 5) {
+        pusher_parts_.push_back({{"shape", shape_json(Box{Eigen::Vector3d(numbers[i], numbers[i + 1], numbers[i + 2])})},
+                                 {"offset", {numbers[i + 3], numbers[i + 4]}}});
+      }
+    }
+    return height[0];
+  }
+
   // A push drawn from what the result recorded: the pusher's planar poses and, for each
   // object it moved, that object's at the same times, both linear between them. A
   // result without object paths (written before they were recorded) moves each pushed
@@ -332,12 +362,7 @@ class Replayer {
                           ": the result has no object paths (written by an older cluttertamp); pushed objects jump to their end poses");
     }
 
-    // The pusher's height as the physics places it: its bottom a clearance above the
-    // surface the target stands on.
-    const physics::PushSettings pusher;
-    const ObjectIndex target = scene_.target;
-    const double pusher_z = world_bounds(scene_.objects.at(target).shape, state_.world_T_objects.at(target)).min().z() +
-                            pusher.gripper_clearance + pusher.gripper_size.z() / 2;
+    const std::optional<double> pusher_z = pusher_of(step);
     std::vector<double> at = times;  // every recorded time and every frame_step between
     for (double t = 0.0; t < times.back(); t += frame_step_) at.push_back(t);
     std::sort(at.begin(), at.end());
@@ -350,7 +375,8 @@ class Replayer {
       const double span = times[k1] - times[k];
       const double s = span > 0 ? std::clamp((t - times[k]) / span, 0.0, 1.0) : 1.0;
       const Eigen::Vector3d pusher_pose = between(planar(positions[k]), planar(positions[k1]), s);
-      Json frame{{"t", rounded(start + t)}, {"pusher", pose_json(planar_pose(pusher_pose, pusher_z))}};
+      Json frame{{"t", rounded(start + t)}};
+      if (pusher_z) frame["pusher"] = pose_json(planar_pose(pusher_pose, *pusher_z));
       Json objects = Json::object();
       for (const auto& [object, poses] : paths) {
         const Eigen::Vector3d pose = between(poses[k], poses[k1], s);
@@ -402,6 +428,7 @@ class Replayer {
   Eigen::Isometry3d tool_T_held_ = Eigen::Isometry3d::Identity();
   Json frames_ = Json::array();
   bool pushed_ = false;
+  Json pusher_parts_ = Json::array();
   bool robot_moved_ = false;
   std::vector<std::string> warnings_;
 };
@@ -513,13 +540,7 @@ std::string replay_json(const Problem& problem, const PlanFiles& plan, double fr
       out["robot"] = nullptr;
       for (Json& frame : out["frames"]) frame.erase("links");
     }
-    if (replayer.pushed()) {
-      Json parts = Json::array();  // the palm and the fingers, each at its offset in the pusher's frame
-      for (const physics::GripperBox& box : physics::gripper_boxes(physics::PushSettings{})) {
-        parts.push_back({{"shape", shape_json(Box{box.size})}, {"offset", {box.offset.x(), box.offset.y()}}});
-      }
-      out["pusher"] = {{"parts", parts}};
-    }
+    if (!replayer.pusher_parts().empty()) out["pusher"] = {{"parts", replayer.pusher_parts()}};
     if (result.contains("human_guidance")) out["human_guidance"] = result.at("human_guidance");
     return out.dump(-1, ' ', false, Json::error_handler_t::replace);
   } catch (const Json::exception& e) {

@@ -30,6 +30,7 @@
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/motion_sampler.hpp"
+#include "cluttertamp/plugin/placement_sampler.hpp"
 #include "cluttertamp/plugin/stream_sampler.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 
@@ -187,7 +188,7 @@ class Streams {
     std::optional<Trajectory> back;
     if (released) {
       from.removed[*released] = true;
-      plugin::MotionAnswer a = context.samplers.motion->plan(context, plugin::MotionQuery{from.robot_configuration, home_, from});
+      plugin::MotionAnswer a = context.samplers.get<plugin::MotionSampler>()->plan(context, plugin::MotionQuery{from.robot_configuration, home_, from});
       back = std::move(a.trajectory);
       why = a.failure;
     } else {
@@ -230,7 +231,7 @@ class PlanPick final : public plugin::StreamGenerator {
     StreamBatch batch;
     plugin::Samplers samplers = context.samplers;
     const std::uint64_t seed = mix(seed_, calls_);
-    samplers.grasp = std::make_shared<ShuffledGrasps>(context.samplers.grasp, calls_++, seed);
+    samplers.set<plugin::GraspSampler>(std::make_shared<ShuffledGrasps>(context.samplers.get<plugin::GraspSampler>(), calls_++, seed));
     plugin::PlanningContext c = streams_->call_context(context, samplers, seed);
     // Among the other objects where the scene has them, ignoring those that blocked the
     // tries before (so that a trajectory passes through as few objects as it can), and
@@ -381,8 +382,8 @@ class ClutterStreams final : public plugin::StreamSampler {
   std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext& context, std::string_view stream,
                                                        const std::vector<StreamValue>& in,
                                                        const std::vector<plugin::StreamFact>&) override {
-    if (!context.worlds || !context.problem.robot.loaded || !context.samplers.grasp || !context.samplers.placement ||
-        !context.samplers.motion) {
+    if (!context.worlds || !context.problem.robot.loaded || !context.samplers.get<plugin::GraspSampler>() || !context.samplers.get<plugin::PlacementSampler>() ||
+        !context.samplers.get<plugin::MotionSampler>()) {
       throw std::invalid_argument("clutter_streams needs a robot and grasp, placement and motion samplers");
     }
     if (!streams_ || &context.problem != problem_) {

@@ -53,7 +53,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
       result.reason = "grtc plans reach tasks only (task: {reach: <target>})";
       return result;
     }
-    if (!context.samplers.push) {
+    if (!context.samplers.get<plugin::PushSampler>()) {
       result.reason = "grtc satisfies its guides with a push sampler: name one in the problem file "
                       "(plugins: {push_sampler: push_ompl})";
       return result;
@@ -118,7 +118,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     const Scene& scene = context.scene();
     for (std::size_t k = 0; k < guidance.size(); ++k) {
       const physics::Guide& g = guidance[k];
-      plugin::PushAnswer answer = context.samplers.push->push(context, {g.object, g.centre, g.diameter / 2, state, gripper});
+      plugin::PushAnswer answer = context.samplers.get<plugin::PushSampler>()->push(context, {g.object, g.centre, g.diameter / 2, state, gripper});
       if (!answer.step) {
         Failure f = answer.failure.value_or(Failure{"push", "the push sampler gave no push and no reason", {}});
         f.reason = "guide " + std::to_string(k + 1) + " (" + describe(scene, g) + ") not satisfied: " + f.reason;

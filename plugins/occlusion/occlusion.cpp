@@ -326,7 +326,7 @@ class Run {
     const bool grasp_failed = check.failure && check.failure->stage == "grasp";
     if (!grasp_failed || (!blockers.empty() && std::none_of(blockers.begin(), blockers.end(), waits))) return blockers;
     collision::shared_world(context_)->sync(belief);
-    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, belief});
+    const plugin::GraspAnswer answer = context_.samplers.get<plugin::GraspSampler>()->sample(context_, {object, belief});
     std::optional<std::vector<ObjectIndex>> best;
     for (const plugin::BlockedGrasp& g : answer.blocked) {
       if (!g.freeable || g.blocking_objects.empty()) continue;

@@ -19,6 +19,7 @@
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 #include "cluttertamp/plugin/object_pruner.hpp"
+#include "cluttertamp/plugin/push_sampler.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
 #include "cluttertamp/retrieval/removal_checker.hpp"
 #include "cluttertamp/retrieval/roadmap.hpp"
@@ -385,8 +386,9 @@ class Search {
   // only those not fed back yet.
   std::vector<ObjectSet> grasp_blocker_sets(ObjectIndex object, const WorldState& state, bool unseen) {
     std::vector<ObjectSet> sets;
-    if (!context_.samplers.grasp) return sets;
-    const plugin::GraspAnswer answer = context_.samplers.grasp->sample(context_, {object, state});
+    const auto grasp_sampler = context_.samplers.get<plugin::GraspSampler>();
+    if (!grasp_sampler) return sets;
+    const plugin::GraspAnswer answer = grasp_sampler->sample(context_, {object, state});
     for (const plugin::BlockedGrasp& b : answer.blocked) {
       if (!b.freeable || !feedback_graph_.freeable_for(object, b.blocking_objects)) continue;
       ObjectSet set = feedback_graph_.removable(b.blocking_objects);
@@ -488,7 +490,7 @@ class RetrievalGraphPlanner final : public plugin::TaskPlanner {
   }
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     std::optional<std::string> why = retrieval::retrieval_inputs_missing(context, "retrieval_graph");
-    if (!why && settings_.push && !context.samplers.push) {
+    if (!why && settings_.push && !context.samplers.get<plugin::PushSampler>()) {
       why = "retrieval_graph with push: true needs a push sampler (plugins: {push_sampler: push_ompl})";
     }
     if (why) {

@@ -122,8 +122,8 @@ class StreamPlanner final : public plugin::TaskPlanner {
     } else {
       std::vector<bool> movable;
       for (const SceneObject& o : context.scene().objects) movable.push_back(o.movable);
-      if (prune_ && context.samplers.object_pruner) {
-        const plugin::PruneAnswer pruned = context.samplers.object_pruner->prune(context, initial);
+      if (const auto pruner = context.samplers.get<plugin::ObjectPruner>(); prune_ && pruner) {
+        const plugin::PruneAnswer pruned = pruner->prune(context, initial);
         if (pruned.failure) result.failures.push_back(*pruned.failure);
         if (!pruned.removal_sequences.empty()) {
           std::fill(movable.begin(), movable.end(), false);

@@ -7,11 +7,11 @@
 namespace {
 cluttertamp::plugin::Plugin* create() { return nullptr; }
 const cluttertamp::plugin::PluginEntry old_entry{cluttertamp::plugin::kEntryMagic, 999,
-                                                 cluttertamp::plugin::Kind::grasp_sampler,
+                                                 "grasp_sampler",
                                                  "old_grasp", "built for ABI 999", "0.0", &create};
 }  // namespace
 
-BOOST_DLL_ALIAS_SECTIONED(old_entry, cluttertamp_abi999_grasp_sampler_old_grasp, ctplugin)
+BOOST_DLL_ALIAS_SECTIONED(old_entry, cluttertamp_abi999_grasp_sampler__old_grasp, ctplugin)
 
 // If the registry ever loaded this library, this initializer would end the test run.
 [[maybe_unused]] static const int trap = (std::abort(), 0);

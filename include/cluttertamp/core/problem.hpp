@@ -59,12 +59,6 @@ struct PluginChoice {
   SourceLocation where;  ///< where the problem file names it
 };
 
-/// The roles a problem file can fill with sampler plugins (`plugins:` block).
-enum class SamplerRole { grasp, placement, motion, push, object_pruner };
-
-/// The YAML key of a role: "grasp_sampler", ..., "object_pruner".
-const char* role_key(SamplerRole role);
-
 /// The robot of a problem: its description file (URDF plus semantics) and where its
 /// joints start.
 struct RobotSpec {
@@ -89,7 +83,9 @@ struct Problem {
   double time_limit = 0;   ///< seconds of wall-clock time for the whole run
   std::uint64_t seed = 0;  ///< the root of every random choice in the run
   std::vector<std::filesystem::path> plugin_paths;  ///< searched before the defaults
-  std::map<SamplerRole, PluginChoice> samplers;
+  /// The `plugins:` block's plugins by kind ("grasp_sampler", "motion_sampler", ...,
+  /// or any kind a plugin declares); the task planner and stream samplers are not here.
+  std::map<std::string, PluginChoice> samplers;
   std::map<std::string, PluginChoice> streams;  ///< stream name -> stream sampler plugin
 };
 

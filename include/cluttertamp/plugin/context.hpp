@@ -7,11 +7,14 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/core/result.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/export.hpp"
+#include "cluttertamp/plugin/plugin.hpp"
 #include "cluttertamp/plugin/world_view.hpp"
 
 namespace cluttertamp::robot {
@@ -20,11 +23,6 @@ class RobotDescription;
 
 namespace cluttertamp::plugin {
 
-class GraspSampler;
-class PlacementSampler;
-class MotionSampler;
-class PushSampler;
-class ObjectPruner;
 class StreamSampler;
 
 /// A point in wall-clock time after which a planner must stop and report.
@@ -45,15 +43,38 @@ class CLUTTERTAMP_API Deadline {
   Clock::time_point at_;
 };
 
-/// The sampler plugins a run was configured with; a role is null when the problem
-/// file fills none. A planner that needs an empty role fails with a reason.
-struct Samplers {
-  std::shared_ptr<GraspSampler> grasp;
-  std::shared_ptr<PlacementSampler> placement;
-  std::shared_ptr<MotionSampler> motion;
-  std::shared_ptr<PushSampler> push;
-  std::shared_ptr<ObjectPruner> object_pruner;
+/// The plugins a run was configured with besides its task planner, one per kind (the
+/// problem file's `plugins:` block: grasp_sampler, motion_sampler, ..., or any kind a
+/// plugin declares), and the stream samplers by stream name. A kind is empty when the
+/// problem file fills none; a planner that needs an empty one fails with a reason.
+class CLUTTERTAMP_API Samplers {
+ public:
+  /// The plugin of kind KindOf<Interface>::name; null when none. Throws
+  /// std::logic_error when the plugin set for that kind does not implement Interface.
+  template <class Interface>
+  std::shared_ptr<Interface> get() const {
+    const std::shared_ptr<Plugin> plugin = get(KindOf<Interface>::name);
+    if (!plugin) return nullptr;
+    auto typed = std::dynamic_pointer_cast<Interface>(plugin);
+    if (!typed) wrong_type(KindOf<Interface>::name);
+    return typed;
+  }
+  /// The plugin of `kind`; null when none.
+  std::shared_ptr<Plugin> get(std::string_view kind) const;
+  /// Fills `kind` with `plugin` (null: empties it).
+  void set(std::string_view kind, std::shared_ptr<Plugin> plugin);
+  template <class Interface>
+  void set(std::shared_ptr<Interface> plugin) {
+    set(KindOf<Interface>::name, std::shared_ptr<Plugin>(std::move(plugin)));
+  }
+  /// The kinds filled, in name order.
+  std::vector<std::string> kinds() const;
+
   std::map<std::string, std::shared_ptr<StreamSampler>> streams;  ///< by stream name
+
+ private:
+  [[noreturn]] static void wrong_type(const char* kind);
+  std::map<std::string, std::shared_ptr<Plugin>, std::less<>> by_kind_;
 };
 
 /// What every plugin call sees: the problem, the run's wall-clock limit, the work a

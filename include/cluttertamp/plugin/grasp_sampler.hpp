@@ -61,9 +61,10 @@ class CLUTTERTAMP_API GraspSampler : public Plugin {
   virtual GraspAnswer sample(PlanningContext& context, const GraspQuery& query) = 0;
 };
 
-template <>
-struct KindOf<GraspSampler> {
-  static constexpr Kind value = Kind::grasp_sampler;
-};
-
 }  // namespace cluttertamp::plugin
+
+CLUTTERTAMP_PLUGIN_KIND(::cluttertamp::plugin::GraspSampler, grasp_sampler)
+
+/// Exports CLASS as the grasp_sampler NAME (see CLUTTERTAMP_EXPORT_PLUGIN in export.hpp).
+#define CLUTTERTAMP_EXPORT_GRASP_SAMPLER(CLASS, NAME, DESCRIPTION, VERSION) \
+  CLUTTERTAMP_EXPORT_PLUGIN(grasp_sampler, CLASS, NAME, DESCRIPTION, VERSION)

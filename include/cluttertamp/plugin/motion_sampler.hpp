@@ -28,9 +28,10 @@ class CLUTTERTAMP_API MotionSampler : public Plugin {
   virtual MotionAnswer plan(PlanningContext& context, const MotionQuery& query) = 0;
 };
 
-template <>
-struct KindOf<MotionSampler> {
-  static constexpr Kind value = Kind::motion_sampler;
-};
-
 }  // namespace cluttertamp::plugin
+
+CLUTTERTAMP_PLUGIN_KIND(::cluttertamp::plugin::MotionSampler, motion_sampler)
+
+/// Exports CLASS as the motion_sampler NAME (see CLUTTERTAMP_EXPORT_PLUGIN in export.hpp).
+#define CLUTTERTAMP_EXPORT_MOTION_SAMPLER(CLASS, NAME, DESCRIPTION, VERSION) \
+  CLUTTERTAMP_EXPORT_PLUGIN(motion_sampler, CLASS, NAME, DESCRIPTION, VERSION)

@@ -25,9 +25,10 @@ class CLUTTERTAMP_API ObjectPruner : public Plugin {
   virtual PruneAnswer prune(PlanningContext& context, const WorldState& state) = 0;
 };
 
-template <>
-struct KindOf<ObjectPruner> {
-  static constexpr Kind value = Kind::object_pruner;
-};
-
 }  // namespace cluttertamp::plugin
+
+CLUTTERTAMP_PLUGIN_KIND(::cluttertamp::plugin::ObjectPruner, object_pruner)
+
+/// Exports CLASS as the object_pruner NAME (see CLUTTERTAMP_EXPORT_PLUGIN in export.hpp).
+#define CLUTTERTAMP_EXPORT_OBJECT_PRUNER(CLASS, NAME, DESCRIPTION, VERSION) \
+  CLUTTERTAMP_EXPORT_PLUGIN(object_pruner, CLASS, NAME, DESCRIPTION, VERSION)

@@ -35,9 +35,10 @@ class CLUTTERTAMP_API PlacementSampler : public Plugin {
   virtual PlacementAnswer sample(PlanningContext& context, const PlacementQuery& query) = 0;
 };
 
-template <>
-struct KindOf<PlacementSampler> {
-  static constexpr Kind value = Kind::placement_sampler;
-};
-
 }  // namespace cluttertamp::plugin
+
+CLUTTERTAMP_PLUGIN_KIND(::cluttertamp::plugin::PlacementSampler, placement_sampler)
+
+/// Exports CLASS as the placement_sampler NAME (see CLUTTERTAMP_EXPORT_PLUGIN in export.hpp).
+#define CLUTTERTAMP_EXPORT_PLACEMENT_SAMPLER(CLASS, NAME, DESCRIPTION, VERSION) \
+  CLUTTERTAMP_EXPORT_PLUGIN(placement_sampler, CLASS, NAME, DESCRIPTION, VERSION)

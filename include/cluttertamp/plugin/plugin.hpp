@@ -1,7 +1,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <string_view>
 
 #include "cluttertamp/core/parameters.hpp"
@@ -12,37 +11,58 @@ namespace cluttertamp::plugin {
 /// Raised whenever the SDK (the headers of core/ and plugin/) changes: an interface, a
 /// type it passes by value, or a core class plugins build on their own stack. The test
 /// `plugin_abi` fails when the SDK's fingerprint changes without it (cmake/plugin_abi.txt
-/// records both). The registry refuses plugins built against another value. 17: queries
-/// hold `const WorldState&`, samplers see the world through WorldView
-/// (PlanningContext::world_at).
-/// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>_<name>), so a
+/// records both). The registry refuses plugins built against another value. 18: plugin
+/// kinds are open (named by strings, declared by CLUTTERTAMP_PLUGIN_KIND), Samplers is a
+/// map by kind.
+/// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>__<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 17
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 18
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.
 inline constexpr std::uint32_t kEntryMagic = 0x43545047;  // "CTPG"
 
-/// What a plugin does; each kind has one interface header and one export macro.
-enum class Kind : std::uint32_t {
-  task_planner = 1,
-  object_pruner = 2,
-  grasp_sampler = 3,
-  placement_sampler = 4,
-  motion_sampler = 5,
-  push_sampler = 6,
-  stream_sampler = 7,
-};
-
-/// "task_planner", "grasp_sampler", ...; "unknown" for a value outside the enum.
-CLUTTERTAMP_API const char* kind_name(Kind kind);
-/// The inverse of kind_name.
-CLUTTERTAMP_API std::optional<Kind> kind_from_name(std::string_view name);
-
-/// KindOf<Interface>::value is the Kind whose plugins implement Interface;
-/// each interface header specializes it.
+/// KindOf<Interface>::name is the name of the kind whose plugins implement Interface
+/// ("grasp_sampler", ...): the key that chooses such a plugin in a problem file's
+/// `plugins:` block and the middle of its exported symbol names. An interface's header
+/// declares it with CLUTTERTAMP_PLUGIN_KIND.
 template <class Interface>
 struct KindOf;
+
+/// Aliases of the interfaces by kind name (kinds::grasp_sampler is GraspSampler), for
+/// the export macro; declared by CLUTTERTAMP_PLUGIN_KIND.
+namespace kinds {}
+
+namespace detail {
+/// A kind name is a C identifier that neither holds "__" nor ends in '_': the registry
+/// splits symbol names at the first "__" after the kind.
+constexpr bool valid_kind_name(std::string_view kind) {
+  if (kind.empty() || kind.back() == '_' || kind.find("__") != std::string_view::npos) return false;
+  for (char c : kind) {
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_')) return false;
+  }
+  return !(kind.front() >= '0' && kind.front() <= '9');
+}
+}  // namespace detail
+
+/// Declares a plugin kind: its plugins implement INTERFACE (fully qualified, derived
+/// from Plugin) and are named KIND (a C identifier without "__", e.g. grasp_sampler) in
+/// problem files, symbol names and `cluttertamp plugins`. Use once, at global scope,
+/// after the interface in its header; that header is all a new kind needs. Plugins of
+/// the kind are exported with CLUTTERTAMP_EXPORT_PLUGIN(KIND, ...) (export.hpp) and
+/// reach a planner as `context.samplers.get<INTERFACE>()`.
+#define CLUTTERTAMP_PLUGIN_KIND(INTERFACE, KIND)                                                     \
+  static_assert(::cluttertamp::plugin::detail::valid_kind_name(#KIND),                              \
+                "plugin kind '" #KIND "' must be a C identifier without '__' that does not end in '_'"); \
+  namespace cluttertamp::plugin {                                                                   \
+  namespace kinds {                                                                                 \
+  using KIND = INTERFACE;                                                                           \
+  }                                                                                                 \
+  template <>                                                                                       \
+  struct KindOf<INTERFACE> {                                                                        \
+    static constexpr const char* name = #KIND;                                                      \
+  };                                                                                                \
+  }
 
 /// Base of every plugin interface. Objects are created by a plugin's factory and
 /// owned through std::shared_ptr handed out by the Registry, which keeps the plugin
@@ -62,7 +82,7 @@ class CLUTTERTAMP_API Plugin {
 struct PluginEntry {
   std::uint32_t magic;
   std::uint32_t abi_version;
-  Kind kind;
+  const char* kind;         ///< KindOf<Interface>::name of the interface it implements
   const char* name;         ///< unique per kind; a C identifier
   const char* description;  ///< one line
   const char* version;      ///< the plugin's own version

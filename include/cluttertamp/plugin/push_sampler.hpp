@@ -42,9 +42,10 @@ class CLUTTERTAMP_API PushSampler : public Plugin {
   virtual PushAnswer push(PlanningContext& context, const PushQuery& query) = 0;
 };
 
-template <>
-struct KindOf<PushSampler> {
-  static constexpr Kind value = Kind::push_sampler;
-};
-
 }  // namespace cluttertamp::plugin
+
+CLUTTERTAMP_PLUGIN_KIND(::cluttertamp::plugin::PushSampler, push_sampler)
+
+/// Exports CLASS as the push_sampler NAME (see CLUTTERTAMP_EXPORT_PLUGIN in export.hpp).
+#define CLUTTERTAMP_EXPORT_PUSH_SAMPLER(CLASS, NAME, DESCRIPTION, VERSION) \
+  CLUTTERTAMP_EXPORT_PLUGIN(push_sampler, CLASS, NAME, DESCRIPTION, VERSION)

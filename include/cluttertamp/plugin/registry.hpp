@@ -16,7 +16,7 @@ namespace cluttertamp::plugin {
 
 /// A plugin the registry found and can create.
 struct PluginDescriptor {
-  Kind kind;
+  std::string kind;  ///< KindOf<Interface>::name of its interface
   std::string name;
   std::string description;
   std::string version;
@@ -41,7 +41,7 @@ struct SearchedDirectory {
 /// Finds plugin libraries, checks their ABI version and creates plugin objects.
 ///
 /// Construction lists the plugins of every library from its exported symbol names
-/// (cluttertamp_abi<N>_<kind>_<name>) without loading it, so libraries built for
+/// (cluttertamp_abi<N>_<kind>__<name>) without loading it, so libraries built for
 /// another ABI are refused unloaded. A library is loaded when one of its plugins is
 /// first found or created, or by plugins(). Loaded libraries stay loaded until the
 /// process ends, so every object a plugin creates may outlive the registry.
@@ -75,33 +75,41 @@ class CLUTTERTAMP_API Registry {
 
   /// Loads the plugin's library if needed; null when no usable plugin of that kind
   /// and name exists. The descriptor lives as long as the registry.
-  const PluginDescriptor* find(Kind kind, std::string_view name) const;
+  const PluginDescriptor* find(std::string_view kind, std::string_view name) const;
+  /// The kinds of the plugins found (loaded or not), in name order.
+  std::vector<std::string> kinds() const;
 
-  /// Creates and configures a plugin. `where` is the place in a problem file that
-  /// names the plugin, used in errors. Throws InputError when the plugin does not
-  /// exist (listing what was searched, what exists and what failed to load), when
-  /// configure() rejects a parameter, or when a parameter is never read; throws
-  /// std::runtime_error when the plugin's factory fails.
-  std::shared_ptr<Plugin> create(Kind kind, std::string_view name, const Parameters& parameters = {},
+  /// Creates and configures a plugin of `kind`. `where` is the place in a problem file
+  /// that names the plugin, used in errors. Throws InputError when the plugin does not
+  /// exist (listing what was searched, what exists and what failed to load, and the
+  /// kinds found when none is `kind`), when configure() rejects a parameter, or when a
+  /// parameter is never read; throws std::runtime_error when the plugin's factory fails.
+  std::shared_ptr<Plugin> create(std::string_view kind, std::string_view name, const Parameters& parameters = {},
                                  const SourceLocation& where = {}) const;
 
+  /// create() for the kind of Interface; also throws std::runtime_error when the object
+  /// made does not implement Interface.
   template <class Interface>
   std::shared_ptr<Interface> create(std::string_view name, const Parameters& parameters = {},
                                     const SourceLocation& where = {}) const {
-    return std::static_pointer_cast<Interface>(create(KindOf<Interface>::value, name, parameters, where));
+    auto typed = std::dynamic_pointer_cast<Interface>(create(KindOf<Interface>::name, name, parameters, where));
+    if (!typed) not_of_kind(KindOf<Interface>::name, name);
+    return typed;
   }
 
   /// The parameters the plugin reads (key, type, default, help), found by configuring a
   /// new object with none set (when configure() then throws, what it read before). A
   /// parameter read only when another has some value is not seen. Throws as create()
   /// does when the plugin cannot be found or made.
-  std::vector<ParameterDeclaration> declared_parameters(Kind kind, std::string_view name) const;
+  std::vector<ParameterDeclaration> declared_parameters(std::string_view kind, std::string_view name) const;
 
   /// A multi-line report of the search, for errors and `cluttertamp plugins`.
   std::string describe_search() const;
 
  private:
-  std::shared_ptr<Plugin> make(Kind kind, std::string_view name, const SourceLocation& where, std::string& who) const;
+  std::shared_ptr<Plugin> make(std::string_view kind, std::string_view name, const SourceLocation& where,
+                               std::string& who) const;
+  [[noreturn]] static void not_of_kind(std::string_view kind, std::string_view name);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -94,9 +94,10 @@ class CLUTTERTAMP_API StreamSampler : public Plugin {
                                                        const std::vector<StreamFact>& fluents) = 0;
 };
 
-template <>
-struct KindOf<StreamSampler> {
-  static constexpr Kind value = Kind::stream_sampler;
-};
-
 }  // namespace cluttertamp::plugin
+
+CLUTTERTAMP_PLUGIN_KIND(::cluttertamp::plugin::StreamSampler, stream_sampler)
+
+/// Exports CLASS as the stream_sampler NAME (see CLUTTERTAMP_EXPORT_PLUGIN in export.hpp).
+#define CLUTTERTAMP_EXPORT_STREAM_SAMPLER(CLASS, NAME, DESCRIPTION, VERSION) \
+  CLUTTERTAMP_EXPORT_PLUGIN(stream_sampler, CLASS, NAME, DESCRIPTION, VERSION)

@@ -16,9 +16,10 @@ class CLUTTERTAMP_API TaskPlanner : public Plugin {
   virtual Result solve(PlanningContext& context, const WorldState& initial) = 0;
 };
 
-template <>
-struct KindOf<TaskPlanner> {
-  static constexpr Kind value = Kind::task_planner;
-};
-
 }  // namespace cluttertamp::plugin
+
+CLUTTERTAMP_PLUGIN_KIND(::cluttertamp::plugin::TaskPlanner, task_planner)
+
+/// Exports CLASS as the task_planner NAME (see CLUTTERTAMP_EXPORT_PLUGIN in export.hpp).
+#define CLUTTERTAMP_EXPORT_TASK_PLANNER(CLASS, NAME, DESCRIPTION, VERSION) \
+  CLUTTERTAMP_EXPORT_PLUGIN(task_planner, CLASS, NAME, DESCRIPTION, VERSION)

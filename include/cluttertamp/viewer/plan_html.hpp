@@ -21,9 +21,10 @@ namespace cluttertamp::viewer {
 /// joint grasps where the tool comes nearest the object and lets go where the tool is
 /// lowest. The held object keeps its pose relative to the tool; one still held when a
 /// later step moves the robot for other objects before any step names it again was
-/// carried out of the workspace, and a frame gives it the pose null from there. A push step is replayed
-/// through the physics (physics::simulate, one frame per propagation) from the state
-/// the steps before it left.
+/// carried out of the workspace, and a frame gives it the pose null from there. A push step is drawn
+/// from what the result recorded (no physics runs here): the pusher's planar poses, its
+/// boxes and height (values pusher_boxes, pusher_z) and the paths of the objects it
+/// moved, linear between the recorded times.
 ///
 /// `result_json`: the text of a result.json written for `problem` (io::result_to_json);
 /// `drawings_json`: the text of its drawings.json (io::drawings_to_json), or empty.
