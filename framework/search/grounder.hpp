@@ -1,0 +1,294 @@
+#pragma once
+// Internal: the grounder behind search::ground and search::Grounding. Its work is in
+// four files: grounder_compile.cpp (the lifted domain compiled to variable slots, the
+// objects and types), grounder_explore.cpp (relaxed reachability: which atoms and
+// action instances can be reached), grounder_output.cpp (reached instances to ground
+// operators and axioms, conditions in disjunctive normal form, strata of derived
+// predicates) and grounding.cpp (a run, and sessions that reuse earlier runs).
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "cluttertamp/core/diagnostics.hpp"
+#include "cluttertamp/pddl/ast.hpp"
+#include "cluttertamp/search/grounding.hpp"
+
+namespace cluttertamp::search::detail {
+
+using Effect = pddl::Effect;
+using Formula = pddl::Formula;
+
+constexpr std::size_t kMaxDisjuncts = 10000;
+
+// Thrown while grounding one formula; turned into an InputError at its location.
+struct TooManyDisjuncts {};
+
+// ---- compiled (variable-slot) form of the lifted domain ----------------------------------
+
+struct CTerm {
+  bool variable = false;
+  int value = 0;  // slot or object
+};
+
+// A variable term of a Schema::core atom that matches any object: a variable
+// quantified inside the precondition, which enumerate() does not bind.
+constexpr int kWildcard = -1;
+
+struct CAtom {
+  int predicate = -1;  // -1: equality
+  std::vector<CTerm> args;
+};
+
+struct CFormula {
+  Formula::Kind kind = Formula::Kind::truth;
+  CAtom atom;
+  std::vector<CFormula> children;
+  std::vector<int> slots;                  // quantified variables
+  std::vector<const std::vector<int>*> domains;  // their objects
+};
+
+struct CEffect {
+  Effect::Kind kind = Effect::Kind::conjunction;
+  CAtom atom;
+  std::vector<CEffect> children;
+  std::vector<int> slots;
+  std::vector<const std::vector<int>*> domains;
+  CFormula condition;
+  std::optional<double> cost_number;
+  CAtom cost_function;  // predicate indexes the function table
+  bool has_cost = false;
+  SourceLocation cost_where;
+};
+
+struct Schema {
+  std::string name;
+  SourceLocation where;
+  bool axiom = false;
+  bool conditional = false;  // has (when ...) effects: re-examined as atoms are reached
+  int slot_count = 0;
+  std::vector<int> parameters;  // slots
+  std::vector<const std::vector<int>*> parameter_domains;
+  CFormula precondition;
+  CEffect effect;
+  CAtom head;  // axioms
+  std::vector<CAtom> core;  // positive top-level atoms, to enumerate bindings
+  std::vector<int> mentioned;  // predicates anywhere in the precondition, sorted, once each
+};
+
+constexpr std::size_t kNoObjects = std::numeric_limits<std::size_t>::max();
+
+// What one action or axiom instance grounded to, and what that rested on: the state of
+// every atom its formulas looked up, the reached tuples of the predicates its
+// quantifiers drew witnesses from, the objects when a quantifier ranged over a type, and
+// the cost functions' values. While all are as they were, a later problem of the same
+// session grounds the instance to the same operators (fact ids are kept).
+struct Cached {
+  bool computed = false;
+  bool reusable = true;  // false: it looked at too much to be worth checking
+  std::uint64_t generation = 0;
+  std::vector<std::pair<int, std::uint8_t>> atoms;
+  std::vector<std::pair<int, std::size_t>> witnesses;
+  std::size_t objects = kNoObjects;  // the object count, if a quantifier ranged over a type
+  std::vector<std::pair<std::vector<int>, double>> costs;
+  std::vector<Operator> operators;
+  std::vector<Axiom> axioms;
+};
+
+// Atoms an instance may look up and still be kept for reuse: an (exists ...) over every
+// pose looks at thousands, and checking them would cost what grounding it again does.
+constexpr std::size_t kMaxDependencies = 256;
+
+class Grounder {
+ public:
+  /// `keep`: record what each instance rests on, for later problems (a session).
+  Grounder(const pddl::Domain& domain, bool keep) : domain_(domain), keep_(keep) {}
+
+  Task run(const pddl::Problem& problem, GroundingStats* stats, double time_limit);
+  /// Whether `problem` lists the objects of the last one first, in the same order and
+  /// with the same types: then it can be grounded on what this grounder holds.
+  bool extends(const pddl::Problem& problem) const;
+  /// No problem grounded yet.
+  bool fresh() const { return !compiled_; }
+
+ private:
+  void compile();
+  void add_objects(const pddl::Problem& problem);
+  void ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& out);
+  bool still_valid(const Cached& c) const;
+  std::uint8_t state(int atom) const { return static_cast<std::uint8_t>((reached_[atom] ? 1 : 0) | (initially_[atom] ? 2 : 0)); }
+  // The recording of the instance being grounded, if any.
+  void note_atom(int atom) const {
+    if (!rec_ || !rec_->reusable) return;
+    rec_->atoms.emplace_back(atom, state(atom));
+    if (rec_->atoms.size() > kMaxDependencies) rec_->reusable = false;
+  }
+  void note_witness(int predicate) const {
+    if (rec_) rec_->witnesses.emplace_back(predicate, reached_by_predicate_[predicate].size());
+  }
+  void note_objects() const {
+    if (rec_) rec_->objects = object_names_.size();
+  }
+
+  // -- objects and types
+  int object_index(const std::string& name) const { return object_ids_.at(name); }
+  const std::vector<int>* objects_of(const std::vector<std::string>& types);
+
+  // -- atoms
+  int atom_id(int predicate, const std::vector<int>& args);
+  std::vector<int> ground_args(const CAtom& a, const std::vector<int>& binding) const;
+
+  // -- compilation
+  CTerm term(const pddl::Term& t, const std::map<std::string, int>& scope) const;
+  CAtom atom(const pddl::Atom& a, const std::map<std::string, int>& scope) const;
+  CFormula formula(const Formula& f, std::map<std::string, int> scope, int& slots);
+  CEffect effect(const Effect& e, std::map<std::string, int> scope, int& slots);
+  void collect_core(const CFormula& f, std::vector<CAtom>& core, std::vector<int> quantified = {}) const;
+  static void collect_predicates(const CFormula& f, std::vector<int>& out);
+  static bool has_when(const CEffect& e) {
+    if (e.kind == Effect::Kind::when) return true;
+    return std::any_of(e.children.begin(), e.children.end(), [](const CEffect& c) { return has_when(c); });
+  }
+  void check_deadline() const {
+    if ((++ticks_ & 1023) == 0 && std::chrono::steady_clock::now() >= deadline_) throw TimeLimit("time limit (grounding)");
+  }
+  void mark_fluents(const Effect& e);
+
+  // -- relaxed exploration
+  bool relaxed(const CFormula& f, std::vector<int>& binding) const;
+  bool witness_values(const CFormula& f, std::size_t k, const std::vector<int>& binding, std::vector<int>& out) const;
+  const CAtom* covering_witness(const CFormula& f) const;
+  template <class Visit>
+  void each_witness(const CFormula& f, const CAtom& witness, std::vector<int>& binding, Visit&& visit) const;
+  void relaxed_effects(const CEffect& e, std::vector<int>& binding, std::vector<int>& out) const;
+  // Tuples [first, second) of each core atom's predicate are joined.
+  using Ranges = std::vector<std::pair<std::size_t, std::size_t>>;
+  void enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
+                 const Ranges& ranges, const std::function<void()>& visit);
+  bool core_complete(const CFormula& f, std::vector<int> quantified = {}) const;
+  void explore();
+
+  // -- ground output
+  struct Lit {
+    int atom;
+    bool positive;
+  };
+  using Dnf = std::vector<std::vector<Lit>>;  // disjunction of conjunctions; {} = false; {{}} = true
+  Dnf dnf(const CFormula& f, std::vector<int>& binding, bool negated) const;
+  static Dnf conjoin(const Dnf& a, const Dnf& b);
+  static bool is_true(const Dnf& d) {
+    return std::any_of(d.begin(), d.end(), [](const std::vector<Lit>& c) { return c.empty(); });
+  }
+  void ground_effect(const CEffect& e, std::vector<int>& binding, const Dnf& condition, Operator& op,
+                     std::vector<std::pair<Dnf, std::pair<std::vector<Lit>, bool>>>& conditional, double& cost);
+  FactId fact(int atom);
+  Condition condition(const std::vector<Lit>& conjunction);
+  std::vector<int> stratify();
+  [[noreturn]] void too_many(const SourceLocation& where, const std::string& what) const {
+    throw TooLarge(where.str() + ": " + what + " has more than 10000 disjuncts in disjunctive normal form");
+  }
+
+  const pddl::Domain& domain_;
+  const bool keep_;
+  const pddl::Problem* problem_ = nullptr;  // of the current run()
+  bool compiled_ = false;
+  std::size_t constant_count_ = 0;
+  std::vector<std::string> object_names_;
+  std::unordered_map<std::string, int> object_ids_;
+  std::vector<std::vector<std::string>> object_types_;
+  std::map<std::vector<std::string>, std::vector<int>> type_objects_;
+  std::vector<std::string> predicate_names_;
+  std::map<std::string, int> predicate_ids_;
+  std::vector<bool> fluent_;   // per predicate: changed by an action or derived
+  std::vector<bool> derived_;  // per predicate
+  std::map<std::string, int> function_ids_;
+  std::map<std::vector<int>, double> function_values_;  // (function, args...) -> value
+
+  // (predicate, args...) -> atom id.
+  struct KeyHash {
+    std::size_t operator()(const std::vector<int>& key) const noexcept {
+      std::size_t h = key.size();
+      for (int v : key) h ^= static_cast<std::size_t>(v) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+      return h;
+    }
+  };
+  std::unordered_map<std::vector<int>, int, KeyHash> atom_ids_;
+  /// The id of atom `a` under `binding` if already interned, or -1, without building
+  /// an argument vector (the relaxed tests and DNF ask this millions of times).
+  int find_ground(const CAtom& a, const std::vector<int>& binding) const {
+    key_scratch_.resize(a.args.size() + 1);
+    key_scratch_[0] = a.predicate;
+    for (std::size_t i = 0; i < a.args.size(); ++i) {
+      key_scratch_[i + 1] = a.args[i].variable ? binding[a.args[i].value] : a.args[i].value;
+    }
+    const auto it = atom_ids_.find(key_scratch_);
+    return it == atom_ids_.end() ? -1 : it->second;
+  }
+  mutable std::vector<int> key_scratch_;  // find_ground's key, reused
+  std::vector<std::pair<int, std::vector<int>>> atoms_;  // predicate, args
+  std::vector<bool> reached_;
+  std::vector<bool> initially_;  // atoms true in the initial state (static or not)
+  std::vector<std::vector<std::vector<int>>> reached_by_predicate_;
+
+  std::vector<Schema> schemas_;
+  std::vector<bool> by_type_;  // per schema: a parameter or quantifier ranges over a type
+  std::vector<bool> effect_by_type_;  // per schema: an effect ranges over a type (forall)
+  // Per schema: the parameter bindings found, and in a session what each grounded to
+  // (null outside a session: a one-shot grounding of millions of instances keeps none).
+  std::vector<std::map<std::vector<int>, std::unique_ptr<Cached>>> instances_;
+  // explore(): per schema, the reached atoms of its predicates and the objects at its last pass
+  std::vector<std::size_t> seen_, seen_objects_;
+  std::vector<std::vector<std::size_t>> joined_;  // per schema and core atom: tuples joined at its last pass
+  std::vector<bool> core_complete_;  // per schema: its relaxed precondition holds iff its core atoms are reached
+  std::vector<int> init_atoms_;  // of the last run()
+  std::vector<int> strata_;  // per predicate
+  mutable Cached* rec_ = nullptr;
+  std::uint64_t generation_ = 0;  // changes when every cached instance is stale
+  std::optional<bool> unit_cost_;
+  std::map<int, FactId> fact_ids_;
+  Task task_;  // the facts (names, derived) of every run so far
+  std::chrono::steady_clock::time_point deadline_;
+  mutable std::uint64_t ticks_ = 0;
+};
+
+// Binds f's variables from each reached tuple of `witness` that agrees with the
+// variables bound outside f and with f's domains, and calls visit() until it returns
+// true. The variables are left bound to the last tuple tried.
+template <class Visit>
+void Grounder::each_witness(const CFormula& f, const CAtom& witness, std::vector<int>& b, Visit&& visit) const {
+  auto quantified = [&](int slot) { return std::find(f.slots.begin(), f.slots.end(), slot) - f.slots.begin(); };
+  note_witness(witness.predicate);
+  for (const std::vector<int>& tuple : reached_by_predicate_[witness.predicate]) {
+    for (int slot : f.slots) b[slot] = -1;
+    bool fits = true;
+    for (std::size_t i = 0; i < witness.args.size() && fits; ++i) {
+      const CTerm& t = witness.args[i];
+      if (!t.variable) {
+        fits = t.value == tuple[i];
+        continue;
+      }
+      const auto k = quantified(t.value);
+      if (k == static_cast<long>(f.slots.size())) {
+        fits = b[t.value] == tuple[i];  // bound outside
+      } else if (b[t.value] >= 0) {
+        fits = b[t.value] == tuple[i];  // the variable appears twice
+      } else {
+        const std::vector<int>& domain = *f.domains[static_cast<std::size_t>(k)];
+        fits = std::binary_search(domain.begin(), domain.end(), tuple[i]);
+        b[t.value] = tuple[i];
+      }
+    }
+    if (fits && visit()) return;
+  }
+}
+
+}  // namespace cluttertamp::search::detail
