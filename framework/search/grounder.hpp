@@ -108,7 +108,9 @@ struct Cached {
 // pose looks at thousands, and checking them would cost what grounding it again does.
 constexpr std::size_t kMaxDependencies = 256;
 
-class Grounder {
+// Hidden: the library exports its symbols by default, and the grounder is none of its
+// interface (nor may another library interpose its functions).
+class __attribute__((visibility("hidden"))) Grounder {
  public:
   /// `keep`: record what each instance rests on, for later problems (a session).
   Grounder(const pddl::Domain& domain, bool keep) : domain_(domain), keep_(keep) {}
@@ -172,8 +174,6 @@ class Grounder {
   void relaxed_effects(const CEffect& e, std::vector<int>& binding, std::vector<int>& out) const;
   // Tuples [first, second) of each core atom's predicate are joined.
   using Ranges = std::vector<std::pair<std::size_t, std::size_t>>;
-  void enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
-                 const Ranges& ranges, const std::function<void()>& visit);
   bool core_complete(const CFormula& f, std::vector<int> quantified = {}) const;
   void explore();
 
@@ -289,6 +289,25 @@ void Grounder::each_witness(const CFormula& f, const CAtom& witness, std::vector
     }
     if (fits && visit()) return;
   }
+}
+
+// Inline: the relaxed exploration and the output call these millions of times.
+inline int Grounder::atom_id(int predicate, const std::vector<int>& args) {
+  std::vector<int> key{predicate};
+  key.insert(key.end(), args.begin(), args.end());
+  auto [it, inserted] = atom_ids_.emplace(std::move(key), static_cast<int>(atoms_.size()));
+  if (inserted) {
+    atoms_.emplace_back(predicate, args);
+    reached_.push_back(false);
+    initially_.push_back(false);
+  }
+  return it->second;
+}
+
+inline std::vector<int> Grounder::ground_args(const CAtom& a, const std::vector<int>& binding) const {
+  std::vector<int> args(a.args.size());
+  for (std::size_t i = 0; i < a.args.size(); ++i) args[i] = a.args[i].variable ? binding[a.args[i].value] : a.args[i].value;
+  return args;
 }
 
 }  // namespace cluttertamp::search::detail

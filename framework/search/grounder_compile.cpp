@@ -20,24 +20,6 @@ const std::vector<int>* Grounder::objects_of(const std::vector<std::string>& typ
   return &objects;
 }
 
-int Grounder::atom_id(int predicate, const std::vector<int>& args) {
-  std::vector<int> key{predicate};
-  key.insert(key.end(), args.begin(), args.end());
-  auto [it, inserted] = atom_ids_.emplace(std::move(key), static_cast<int>(atoms_.size()));
-  if (inserted) {
-    atoms_.emplace_back(predicate, args);
-    reached_.push_back(false);
-    initially_.push_back(false);
-  }
-  return it->second;
-}
-
-std::vector<int> Grounder::ground_args(const CAtom& a, const std::vector<int>& binding) const {
-  std::vector<int> args(a.args.size());
-  for (std::size_t i = 0; i < a.args.size(); ++i) args[i] = a.args[i].variable ? binding[a.args[i].value] : a.args[i].value;
-  return args;
-}
-
 CTerm Grounder::term(const pddl::Term& t, const std::map<std::string, int>& scope) const {
   if (t.variable) return {true, scope.at(t.name)};
   return {false, object_index(t.name)};

@@ -1,8 +1,76 @@
 #include "search/grounder.hpp"
 
+#include <array>
 #include <set>
 
 namespace cluttertamp::search::detail {
+
+namespace {
+
+using Ranges = std::vector<std::pair<std::size_t, std::size_t>>;
+constexpr std::size_t kMaxInlineArgs = 16;
+
+// Binds the schema's parameters by joining its positive precondition atoms with the
+// facts reached so far, then the rest from their types.
+void enumerate(const Schema& s, const std::vector<std::vector<std::vector<int>>>& reached_by_predicate, std::size_t k,
+               std::vector<int>& binding, std::vector<bool>& bound, const Ranges& ranges,
+               const std::function<void()>& visit) {
+  if (k < s.core.size()) {
+    const CAtom& a = s.core[k];
+    const auto& tuples = reached_by_predicate[a.predicate];
+    for (std::size_t t = ranges[k].first; t < ranges[k].second; ++t) {
+      const std::vector<int>& tuple = tuples[t];
+      // The slots this tuple binds, at most one per argument: on the stack, as this runs
+      // for every reached tuple of every core atom.
+      std::array<int, kMaxInlineArgs> newly_inline;
+      std::vector<int> newly_heap;
+      if (a.args.size() > kMaxInlineArgs) newly_heap.reserve(a.args.size());
+      int* newly = a.args.size() > kMaxInlineArgs ? newly_heap.data() : newly_inline.data();
+      std::size_t newly_count = 0;
+      bool ok = true;
+      for (std::size_t i = 0; i < a.args.size() && ok; ++i) {
+        const CTerm& term = a.args[i];
+        if (!term.variable) {
+          ok = term.value == tuple[i];
+        } else if (term.value == kWildcard) {
+          continue;
+        } else if (bound[term.value]) {
+          ok = binding[term.value] == tuple[i];
+        } else {
+          // The parameter's type must admit the object.
+          const auto param = std::find(s.parameters.begin(), s.parameters.end(), term.value);
+          if (param != s.parameters.end()) {
+            const auto* domain = s.parameter_domains[param - s.parameters.begin()];
+            ok = std::binary_search(domain->begin(), domain->end(), tuple[i]);
+          }
+          if (ok) {
+            binding[term.value] = tuple[i];
+            bound[term.value] = true;
+            newly[newly_count++] = term.value;
+          }
+        }
+      }
+      if (ok) enumerate(s, reached_by_predicate, k + 1, binding, bound, ranges, visit);
+      for (std::size_t n = 0; n < newly_count; ++n) bound[newly[n]] = false;
+    }
+    return;
+  }
+  // Parameters no atom bound: every object of their type.
+  for (std::size_t p = 0; p < s.parameters.size(); ++p) {
+    const int slot = s.parameters[p];
+    if (bound[slot]) continue;
+    bound[slot] = true;
+    for (int o : *s.parameter_domains[p]) {
+      binding[slot] = o;
+      enumerate(s, reached_by_predicate, k, binding, bound, ranges, visit);
+    }
+    bound[slot] = false;
+    return;
+  }
+  visit();
+}
+
+}  // namespace
 
 // Delete relaxation, optimistic about everything it cannot decide: negated fluents hold.
 bool Grounder::relaxed(const CFormula& f, std::vector<int>& b) const {
@@ -151,58 +219,6 @@ void Grounder::relaxed_effects(const CEffect& e, std::vector<int>& b, std::vecto
   }
 }
 
-// Binds the schema's parameters by joining its positive precondition atoms with the
-// facts reached so far, then the rest from their types.
-void Grounder::enumerate(const Schema& s, std::size_t k, std::vector<int>& binding, std::vector<bool>& bound,
-                         const Ranges& ranges, const std::function<void()>& visit) {
-  if (k < s.core.size()) {
-    const CAtom& a = s.core[k];
-    const auto& tuples = reached_by_predicate_[a.predicate];
-    for (std::size_t t = ranges[k].first; t < ranges[k].second; ++t) {
-      const std::vector<int>& tuple = tuples[t];
-      std::vector<int> newly;
-      bool ok = true;
-      for (std::size_t i = 0; i < a.args.size() && ok; ++i) {
-        const CTerm& term = a.args[i];
-        if (!term.variable) {
-          ok = term.value == tuple[i];
-        } else if (term.value == kWildcard) {
-          continue;
-        } else if (bound[term.value]) {
-          ok = binding[term.value] == tuple[i];
-        } else {
-          // The parameter's type must admit the object.
-          const auto param = std::find(s.parameters.begin(), s.parameters.end(), term.value);
-          if (param != s.parameters.end()) {
-            const auto* domain = s.parameter_domains[param - s.parameters.begin()];
-            ok = std::binary_search(domain->begin(), domain->end(), tuple[i]);
-          }
-          if (ok) {
-            binding[term.value] = tuple[i];
-            bound[term.value] = true;
-            newly.push_back(term.value);
-          }
-        }
-      }
-      if (ok) enumerate(s, k + 1, binding, bound, ranges, visit);
-      for (int slot : newly) bound[slot] = false;
-    }
-    return;
-  }
-  // Parameters no atom bound: every object of their type.
-  for (std::size_t p = 0; p < s.parameters.size(); ++p) {
-    const int slot = s.parameters[p];
-    if (bound[slot]) continue;
-    bound[slot] = true;
-    for (int o : *s.parameter_domains[p]) {
-      binding[slot] = o;
-      enumerate(s, k, binding, bound, ranges, visit);
-    }
-    bound[slot] = false;
-    return;
-  }
-  visit();
-}
 
 // Whether the relaxed test of `f` (relaxed()) holds exactly when the atoms
 // collect_core() takes from it are reached, negated atoms aside (fluent ones hold in the
@@ -344,12 +360,12 @@ void Grounder::explore() {
       const bool full = last.size() != n || !core_complete_[i] || objects_changed || s.conditional;
       if (full || n == 0) {
         for (std::size_t k = 0; k < n; ++k) ranges[k] = {0, now[k]};
-        enumerate(s, 0, binding, bound, ranges, visit);
+        enumerate(s, reached_by_predicate_, 0, binding, bound, ranges, visit);
       } else {
         for (std::size_t delta = 0; delta < n; ++delta) {
           if (last[delta] == now[delta]) continue;
           for (std::size_t k = 0; k < n; ++k) ranges[k] = {k == delta ? last[k] : 0, k < delta ? last[k] : now[k]};
-          enumerate(s, 0, binding, bound, ranges, visit);
+          enumerate(s, reached_by_predicate_, 0, binding, bound, ranges, visit);
         }
       }
       last = std::move(now);
