@@ -762,3 +762,83 @@ TEST(PddlGrounding, AProblemThatDoesNotExtendTheLastIsGroundedAfresh) {
 
 }  // namespace
 }  // namespace cluttertamp::pddl
+
+namespace cluttertamp::pddl {
+namespace {
+
+// Forms that IPC files use and Fast Downward's translator reads, in a domain of our own:
+// a predicate declared with one placeholder name twice, a type declared twice, and a
+// variable written against its predicate's name without a space.
+const char* kFerryDomain = R"((define (domain ferry-forms)
+  (:requirements :strips :typing)
+  (:types spot thing - object car - thing pier - spot spot - place)
+  (:predicates (at ?x ?x) (aboard ?c - car) (empty) (car ?c) (pier ?p))
+  (:action board
+    :parameters (?c - car ?p - pier)
+    :precondition (and (car?c) (pier?p) (at ?c ?p) (at ferry ?p) (empty))
+    :effect (and (aboard ?c) (not (at ?c ?p)) (not (empty))))
+  (:action sail
+    :parameters (?from ?to - pier)
+    :precondition (and (at ferry ?from) (pier ?to))
+    :effect (and (at ferry ?to) (not (at ferry ?from))))
+  (:action unload
+    :parameters (?c - car ?p - pier)
+    :precondition (and (aboard ?c) (at ferry ?p))
+    :effect (and (at ?c ?p) (empty) (not (aboard ?c))))
+  (:constants ferry - thing))
+)";
+
+const char* kFerryProblem = R"((define (problem two-piers) (:domain ferry-forms)
+  (:objects a b - pier c1 - car)
+  (:init (pier a) (pier b) (car c1) (at c1 a) (at ferry b) (empty))
+  (:goal (at c1 b)))
+)";
+
+TEST(PddlParser, IpcFileFormsAreReadAsFastDownwardReadsThem) {
+  const Domain domain = parse_domain(kFerryDomain, "ferry.pddl");
+  // (at ?x ?x): the names of a declaration are placeholders; two arguments.
+  EXPECT_EQ(domain.predicates.at("at").parameters.size(), 2u);
+  // "(car?c)" is the predicate car applied to ?c.
+  const Action* board = domain.find_action("board");
+  ASSERT_NE(board, nullptr);
+  // spot declared twice: a located warning, the later parent holds (place, itself declared by the use).
+  ASSERT_EQ(domain.warnings.size(), 1u);
+  EXPECT_EQ(domain.warnings[0].location.line, 3u);
+  EXPECT_EQ(domain.warnings[0].location.column, 55u);
+  EXPECT_NE(domain.warnings[0].message.find("type 'spot' is declared again (first at line 3); this declaration's parent "
+                                            "'place' replaces 'object'"),
+            std::string::npos)
+      << domain.warnings[0].message;
+  EXPECT_EQ(domain.types.at("spot"), std::vector<std::string>{"place"});
+
+  const Problem problem = parse_problem(kFerryProblem, "ferry-p.pddl", domain);
+  const search::Task task = search::ground(domain, problem);
+  search::SearchOptions options;
+  options.algorithm = "astar-blind";
+  const search::SearchResult r = search::plan(task, options);
+  ASSERT_TRUE(r.solved) << r.reason;
+  std::string text;
+  for (search::OperatorId op : r.plan) text += task.operators[op].name + "\n";
+  const std::vector<PlanStep> plan = parse_plan(text, "plan", domain, problem);
+  EXPECT_EQ(plan.size(), 4u);  // sail to a, board, sail to b, unload
+  EXPECT_TRUE(validate_plan(domain, problem, plan).valid) << text;
+
+  // An action's parameters still may not repeat a name.
+  std::string repeated = kFerryDomain;
+  repeated.replace(repeated.find("(?from ?to - pier)"), 18, "(?from ?from - pier)");
+  EXPECT_TRUE(test::has_error(test::expect_input_error([&] { parse_domain(repeated, "r.pddl"); }), 10, 24,
+                              "'?from' appears twice in the parameters of 'sail'"));
+}
+
+TEST(PddlParser, TimedInitialLiteralsAreNamed) {
+  const Domain domain = parse_domain(kFerryDomain, "ferry.pddl");
+  std::string timed = kFerryProblem;
+  timed.replace(timed.find("(empty))"), 8, "(empty) (at 10 (empty)))");
+  const Diagnostics d = test::expect_input_error([&] { parse_problem(timed, "til.pddl", domain); });
+  EXPECT_TRUE(test::has_error(d, 3, 68, "timed initial literal (at 10 ...): timed initial literals (PDDL 2.2, "
+                                        ":timed-initial-literals) are not supported"));
+  EXPECT_EQ(d.size(), 1u);
+}
+
+}  // namespace
+}  // namespace cluttertamp::pddl

@@ -60,8 +60,11 @@ class Reader {
   }
 
   // "a b - t c - (either t1 t2) d": names with their types ("object" when untyped).
+  // `repeats_allowed`: a name may come twice. Only the placeholders of a predicate or
+  // function declaration, where IPC domains write (in ?obj ?obj) and Fast Downward
+  // accepts it, and :types, whose caller warns; anywhere else it is an error.
   std::vector<TypedName> typed_list(const std::vector<SExpr>& items, std::size_t first, bool variables,
-                                    const std::string& what) {
+                                    const std::string& what, bool repeats_allowed = false) {
     std::vector<TypedName> out;
     std::unordered_set<std::string_view> names;  // hashed: IPC problems list 100k objects and more
     std::size_t pending = 0;  // names waiting for a type
@@ -88,11 +91,18 @@ class Reader {
                               ", not '" + item.text + "'");
         continue;
       }
-      if (!names.insert(item.text).second) error(item.where, "'" + item.text + "' appears twice in " + what);
+      if (!names.insert(item.text).second && !repeats_allowed) error(item.where, "'" + item.text + "' appears twice in " + what);
       out.push_back({item.text, {"object"}, item.where});
       ++pending;
     }
     return out;
+  }
+
+  static std::string join_types(const std::vector<std::string>& types) {
+    if (types.size() == 1) return "'" + types[0] + "'";
+    std::string out = "(either";
+    for (const std::string& t : types) out += " " + t;
+    return out + ")";
   }
 
   std::vector<std::string> type_spec(const SExpr& e) {
@@ -497,11 +507,18 @@ class DomainReader : public Reader {
   }
 
   void types(const SExpr& section) {
-    for (const TypedName& t : typed_list(section.items, 1, false, ":types")) {
+    for (const TypedName& t : typed_list(section.items, 1, false, ":types", true)) {
       if (t.name == "object") continue;
-      if (domain_.types.count(t.name)) error(t.where, "type '" + t.name + "' is declared twice");
+      if (const auto first = type_where_.find(t.name); first != type_where_.end() && domain_.types.count(t.name)) {
+        // IPC storage declares "area - object" and later "area - surface"; the last
+        // declaration holds, as in Fast Downward.
+        warning(t.where, "type '" + t.name + "' is declared again (first at line " + std::to_string(first->second.line) +
+                             "); this declaration's parent " + join_types(t.types) + " replaces " +
+                             join_types(domain_.types[t.name]));
+      } else {
+        type_where_[t.name] = t.where;
+      }
       domain_.types[t.name] = t.types;
-      type_where_[t.name] = t.where;
     }
     // A type named only as a parent is declared by that use, below object (as in IPC domains).
     std::vector<std::pair<std::string, SourceLocation>> implicit;
@@ -539,7 +556,9 @@ class DomainReader : public Reader {
         error(d.where, std::string("expected a ") + what + " declaration (name ?param - type ...)");
         continue;
       }
-      PredicateDecl decl{d.items[0].text, typed_list(d.items, 1, true, std::string("the ") + what + " '" + d.items[0].text + "'"), d.where};
+      PredicateDecl decl{d.items[0].text,
+                         typed_list(d.items, 1, true, std::string("the ") + what + " '" + d.items[0].text + "'", true),
+                         d.where};
       if (decl.name == "=") error(d.where, "'=' is built in and cannot be declared");
       if (const auto first = table.find(decl.name); first != table.end()) {
         // PDDLStream's own domains repeat a declaration; the same arity is harmless.
@@ -792,6 +811,11 @@ class ProblemReader : public Reader {
         continue;
       }
       if (fact.is_form("not")) continue;  // closed world: false anyway
+      if (fact.is_form("at") && fact.items.size() == 3 && fact.items[1].is_atom() && fact.items[2].is_list) {
+        error(fact.where, "timed initial literal (at " + fact.items[1].text +
+                              " ...): timed initial literals (PDDL 2.2, :timed-initial-literals) are not supported");
+        continue;
+      }
       auto a = atom(fact, "an initial fact");
       if (!a) continue;
       for (const Term& t : a->args) {

@@ -84,7 +84,9 @@ std::vector<SExpr> read_sexprs(const SourceText& source) {
     } else if (symbol_char(c)) {
       SExpr atom;
       atom.where = here();
-      while (i < s.size() && symbol_char(s[i])) {
+      // A '?' always begins a name, as in Fast Downward's reader: "(aircraft?a)" is the
+      // predicate aircraft applied to ?a (IPC zenotravel writes it so).
+      while (i < s.size() && symbol_char(s[i]) && !(s[i] == '?' && !atom.text.empty())) {
         atom.text += static_cast<char>(std::tolower(static_cast<unsigned char>(s[i])));
         advance();
       }
