@@ -1,7 +1,9 @@
 #include "search/heuristics.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <queue>
+#include <tuple>
 
 #include "cluttertamp/search/grounding.hpp"  // TimeLimit
 
@@ -46,8 +48,12 @@ RelaxedTask::RelaxedTask(const Task& task)
 // Generalized Dijkstra: an operator fires when its last precondition is reached; its
 // value is the max (h_max) or sum (h_add) of its preconditions' costs.
 void RelaxedTask::exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal) {
-  using Entry = std::pair<double, FactId>;
+  // Among facts of equal cost, the one reached last comes first (LIFO, as Fast
+  // Downward's bucket queue): the supporters, and so relaxed plans and preferred
+  // operators, then follow the same order.
+  using Entry = std::tuple<double, std::int64_t, FactId>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  std::int64_t pushed = 0;
   std::fill(fact_cost_.begin(), fact_cost_.end(), kInfinity);
   std::fill(supporter_.begin(), supporter_.end(), -1);
   for (std::size_t i = 0; i < ops_.size(); ++i) {
@@ -57,7 +63,7 @@ void RelaxedTask::exploration(const State& s, bool max, const std::vector<double
   for (FactId f = 0; f + 1 < static_cast<FactId>(facts_); ++f) {
     if (holds(s, f)) {
       fact_cost_[f] = 0.0;
-      queue.push({0.0, f});
+      queue.push({0.0, -(++pushed), f});
     }
   }
   auto fire = [&](int i) {
@@ -66,13 +72,14 @@ void RelaxedTask::exploration(const State& s, bool max, const std::vector<double
       if (value < fact_cost_[e]) {
         fact_cost_[e] = value;
         supporter_[e] = i;
-        queue.push({value, e});
+        queue.push({value, -(++pushed), e});
       }
     }
   };
   for (int i : no_precondition_) fire(i);
   while (!queue.empty()) {
-    const auto [cost, f] = queue.top();
+    const auto [cost, order, f] = queue.top();
+    (void)order;
     queue.pop();
     if (cost > fact_cost_[f]) continue;
     if (f == goal_ && stop_at_goal) break;
