@@ -172,8 +172,6 @@ class __attribute__((visibility("hidden"))) Grounder {
   template <class Visit>
   void each_witness(const CFormula& f, const CAtom& witness, std::vector<int>& binding, Visit&& visit) const;
   void relaxed_effects(const CEffect& e, std::vector<int>& binding, std::vector<int>& out) const;
-  // Tuples [first, second) of each core atom's predicate are joined.
-  using Ranges = std::vector<std::pair<std::size_t, std::size_t>>;
   bool core_complete(const CFormula& f, std::vector<int> quantified = {}) const;
   void explore();
 

@@ -7,6 +7,7 @@ namespace cluttertamp::search::detail {
 
 namespace {
 
+// Tuples [first, second) of each core atom's predicate are joined.
 using Ranges = std::vector<std::pair<std::size_t, std::size_t>>;
 constexpr std::size_t kMaxInlineArgs = 16;
 
@@ -24,7 +25,7 @@ void enumerate(const Schema& s, const std::vector<std::vector<std::vector<int>>>
       // for every reached tuple of every core atom.
       std::array<int, kMaxInlineArgs> newly_inline;
       std::vector<int> newly_heap;
-      if (a.args.size() > kMaxInlineArgs) newly_heap.reserve(a.args.size());
+      if (a.args.size() > kMaxInlineArgs) newly_heap.resize(a.args.size());
       int* newly = a.args.size() > kMaxInlineArgs ? newly_heap.data() : newly_inline.data();
       std::size_t newly_count = 0;
       bool ok = true;
