@@ -537,8 +537,10 @@ TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
   EXPECT_NE(crowded.output.find("cannot place 100 cylinders"), std::string::npos) << crowded.output;
   EXPECT_EQ(run("bench retrieval --sizes 12 --time-limit -1").exit_code, 2);
   EXPECT_EQ(run("bench retrieval --table VII").exit_code, 2);
-  // An unwritable --json file is bad input that names it (every bench writes it one way).
-  const CliRun unwritable = run("bench collision --samples 500 --json " + (dir_ / "no-such-dir" / "c.json").string());
+  // An unwritable --json file is bad input that names it (every bench writes it one way):
+  // here its directory would have to be made inside a file. (A missing directory is made.)
+  std::ofstream(dir_ / "a-file") << "x";
+  const CliRun unwritable = run("bench collision --samples 500 --json " + (dir_ / "a-file" / "c.json").string());
   EXPECT_EQ(unwritable.exit_code, 2) << unwritable.output;
   EXPECT_NE(unwritable.output.find("c.json: error: cannot write the JSON file"), std::string::npos) << unwritable.output;
   EXPECT_EQ(run("bench retrieval --table VI --table6-scenes " + (dir_ / "none").string()).exit_code, 2);
@@ -1031,6 +1033,24 @@ TEST(CliPddl, PrintsAnIpcPlanThatValidatePlanAccepts) {
   EXPECT_EQ(invalid.exit_code, 1) << invalid.output;
   EXPECT_NE(invalid.output.find("plan invalid: step 2 (drop ball1 roomb left): precondition not satisfied"), std::string::npos);
   std::filesystem::remove(plan_file);
+}
+
+TEST(CliPddl, AnytimePrintsEachBetterPlanAndLeavesTheBestInThePlanFile) {
+  const auto plan_file = std::filesystem::temp_directory_path() / "cluttertamp_cli_anytime.plan";
+  const CliRun r = run("pddl " + pddl_file("gripper/domain-untyped.pddl") + " " + pddl_file("gripper/p6.pddl") +
+                       " --search lama-first --anytime --max-expansions 1000000 --plan " + plan_file.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("plan 1: cost "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("; cost = 17 (unit cost)"), std::string::npos) << r.output;  // the optimum
+  EXPECT_NE(r.output.find("stopped: no cheaper plan exists"), std::string::npos) << r.output;
+  const CliRun valid = run("validate-plan " + pddl_file("gripper/domain-untyped.pddl") + " " +
+                           pddl_file("gripper/p6.pddl") + " " + plan_file.string());
+  EXPECT_NE(valid.output.find("plan valid: 17 steps, cost 17"), std::string::npos) << valid.output;
+  std::filesystem::remove(plan_file);
+  const CliRun full = run("pddl " + pddl_file("gripper/domain-untyped.pddl") + " " + pddl_file("gripper/p4.pddl") +
+                          " --plan /dev/full");
+  EXPECT_EQ(full.exit_code, 2) << full.output;
+  EXPECT_NE(full.output.find("/dev/full"), std::string::npos) << full.output;
 }
 
 TEST(CliPddl, ExitCodesForBadInputAndNoPlan) {

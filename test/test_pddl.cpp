@@ -178,7 +178,7 @@ TEST(PddlSearch, OptimalSearchesMatchTheKnownOptimaAndEveryPlanValidates) {
   for (const Instance& instance : instances) {
     const Loaded l = load(instance.domain, instance.problem);
     const search::Task task = search::ground(l.domain, l.problem);
-    for (const char* algorithm : {"astar-lmcut", "astar-hmax", "astar-blind", "lazy-gbfs-ff", "eager-gbfs-ff",
+    for (const char* algorithm : {"astar-lmcut", "astar-hmax", "astar-blind", "lama-first", "lazy-gbfs-ff", "eager-gbfs-ff",
                                   "gbfs-add", "wastar-ff"}) {
       search::SearchOptions options;
       options.algorithm = algorithm;

@@ -1,17 +1,24 @@
 // `cluttertamp bench pddl`: time, expansions and plan cost per instance and search, so
 // runs can be compared with other planners.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
-#include <fstream>
+#include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
 #include "cluttertamp/bench/bench.hpp"
 #include "bench/statistics.hpp"
+#include "cluttertamp/io/text_file.hpp"
 #include "cluttertamp/pddl/parser.hpp"
+#include "cluttertamp/pddl/validator.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/search/grounding.hpp"
 #include "cluttertamp/search/planner.hpp"
@@ -23,38 +30,250 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Pair {
-  fs::path domain, problem;
+  std::string domain_folder;  ///< the folder's name: the per-domain tables' key
+  fs::path domain, problem;   ///< domain empty: none found for this problem
 };
 
-// Every <dir>/<family>/p*.pddl with that family's domain*.pddl (typed-p* with domain-typed).
-std::vector<Pair> instances(const fs::path& root) {
-  std::vector<Pair> out;
-  std::vector<fs::path> families;
-  for (const auto& e : fs::directory_iterator(root)) {
-    if (e.is_directory()) families.push_back(e.path());
+// "p2" before "p10": runs of digits compare as numbers.
+bool natural_less(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (std::isdigit(static_cast<unsigned char>(a[i])) && std::isdigit(static_cast<unsigned char>(b[j]))) {
+      std::size_t ei = i, ej = j;
+      while (ei < a.size() && std::isdigit(static_cast<unsigned char>(a[ei]))) ++ei;
+      while (ej < b.size() && std::isdigit(static_cast<unsigned char>(b[ej]))) ++ej;
+      const std::string x = a.substr(i, ei - i), y = b.substr(j, ej - j);
+      const std::size_t zx = x.find_first_not_of('0'), zy = y.find_first_not_of('0');
+      const std::string nx = zx == std::string::npos ? "" : x.substr(zx), ny = zy == std::string::npos ? "" : y.substr(zy);
+      if (nx.size() != ny.size()) return nx.size() < ny.size();
+      if (nx != ny) return nx < ny;
+      i = ei;
+      j = ej;
+      continue;
+    }
+    if (a[i] != b[j]) return a[i] < b[j];
+    ++i;
+    ++j;
   }
-  std::sort(families.begin(), families.end());
-  for (const fs::path& family : families) {
-    std::vector<fs::path> problems;
-    for (const auto& e : fs::directory_iterator(family)) {
-      const std::string name = e.path().filename().string();
-      if (e.is_regular_file() && name.ends_with(".pddl") && name.rfind("domain", 0) != 0) problems.push_back(e.path());
+  return a.size() - i < b.size() - j;
+}
+
+bool names_a_domain(const std::string& file_name) {
+  std::string lower = file_name;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  return lower.find("domain") != std::string::npos;
+}
+
+// The domain file of a problem, as the IPC collections lay them out (and Fast
+// Downward's driver looks for them): one per problem first, then the folder's.
+fs::path domain_for(const fs::path& folder, const std::string& problem) {
+  const std::string stem = fs::path(problem).stem().string();
+  std::vector<std::string> candidates{"domain_" + problem, stem + "-domain.pddl", "domain-" + problem};
+  if (const auto dash = problem.find('-'); dash != std::string::npos) candidates.push_back(problem.substr(0, dash) + "-domain.pddl");
+  if (problem.size() > 1 && problem[0] == 'p') candidates.push_back("d" + problem.substr(1));
+  if (problem.rfind("typed-", 0) == 0) candidates.push_back("domain-typed.pddl");
+  candidates.push_back("domain.pddl");
+  candidates.push_back("domain-untyped.pddl");
+  for (const std::string& c : candidates) {
+    if (fs::is_regular_file(folder / c)) return folder / c;
+  }
+  return {};
+}
+
+// The problems of one domain folder, in natural order, the first `first` of them (0: all).
+std::vector<Pair> problems_of(const fs::path& folder, int first) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(folder)) {
+    const std::string name = e.path().filename().string();
+    if (e.is_regular_file() && name.ends_with(".pddl") && !names_a_domain(name)) names.push_back(name);
+  }
+  std::sort(names.begin(), names.end(), natural_less);
+  if (first > 0 && names.size() > static_cast<std::size_t>(first)) names.resize(static_cast<std::size_t>(first));
+  std::vector<Pair> out;
+  for (const std::string& name : names) out.push_back({folder.filename().string(), domain_for(folder, name), folder / name});
+  return out;
+}
+
+// A folder of folders of problems (the IPC layout), or else one folder of problems.
+std::vector<Pair> instances(const fs::path& root, int first) {
+  std::vector<Pair> out;
+  std::vector<fs::path> folders;
+  for (const auto& e : fs::directory_iterator(root)) {
+    if (e.is_directory()) folders.push_back(e.path());
+  }
+  std::sort(folders.begin(), folders.end(),
+            [](const fs::path& a, const fs::path& b) { return natural_less(a.filename().string(), b.filename().string()); });
+  for (const fs::path& folder : folders) {
+    for (Pair& p : problems_of(folder, first)) out.push_back(std::move(p));
+  }
+  return out.empty() ? problems_of(root, first) : out;
+}
+
+// "folder/problem-stem cost" per line; '#' begins a comment.
+std::map<std::string, double> reference_costs(const fs::path& file) {
+  std::map<std::string, double> out;
+  if (file.empty()) return out;
+  std::istringstream in(io::read_text_file(file, "reference costs file"));
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    std::istringstream fields(line);
+    std::string name, cost_text, extra;
+    if (!(fields >> name)) continue;
+    fields >> cost_text;
+    char* end = nullptr;
+    const double cost = std::strtod(cost_text.c_str(), &end);
+    if (cost_text.empty() || *end != '\0' || !std::isfinite(cost) || cost < 0 || (fields >> extra)) {
+      throw InputError({file.string(), number, 1},
+                       "expected 'folder/problem cost' (a cost of 0 or more), got '" + line + "'");
     }
-    std::sort(problems.begin(), problems.end(), [](const fs::path& a, const fs::path& b) {
-      // p4 before p10: by length, then by name.
-      const std::string x = a.filename().string(), y = b.filename().string();
-      return x.size() != y.size() ? x.size() < y.size() : x < y;
-    });
-    for (const fs::path& p : problems) {
-      const std::string name = p.filename().string();
-      fs::path domain = family / "domain.pddl";
-      if (!fs::exists(domain)) domain = family / (name.rfind("typed-", 0) == 0 ? "domain-typed.pddl" : "domain-untyped.pddl");
-      if (fs::exists(domain)) out.push_back({domain, p});
-    }
+    if (!out.emplace(name, cost).second) throw InputError({file.string(), number, 1}, "'" + name + "' is given twice");
   }
   return out;
 }
 
+struct Run {
+  std::string instance, domain_folder, search;
+  fs::path domain, problem;
+  bool solved = false;
+  bool valid = false;  // the plan passed the validator
+  std::string reason;
+  double cost = 0;
+  std::size_t length = 0;
+  std::uint64_t expanded = 0, evaluated = 0;
+  double ground_s = 0, search_s = 0, total_s = 0;  // medians over runs
+  int runs = 0;
+  double score = 0;  // IPC quality score: best known cost / ours
+};
+
+// One search on one instance, `runs` times (a time-out is not run again).
+Run measure(const Pair& pair, const pddl::Domain& domain, const pddl::Problem& problem, const std::string& algorithm,
+            const BenchArgs& args, double parse_s) {
+  Run row;
+  std::vector<double> ground_s, search_s, total_s;
+  search::SearchResult last;
+  search::Task task;
+  for (int run = 0; run < args.runs; ++run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto since = [&] { return parse_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    search::GroundingStats stats;
+    const auto stopped = [&](std::string reason) {  // grounding's failure is this instance's result
+      last = {};
+      last.reason = std::move(reason);
+      ground_s.push_back(since());
+      search_s.push_back(0.0);
+      total_s.push_back(ground_s.back());
+    };
+    try {
+      task = search::ground(domain, problem, &stats, std::max(0.0, args.time_limit - parse_s));  // the limit holds grounding too
+    } catch (const search::TimeLimit&) {
+      stopped("time limit (grounding)");
+      break;
+    } catch (const search::TooLarge& e) {
+      stopped(std::string("grounding: ") + e.what());
+      break;
+    }
+    search::SearchOptions options;
+    options.algorithm = algorithm;
+    options.time_limit = std::max(0.0, args.time_limit - since());
+    last = search::plan(task, options);
+    ground_s.push_back(stats.seconds);
+    search_s.push_back(last.statistics.seconds);
+    total_s.push_back(since());
+    if (!last.solved) break;  // a time-out does not get faster
+  }
+  row.solved = last.solved;
+  row.reason = last.solved ? "" : last.reason;
+  row.cost = last.cost;
+  row.length = last.plan.size();
+  row.expanded = last.statistics.expanded;
+  row.evaluated = last.statistics.evaluated;
+  row.ground_s = median(ground_s);
+  row.search_s = median(search_s);
+  row.total_s = median(total_s);
+  row.runs = static_cast<int>(total_s.size());
+  if (last.solved) {  // checked again, by the validator, on the PDDL itself
+    std::string text;
+    for (search::OperatorId op : last.plan) text += task.operators[op].name + "\n";
+    const pddl::PlanValidation v =
+        pddl::validate_plan(domain, problem, pddl::parse_plan(text, pair.problem.string() + " (plan)", domain, problem));
+    row.valid = v.valid;
+    if (!v.valid) row.reason = "INVALID PLAN: " + v.reason;
+  }
+  return row;
+}
+
+// IPC quality scores: the best known cost (the reference's, or the cheapest of the
+// searches run here) over each valid plan's; 0 unsolved.
+void score(std::vector<Run>& rows, const std::map<std::string, double>& reference) {
+  std::map<std::string, double> best = reference;
+  for (const Run& r : rows) {
+    if (!r.valid) continue;
+    auto [it, inserted] = best.emplace(r.instance, r.cost);
+    if (!inserted) it->second = std::min(it->second, r.cost);
+  }
+  for (Run& r : rows) {
+    if (!r.valid) continue;
+    const double b = best.at(r.instance);
+    r.score = r.cost <= 0 ? 1.0 : std::min(1.0, b / r.cost);
+  }
+}
+
+void print_summary(const std::vector<Run>& rows, const std::vector<std::string>& searches, nlohmann::ordered_json& json) {
+  std::vector<std::string> folders;
+  for (const Run& r : rows) {
+    if (std::find(folders.begin(), folders.end(), r.domain_folder) == folders.end()) folders.push_back(r.domain_folder);
+  }
+  std::cout << "\nper domain: solved (plans valid), IPC quality score, medians over the solved\n"
+            << std::left << std::setw(34) << "domain" << std::setw(14) << "search" << std::right << std::setw(10) << "solved"
+            << std::setw(9) << "score" << std::setw(10) << "length" << std::setw(12) << "total s" << "\n";
+  for (const std::string& search : searches) {
+    int all_total = 0, all_solved = 0;
+    double all_score = 0;
+    for (const std::string& folder : folders) {
+      int total = 0, solved = 0;
+      double sum = 0;
+      std::vector<double> lengths, seconds;
+      for (const Run& r : rows) {
+        if (r.domain_folder != folder || r.search != search) continue;
+        ++total;
+        sum += r.score;
+        if (!r.valid) continue;
+        ++solved;
+        lengths.push_back(static_cast<double>(r.length));
+        seconds.push_back(r.total_s);
+      }
+      all_total += total;
+      all_solved += solved;
+      all_score += sum;
+      std::cout << std::left << std::setw(34) << folder << std::setw(14) << search << std::right << std::setw(10)
+                << (std::to_string(solved) + "/" + std::to_string(total)) << std::setw(9) << fixed(sum, 2) << std::setw(10)
+                << (solved ? fixed(median(lengths), 1) : "-") << std::setw(12) << (solved ? fixed(median(seconds), 3) : "-")
+                << "\n";
+      json.push_back({{"domain_folder", folder},
+                      {"search", search},
+                      {"instances", total},
+                      {"solved", solved},
+                      {"score", sum},
+                      {"plan_length_median", median(lengths)},
+                      {"total_seconds_median", median(seconds)}});
+    }
+    std::cout << std::left << std::setw(34) << "all" << std::setw(14) << search << std::right << std::setw(10)
+              << (std::to_string(all_solved) + "/" + std::to_string(all_total)) << std::setw(9) << fixed(all_score, 2) << "\n";
+  }
+}
+
+void write_csv(const fs::path& file, const std::vector<Run>& rows) {
+  std::string text = "domain_folder,instance,search,solved,valid,reason,cost,plan_length,expanded,evaluated,grounding_s,search_s,total_s,runs,score\n";
+  for (const Run& r : rows) {
+    text += csv_field(r.domain_folder) + "," + csv_field(r.instance) + "," + csv_field(r.search) + "," +
+            (r.solved ? "1" : "0") + "," + (r.valid ? "1" : "0") + "," + csv_field(r.reason) + "," + std::to_string(r.cost) +
+            "," + std::to_string(r.length) + "," + std::to_string(r.expanded) + "," + std::to_string(r.evaluated) + "," +
+            fixed(r.ground_s, 4) + "," + fixed(r.search_s, 4) + "," + fixed(r.total_s, 4) + "," + std::to_string(r.runs) +
+            "," + fixed(r.score, 4) + "\n";
+  }
+  io::write_text_file(file, text, "CSV file");
+}
 
 }  // namespace
 
@@ -87,83 +306,106 @@ double parse_seconds(int objects, int runs) {
 }
 
 int pddl(const BenchArgs& args) {
-  const std::vector<Pair> pairs = instances(args.pddl_instances);
-  if (pairs.empty()) throw InputError({args.pddl_instances.string(), 0, 0}, "no PDDL instances found here");
-  const std::vector<std::string> searches = args.searches.empty() ? std::vector<std::string>{"lazy-gbfs-ff", "astar-lmcut"} : args.searches;
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  std::cout << std::left << std::setw(26) << "instance" << std::setw(14) << "search" << std::right << std::setw(8)
+  std::vector<Pair> pairs = instances(args.pddl_instances, args.per_domain);
+  // A .pddl file with no domain file beside it is no problem of this tree (a domain
+  // under another name, a stream file): said, and left out.
+  const auto lone = std::stable_partition(pairs.begin(), pairs.end(), [](const Pair& p) { return !p.domain.empty(); });
+  for (auto it = lone; it != pairs.end(); ++it) {
+    if (args.verbosity != Verbosity::quiet) std::cerr << "skipped " << it->problem.string() << ": no domain file found beside it\n";
+  }
+  pairs.erase(lone, pairs.end());
+  if (pairs.empty()) throw InputError({args.pddl_instances.string(), 0, 0}, "no PDDL problem files found here or in its folders");
+  const std::map<std::string, double> reference = reference_costs(args.reference_costs);
+  const std::vector<std::string> searches = args.searches.empty() ? std::vector<std::string>{"lama-first", "astar-lmcut"} : args.searches;
+  std::vector<Run> rows;
+  std::vector<std::string> refused;  // files that are not read: bad input
+  std::cout << std::left << std::setw(34) << "instance" << std::setw(14) << "search" << std::right << std::setw(8)
             << "solved" << std::setw(8) << "cost" << std::setw(11) << "expanded" << std::setw(12) << "ground s"
             << std::setw(12) << "search s" << std::setw(12) << "total s" << "\n";
-  for (const Pair& pair : pairs) {
-    const pddl::Domain domain = pddl::load_domain(pair.domain);
-    const pddl::Problem problem = pddl::load_problem(pair.problem, domain);
-    const std::string name = pair.problem.parent_path().filename().string() + "/" + pair.problem.stem().string();
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const Pair& pair = pairs[k];
+    const std::string name = pair.domain_folder + "/" + pair.problem.stem().string();
+    std::optional<pddl::Domain> domain;
+    std::optional<pddl::Problem> problem;
+    std::string error;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      domain = pddl::load_domain(pair.domain);
+      problem = pddl::load_problem(pair.problem, *domain);
+    } catch (const InputError& e) {
+      error = e.what();
+      refused.push_back(error);
+      std::cerr << error << "\n";
+    }
+    const double parse_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (const std::string& algorithm : searches) {
-      std::vector<double> ground_s, search_s, total_s;
-      search::SearchResult last;
-      for (int run = 0; run < args.runs; ++run) {
-        const auto t0 = std::chrono::steady_clock::now();
-        search::GroundingStats stats;
-        search::Task task;
-        const auto stopped = [&](std::string reason) {  // grounding's failure is this instance's result
-          last = {};
-          last.reason = std::move(reason);
-          ground_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-          search_s.push_back(0.0);
-          total_s.push_back(ground_s.back());
-        };
-        try {
-          task = search::ground(domain, problem, &stats, args.time_limit);  // the limit holds grounding too
-        } catch (const search::TimeLimit&) {
-          stopped("time limit (grounding)");
-          break;
-        } catch (const search::TooLarge& e) {
-          stopped(std::string("grounding: ") + e.what());
-          break;
-        }
-        search::SearchOptions options;
-        options.algorithm = algorithm;
-        options.time_limit =
-            std::max(0.0, args.time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        last = search::plan(task, options);
-        ground_s.push_back(stats.seconds);
-        search_s.push_back(last.statistics.seconds);
-        total_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        if (!last.solved) break;  // a time-out does not get faster
+      Run row;
+      if (error.empty()) {
+        row = measure(pair, *domain, *problem, algorithm, args, parse_s);
+      } else {
+        row.reason = "input refused: " + error;
       }
-      std::cout << std::left << std::setw(26) << name << std::setw(14) << algorithm << std::right << std::setw(8)
-                << (last.solved ? "yes" : "no") << std::setw(8) << (last.solved ? std::to_string(static_cast<long>(last.cost)) : "-")
-                << std::setw(11) << last.statistics.expanded << std::fixed << std::setprecision(4) << std::setw(12)
-                << median(ground_s) << std::setw(12) << median(search_s) << std::setw(12) << median(total_s) << "\n";
-      std::cout.unsetf(std::ios::floatfield);
-      rows.push_back({{"instance", name},
-                      {"domain", pair.domain.string()},
-                      {"problem", pair.problem.string()},
-                      {"search", algorithm},
-                      {"solved", last.solved},
-                      {"reason", last.solved ? "" : last.reason},
-                      {"cost", last.cost},
-                      {"plan_length", last.plan.size()},
-                      {"expanded", last.statistics.expanded},
-                      {"evaluated", last.statistics.evaluated},
-                      {"grounding_seconds_median", median(ground_s)},
-                      {"search_seconds_median", median(search_s)},
-                      {"total_seconds_median", median(total_s)},
-                      {"runs", ground_s.size()}});
+      row.instance = name;
+      row.domain_folder = pair.domain_folder;
+      row.search = algorithm;
+      row.domain = pair.domain;
+      row.problem = pair.problem;
+      std::cout << std::left << std::setw(34) << name << std::setw(14) << algorithm << std::right << std::setw(8)
+                << (row.valid ? "yes" : row.solved ? "INVALID" : "no") << std::setw(8)
+                << (row.solved ? std::to_string(static_cast<long>(row.cost)) : "-") << std::setw(11) << row.expanded
+                << std::setw(12) << fixed(row.ground_s, 4) << std::setw(12) << fixed(row.search_s, 4) << std::setw(12)
+                << fixed(row.total_s, 4) << "\n";
+      if (args.verbosity != Verbosity::quiet && pairs.size() > 1) {
+        std::cerr << "[" << k + 1 << "/" << pairs.size() << "] " << name << " " << algorithm << ": "
+                  << (row.valid ? "solved" : row.reason) << "\n";
+      }
+      rows.push_back(std::move(row));
     }
   }
+  score(rows, reference);
+  nlohmann::ordered_json runs = nlohmann::ordered_json::array(), summary = nlohmann::ordered_json::array();
+  for (const Run& r : rows) {
+    runs.push_back({{"instance", r.instance},
+                    {"domain_folder", r.domain_folder},
+                    {"domain", r.domain.string()},
+                    {"problem", r.problem.string()},
+                    {"search", r.search},
+                    {"solved", r.solved},
+                    {"valid", r.valid},
+                    {"reason", r.reason},
+                    {"cost", r.cost},
+                    {"plan_length", r.length},
+                    {"expanded", r.expanded},
+                    {"evaluated", r.evaluated},
+                    {"grounding_seconds_median", r.ground_s},
+                    {"search_seconds_median", r.search_s},
+                    {"total_seconds_median", r.total_s},
+                    {"runs", r.runs},
+                    {"score", r.score}});
+  }
+  print_summary(rows, searches, summary);
+  nlohmann::ordered_json out{{"runs", runs}, {"per_domain", summary}};
   if (args.parse_objects > 0) {
     const double seconds = parse_seconds(args.parse_objects, args.runs);
     std::cout << "\nparsing a generated Blocksworld problem of " << args.parse_objects << " objects: " << std::fixed
               << std::setprecision(3) << seconds << " s (median of " << args.runs << ")\n";
     std::cout.unsetf(std::ios::floatfield);
-    rows.push_back({{"parse_objects", args.parse_objects}, {"parse_seconds_median", seconds}});
+    out["parse"] = {{"parse_objects", args.parse_objects}, {"parse_seconds_median", seconds}};
   }
   if (!args.json.empty()) {
-    write_json_file(args.json, rows);
+    write_json_file(args.json, out);
     std::cout << "\nwrote " << args.json.string() << "\n";
   }
-  return run::ExitCode::solved;
+  if (!args.csv.empty()) {
+    write_csv(args.csv, rows);
+    std::cout << "wrote " << args.csv.string() << "\n";
+  }
+  const bool invalid = std::any_of(rows.begin(), rows.end(), [](const Run& r) { return r.solved && !r.valid; });
+  if (!refused.empty()) {
+    std::cerr << refused.size() << " problem file(s) refused (bad input, listed above)\n";
+    return run::ExitCode::bad_input;
+  }
+  return invalid ? run::ExitCode::no_plan : run::ExitCode::solved;
 }
 
 }  // namespace cluttertamp::bench

@@ -57,11 +57,12 @@ int plugins(const PluginsArgs& args);
 
 struct PddlArgs {
   std::filesystem::path domain, problem;
-  std::string search = "lazy-gbfs-ff";
+  std::string search = "lama-first";
   double time_limit = 300;
   std::uint64_t max_expansions = ~0ull;
   double weight = 5;
   std::filesystem::path plan_file;  ///< also write the plan here
+  bool anytime = false;              ///< search on for cheaper plans after the first
   Verbosity verbosity = Verbosity::normal;
 };
 /// Prints the plan (IPC format, then "; cost = N") on stdout, statistics on stderr.

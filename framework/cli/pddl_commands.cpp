@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cluttertamp/io/text_file.hpp"
 #include "cluttertamp/pddl/parser.hpp"
 #include "cluttertamp/pddl/validator.hpp"
 #include "cluttertamp/run/runner.hpp"
@@ -64,9 +65,27 @@ int pddl(const PddlArgs& args) {
       std::max(0.0, args.time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   options.max_expansions = args.max_expansions;
   options.weight = args.weight;
+  options.anytime = args.anytime;
+  const auto plan_text = [&](const search::SearchResult& r) {
+    std::string text;
+    for (search::OperatorId op : r.plan) text += task.operators[op].name + "\n";
+    return text + "; cost = " + number(r.cost) + (task.unit_cost ? " (unit cost)" : " (general cost)") + "\n";
+  };
+  if (args.anytime) {
+    // Each better plan is said as found and replaces the plan file: a run stopped from
+    // outside keeps its best plan.
+    options.on_plan = [&](const search::SearchResult& r) {
+      if (args.verbosity != Verbosity::quiet) {
+        std::cerr << "plan " << r.plans_found << ": cost " << number(r.cost) << ", " << r.plan.size() << " steps after "
+                  << r.statistics.expanded << " expansions, "
+                  << number(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) << " s\n";
+      }
+      if (!args.plan_file.empty()) io::write_text_file(args.plan_file, plan_text(r), "plan file");
+    };
+  }
   const search::SearchResult result = search::plan(task, options);
   if (args.verbosity != Verbosity::quiet) {
-    std::cerr << "search: " << args.search << ", " << result.statistics.expanded << " expanded, "
+    std::cerr << "search: " << args.search << (args.anytime ? " then anytime" : "") << ", " << result.statistics.expanded << " expanded, "
               << result.statistics.generated << " generated, " << result.statistics.evaluated << " evaluated in "
               << number(result.statistics.seconds) << " s\n";
   }
@@ -75,16 +94,13 @@ int pddl(const PddlArgs& args) {
     if (result.reason == "time limit") free_beside(std::move(task));  // the limit left no time to free it
     return run::ExitCode::no_plan;
   }
-  std::string text;
-  for (search::OperatorId op : result.plan) text += task.operators[op].name + "\n";
-  text += "; cost = " + number(result.cost) + (task.unit_cost ? " (unit cost)" : " (general cost)") + "\n";
+  const std::string text = plan_text(result);
   std::cout << text;
-  if (!args.plan_file.empty()) {
-    std::ofstream out(args.plan_file);
-    out << text;
-    if (!out) throw InputError({args.plan_file.string(), 0, 0}, "cannot write the plan file");
+  if (!args.plan_file.empty()) io::write_text_file(args.plan_file, text, "plan file");
+  if (args.verbosity != Verbosity::quiet) {
+    std::cerr << "plan: " << result.plan.size() << " steps, cost " << number(result.cost) << "\n";
+    if (args.anytime) std::cerr << "anytime: " << result.plans_found << " plans, stopped: " << result.anytime_end << "\n";
   }
-  if (args.verbosity != Verbosity::quiet) std::cerr << "plan: " << result.plan.size() << " steps, cost " << number(result.cost) << "\n";
   return run::ExitCode::solved;
 }
 

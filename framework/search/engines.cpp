@@ -8,6 +8,7 @@
 #include "cluttertamp/core/free_beside.hpp"
 #include "cluttertamp/search/grounding.hpp"  // TimeLimit
 #include "search/heuristics.hpp"
+#include "search/landmarks.hpp"
 #include "search/state_space.hpp"
 
 namespace cluttertamp::search {
@@ -15,6 +16,8 @@ namespace cluttertamp::search {
 namespace {
 
 using detail::kInfinity;
+using detail::LandmarkCount;
+using detail::Landmarks;
 using detail::RelaxedTask;
 using detail::State;
 using detail::StateSpace;
@@ -57,8 +60,9 @@ class Registry {
 
 class Evaluator {
  public:
-  Evaluator(Heuristic kind, const Task& task, const StateSpace& space, Clock::time_point deadline)
-      : kind_(kind), relaxed_(task), space_(space) {
+  Evaluator(Heuristic kind, const Task& task, const StateSpace& space, Clock::time_point deadline,
+            RelaxedTask::Costs costs = RelaxedTask::Costs::normal)
+      : kind_(kind), relaxed_(task, costs), space_(space) {
     relaxed_.set_deadline(deadline);
   }
   double operator()(const State& s, std::vector<OperatorId>* preferred) {
@@ -72,12 +76,43 @@ class Evaluator {
     return 0.0;
   }
   void set_min_cost(double c) { min_cost_ = c; }
+  const RelaxedTask& relaxed() const { return relaxed_; }
 
  private:
   Heuristic kind_;
   RelaxedTask relaxed_;
   const StateSpace& space_;
   double min_cost_ = 0.0;
+};
+
+// One heuristic of the lazy search. It is told every transition the search takes,
+// for heuristics whose value depends on the path (landmark count).
+class LazyHeuristic {
+ public:
+  virtual ~LazyHeuristic() = default;
+  virtual void start(int /*id*/, const State& /*s*/) {}
+  virtual void reach(int /*parent*/, int /*child*/, const State& /*s*/, bool /*is_new*/) {}
+  virtual double value(int id, const State& s, std::vector<OperatorId>* preferred) = 0;
+};
+
+class StateHeuristic final : public LazyHeuristic {
+ public:
+  explicit StateHeuristic(Evaluator& h) : h_(h) {}
+  double value(int, const State& s, std::vector<OperatorId>* preferred) override { return h_(s, preferred); }
+
+ private:
+  Evaluator& h_;
+};
+
+class LandmarkHeuristic final : public LazyHeuristic {
+ public:
+  explicit LandmarkHeuristic(const Landmarks& landmarks) : count_(landmarks) {}
+  void start(int id, const State& s) override { count_.start(id, s); }
+  void reach(int parent, int child, const State& s, bool is_new) override { count_.reach(parent, child, s, is_new); }
+  double value(int id, const State& s, std::vector<OperatorId>*) override { return count_.value(id, s); }
+
+ private:
+  LandmarkCount count_;
 };
 
 struct Limits {
@@ -102,30 +137,39 @@ struct Limits {
   }
 };
 
-// Two open lists, all successors and preferred successors, taken in turn; a list
-// that led to progress (a better h) is boosted, as in Fast Downward.
+// Open lists taken in turn, as Fast Downward's alternation: per heuristic one list of
+// all successors and one of preferred successors. The list taken least often comes
+// first (on a tie, the earlier list); progress (a better h) boosts the preferred
+// lists, which are then taken 1000 times before the others again.
 template <class Entry>
-class DualQueue {
+class AlternationQueue {
  public:
-  using Queue = std::priority_queue<Entry, std::vector<Entry>, std::greater<>>;
-  void push(const Entry& e, bool preferred) {
-    all_.push(e);
-    if (preferred) preferred_.push(e);
+  explicit AlternationQueue(std::size_t heuristics) : lists_(2 * heuristics), taken_(2 * heuristics, 0) {}
+  void push(std::size_t heuristic, const Entry& e, bool preferred) {
+    lists_[2 * heuristic].push(e);
+    if (preferred) lists_[2 * heuristic + 1].push(e);
   }
-  bool empty() const { return all_.empty() && preferred_.empty(); }
+  bool empty() const {
+    return std::all_of(lists_.begin(), lists_.end(), [](const Queue& q) { return q.empty(); });
+  }
   Entry pop() {
-    const bool use_preferred = !preferred_.empty() && (all_.empty() || priority_preferred_ >= priority_all_);
-    Queue& q = use_preferred ? preferred_ : all_;
-    (use_preferred ? priority_preferred_ : priority_all_) -= 1;
-    Entry e = q.top();
-    q.pop();
+    std::size_t best = lists_.size();
+    for (std::size_t i = 0; i < lists_.size(); ++i) {
+      if (!lists_[i].empty() && (best == lists_.size() || taken_[i] < taken_[best])) best = i;
+    }
+    ++taken_[best];
+    Entry e = lists_[best].top();
+    lists_[best].pop();
     return e;
   }
-  void boost() { priority_preferred_ += 1000; }
+  void boost() {
+    for (std::size_t i = 1; i < taken_.size(); i += 2) taken_[i] -= 1000;
+  }
 
  private:
-  Queue all_, preferred_;
-  long priority_all_ = 0, priority_preferred_ = 0;
+  using Queue = std::priority_queue<Entry, std::vector<Entry>, std::greater<>>;
+  std::vector<Queue> lists_;
+  std::vector<long> taken_;
 };
 
 SearchResult finish(const StateSpace& space, Registry& registry, int goal, SearchResult result) {
@@ -158,7 +202,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
   SearchResult result;
   Registry registry;
   using Entry = std::tuple<double, double, std::uint64_t, int>;  // key, h, insertion order, state
-  DualQueue<Entry> open;
+  AlternationQueue<Entry> open(1);
   std::uint64_t order = 0;
   const auto [start, inserted] = registry.insert(space.initial());
   (void)inserted;
@@ -170,7 +214,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
     return result;
   }
   registry.node(start) = {-1, -1, 0.0, best_h, false};
-  open.push({w_h * best_h, best_h, order++, start}, false);
+  open.push(0, {w_h * best_h, best_h, order++, start}, false);
   std::vector<OperatorId> successors;
   // A time limit inside one evaluation (LM-cut between its rounds) stops it like any other.
   try {
@@ -216,7 +260,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
           best_h = c.h;
           if (use_preferred) open.boost();
         }
-        open.push({w_g * child_g + w_h * c.h, c.h, order++, child}, is_preferred);
+        open.push(0, {w_g * child_g + w_h * c.h, c.h, order++, child}, is_preferred);
       }
     }
   } catch (const TimeLimit&) {
@@ -227,65 +271,123 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
   return result;
 }
 
-// Lazy greedy best-first search: successors inherit their parent's h and are evaluated
-// when taken from the open list.
-SearchResult lazy(const StateSpace& space, Evaluator& h, const Limits& limits) {
+// Keys of the lazy search's open lists: w_g * g + w_h * h (greedy: 0 and 1).
+struct LazyKeys {
+  double w_g = 0.0;
+  double w_h = 1.0;
+  bool reopen = false;  // a cheaper path to a state seen before opens it again
+};
+
+// Lazy best-first search: a successor enters the open lists with its parent's values
+// and is evaluated when taken out. The first heuristic gives the preferred operators.
+SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& heuristics, const LazyKeys& keys,
+                  const Limits& limits) {
   SearchResult result;
   Registry registry;
-  using Entry = std::tuple<double, std::uint64_t, int, OperatorId>;  // parent h, order, parent, op
-  DualQueue<Entry> open;
+  const std::size_t k = heuristics.size();
+  using Entry = std::tuple<double, std::uint64_t, int, OperatorId>;  // key, order, parent, op
+  AlternationQueue<Entry> open(k);
   std::uint64_t order = 0;
-  const int start = registry.insert(space.initial()).first;
-  registry.node(start).g = 0.0;
-  double best_h = kInfinity;
+  std::vector<double> values;  // per state: its k heuristic values
+  std::vector<double> best(k, kInfinity);
   std::vector<OperatorId> preferred, successors;
-  auto expand = [&](int id) -> bool {  // false: dead end
-    const State state = registry.state(id);
+  auto evaluate = [&](int id) -> bool {  // false: a dead end
+    const State& state = registry.state(id);
     preferred.clear();
-    const double value = h(state, &preferred);
     ++result.statistics.evaluated;
-    registry.node(id).h = value;
-    if (value == kInfinity) return false;
-    if (value < best_h) {
-      best_h = value;
-      open.boost();
+    values.resize(std::max(values.size(), (static_cast<std::size_t>(id) + 1) * k));
+    bool progress = false;
+    for (std::size_t i = 0; i < k; ++i) {
+      const double v = heuristics[i]->value(id, state, i == 0 ? &preferred : nullptr);
+      if (v == kInfinity) return false;
+      values[id * k + i] = v;
+      if (v < best[i]) {
+        best[i] = v;
+        progress = true;
+      }
     }
+    if (progress) open.boost();
+    return true;
+  };
+  auto expand = [&](int id) {
     ++result.statistics.expanded;
+    const State& state = registry.state(id);
+    const double g = registry.node(id).g;
     successors.clear();
     space.applicable_operators(state, [&](OperatorId op) { successors.push_back(op); });
     for (OperatorId op : successors) {
       ++result.statistics.generated;
+      const double child_g = g + space.task().operators[op].cost;
+      if (child_g >= limits.cost_bound) continue;
       const bool is_preferred = std::find(preferred.begin(), preferred.end(), op) != preferred.end();
-      open.push({value, order++, id, op}, is_preferred);
+      for (std::size_t i = 0; i < k; ++i) open.push(i, {keys.w_g * child_g + keys.w_h * values[id * k + i], order, id, op}, is_preferred);
+      ++order;
     }
-    return true;
   };
-  registry.node(start).closed = true;
+  const int start = registry.insert(space.initial()).first;
+  registry.node(start) = {-1, -1, 0.0, 0.0, true};
+  for (LazyHeuristic* h : heuristics) h->start(start, registry.state(start));
   if (space.is_goal(registry.state(start))) return finish(space, registry, start, result);
-  if (!expand(start)) {
+  if (!evaluate(start)) {
     result.reason = "no plan exists (the initial state is a dead end)";
     return result;
   }
+  expand(start);
   while (!open.empty()) {
     if (limits.exceeded(result.statistics, result.reason)) return stopped(std::move(registry), std::move(open), result);
-    const auto [parent_h, unused, parent, op] = open.pop();
-    (void)parent_h;
+    const auto [key, unused, parent, op] = open.pop();
+    (void)key;
     (void)unused;
     const double child_g = registry.node(parent).g + space.task().operators[op].cost;
     if (child_g >= limits.cost_bound) continue;
     const auto [child, is_new] = registry.insert(space.apply(registry.state(parent), op));
-    if (!is_new) continue;
+    for (LazyHeuristic* h : heuristics) h->reach(parent, child, registry.state(child), is_new);
     Node& c = registry.node(child);
+    if (!is_new && (!keys.reopen || c.h == kInfinity || child_g >= c.g)) continue;  // dead ends stay closed
     c.parent = parent;
     c.op = op;
     c.g = child_g;
     c.closed = true;
     if (space.is_goal(registry.state(child))) return finish(space, registry, child, result);
+    if (!evaluate(child)) {
+      registry.node(child).h = kInfinity;
+      continue;
+    }
+    registry.node(child).h = values[child * k];
     expand(child);
   }
   result.reason = limits.cost_bound < kInfinity ? "no plan found below the cost bound" : "no plan exists (every reachable state was expanded)";
   return result;
 }
+
+// Label operations allowed to find landmarks (a few tenths of a second): beyond, the
+// goal facts are the landmarks.
+constexpr std::uint64_t kLandmarkWork = 100'000'000;
+
+// The heuristics of one lazy search: h_FF first (it gives the preferred operators),
+// then the landmark count when asked for.
+class LazyHeuristics {
+ public:
+  LazyHeuristics(const Task& task, const StateSpace& space, const Limits& limits, RelaxedTask::Costs costs, bool landmarks)
+      : ff_(Heuristic::hff, task, space, limits.deadline, costs), ff_adapter_(ff_) {
+    if (landmarks) landmarks_ = std::make_unique<Landmarks>(ff_.relaxed(), space.initial(), kLandmarkWork);
+  }
+  // Fresh per search: the landmark count keeps per-state data.
+  std::vector<LazyHeuristic*> fresh() {
+    std::vector<LazyHeuristic*> out{&ff_adapter_};
+    if (landmarks_) {
+      count_ = std::make_unique<LandmarkHeuristic>(*landmarks_);
+      out.push_back(count_.get());
+    }
+    return out;
+  }
+
+ private:
+  Evaluator ff_;
+  StateHeuristic ff_adapter_;
+  std::unique_ptr<Landmarks> landmarks_;
+  std::unique_ptr<LandmarkHeuristic> count_;
+};
 
 SearchResult run_search(const Task& task, const StateSpace& space, const std::string& a, double weight,
                         const Limits& limits) {
@@ -299,13 +401,18 @@ SearchResult run_search(const Task& task, const StateSpace& space, const std::st
     return result;
   }
   std::unique_ptr<Evaluator> h;
+  std::unique_ptr<LazyHeuristics> lazy_h;
   auto with = [&](Heuristic kind) -> Evaluator& {
     h = std::make_unique<Evaluator>(kind, task, space, limits.deadline);
     return *h;
   };
   try {
-    if (a == "lazy-gbfs-ff") {
-      result = lazy(space, with(Heuristic::hff), limits);
+    if (a == "lama-first") {  // LAMA's first iteration: plan length, not cost, guides it
+      lazy_h = std::make_unique<LazyHeuristics>(task, space, limits, RelaxedTask::Costs::one, true);
+      result = lazy(space, lazy_h->fresh(), LazyKeys{}, limits);
+    } else if (a == "lazy-gbfs-ff") {
+      lazy_h = std::make_unique<LazyHeuristics>(task, space, limits, RelaxedTask::Costs::normal, false);
+      result = lazy(space, lazy_h->fresh(), LazyKeys{}, limits);
     } else if (a == "eager-gbfs-ff") {
       result = eager(space, with(Heuristic::hff), 0.0, 1.0, true, false, limits);
     } else if (a == "gbfs-add") {
@@ -324,15 +431,51 @@ SearchResult run_search(const Task& task, const StateSpace& space, const std::st
     result = SearchResult{};
     result.reason = "time limit";
   }
-  if (result.reason == "time limit") free_beside(std::move(h));  // a relaxed task of every operator
+  if (result.reason == "time limit") {  // a relaxed task of every operator
+    free_beside(std::move(h));
+    free_beside(std::move(lazy_h));
+  }
   return result;
+}
+
+void add(SearchStatistics& total, const SearchStatistics& more) {
+  total.expanded += more.expanded;
+  total.generated += more.generated;
+  total.evaluated += more.evaluated;
+}
+
+// After the first plan, LAMA's restarts: lazy weighted A* with h_FF and the landmark
+// count (costs plus one, so that zero-cost operators count), weights 5, 3, 2, 1 and
+// then 1 again, each under the best cost so far, until a search exhausts the states
+// below it (the last plan is optimal) or a limit is reached.
+void improve(const Task& task, const StateSpace& space, const SearchOptions& options, const Limits& limits,
+             SearchResult& best) {
+  const RelaxedTask::Costs costs = task.unit_cost ? RelaxedTask::Costs::one : RelaxedTask::Costs::plus_one;
+  LazyHeuristics heuristics(task, space, limits, costs, true);
+  const double weights[] = {5.0, 3.0, 2.0, 1.0};
+  for (int iteration = 0;; ++iteration) {
+    Limits bounded = limits;
+    bounded.cost_bound = std::min(limits.cost_bound, best.cost);
+    bounded.max_expansions = limits.max_expansions - std::min(limits.max_expansions, best.statistics.expanded);
+    const LazyKeys keys{1.0, weights[std::min(iteration, 3)], true};
+    SearchResult next = lazy(space, heuristics.fresh(), keys, bounded);
+    add(best.statistics, next.statistics);
+    if (!next.solved) {
+      best.anytime_end = next.reason == "no plan found below the cost bound" ? "no cheaper plan exists" : next.reason;
+      return;
+    }
+    next.statistics = best.statistics;
+    next.plans_found = best.plans_found + 1;
+    best = std::move(next);
+    if (options.on_plan) options.on_plan(best);
+  }
 }
 
 }  // namespace
 
 const std::vector<std::string>& search_names() {
-  static const std::vector<std::string> names{"lazy-gbfs-ff", "eager-gbfs-ff", "gbfs-add", "wastar-ff",
-                                              "astar-hmax",   "astar-lmcut",   "astar-blind"};
+  static const std::vector<std::string> names{"lama-first", "lazy-gbfs-ff", "eager-gbfs-ff", "gbfs-add",
+                                              "wastar-ff",  "astar-hmax",   "astar-lmcut",   "astar-blind"};
   return names;
 }
 
@@ -343,6 +486,17 @@ SearchResult plan(const Task& task, const SearchOptions& options) {
                                   std::min(options.time_limit, 1e9))),
                       options.max_expansions, options.cost_bound};
   SearchResult result = run_search(task, *space, options.algorithm, options.weight, limits);
+  if (result.solved) {
+    result.plans_found = 1;
+    if (options.anytime) {
+      if (options.on_plan) options.on_plan(result);
+      try {
+        improve(task, *space, options, limits, result);
+      } catch (const TimeLimit&) {
+        result.anytime_end = "time limit";
+      }
+    }
+  }
   if (result.reason == "time limit") free_beside(std::move(space));
   result.statistics.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;

@@ -9,23 +9,74 @@
 
 namespace cluttertamp::search::detail {
 
-RelaxedTask::RelaxedTask(const Task& task)
-    : facts_(task.fact_count() + 1), goal_(static_cast<FactId>(task.fact_count())), origin_count_(task.operators.size()) {
+namespace {
+
+double relaxed_cost(double cost, RelaxedTask::Costs costs) {
+  switch (costs) {
+    case RelaxedTask::Costs::normal: return cost;
+    case RelaxedTask::Costs::one: return 1.0;
+    case RelaxedTask::Costs::plus_one: return cost + 1.0;
+  }
+  return cost;
+}
+
+}  // namespace
+
+RelaxedTask::RelaxedTask(const Task& task, Costs costs)
+    : task_facts_(static_cast<FactId>(task.fact_count())), origin_count_(task.operators.size()) {
   origin_reduced_.assign(origin_count_, 0);
+  // A fluent fact some condition needs false gets a complement fact, added by the
+  // operators that delete the fact, as Fast Downward's translation gives it a value of
+  // its own: negative preconditions and goals then count. Derived facts do not (no
+  // operator deletes one); conditions on their falsity are ignored, which only relaxes.
+  complement_.assign(task.fact_count(), -1);
+  auto note = [&](const Condition& c) {
+    for (FactId f : c.negative) {
+      if (!task.derived[f]) complement_[f] = 0;
+    }
+  };
+  for (const Operator& op : task.operators) {
+    note(op.precondition);
+    for (const ConditionalEffect& c : op.conditional) note(c.condition);
+  }
+  for (const Axiom& a : task.axioms) note(a.body);
+  for (const Condition& c : task.goal) note(c);
+  FactId next = task_facts_;
+  for (FactId f = 0; f < task_facts_; ++f) {
+    if (complement_[f] < 0) continue;
+    complement_[f] = next++;
+    complemented_.push_back(f);
+  }
+  goal_ = next;
+  facts_ = static_cast<std::size_t>(next) + 1;
+  auto condition = [&](const Condition& c, std::vector<FactId> pre) {
+    pre.insert(pre.end(), c.positive.begin(), c.positive.end());
+    for (FactId f : c.negative) {
+      if (complement_[f] >= 0) pre.push_back(complement_[f]);
+    }
+    std::sort(pre.begin(), pre.end());
+    pre.erase(std::unique(pre.begin(), pre.end()), pre.end());
+    return pre;
+  };
+  auto effects = [&](const std::vector<FactId>& add, const std::vector<FactId>& del) {
+    std::vector<FactId> eff = add;
+    for (FactId f : del) {
+      if (complement_[f] >= 0) eff.push_back(complement_[f]);
+    }
+    return eff;
+  };
   for (OperatorId id = 0; id < static_cast<OperatorId>(task.operators.size()); ++id) {
     const Operator& op = task.operators[id];
-    if (!op.add.empty()) ops_.push_back({op.precondition.positive, op.add, op.cost, id});
+    const double cost = relaxed_cost(op.cost, costs);
+    const std::vector<FactId> pre = condition(op.precondition, {});
+    if (std::vector<FactId> eff = effects(op.add, op.del); !eff.empty()) ops_.push_back({pre, std::move(eff), cost, id});
     for (const ConditionalEffect& c : op.conditional) {
-      if (c.add.empty()) continue;
-      std::vector<FactId> pre = op.precondition.positive;
-      pre.insert(pre.end(), c.condition.positive.begin(), c.condition.positive.end());
-      std::sort(pre.begin(), pre.end());
-      pre.erase(std::unique(pre.begin(), pre.end()), pre.end());
-      ops_.push_back({pre, c.add, op.cost, id});
+      std::vector<FactId> eff = effects(c.add, c.del);
+      if (!eff.empty()) ops_.push_back({condition(c.condition, pre), std::move(eff), cost, id});
     }
   }
-  for (const Axiom& a : task.axioms) ops_.push_back({a.body.positive, {a.head}, 0.0, -1});
-  for (const Condition& c : task.goal) ops_.push_back({c.positive, {goal_}, 0.0, -1});
+  for (const Axiom& a : task.axioms) ops_.push_back({condition(a.body, {}), {a.head}, 0.0, -1});
+  for (const Condition& c : task.goal) ops_.push_back({condition(c, {}), {goal_}, 0.0, -1});
   precondition_of_.resize(facts_);
   achievers_.resize(facts_);
   for (int i = 0; i < static_cast<int>(ops_.size()); ++i) {
@@ -39,8 +90,22 @@ RelaxedTask::RelaxedTask(const Task& task)
   reached_.resize(facts_);
   fact_cost_.resize(facts_);
   supporter_.resize(facts_);
-  unsatisfied_.resize(ops_.size());
-  op_value_.resize(ops_.size());
+  // The exploration's hot loop reads these flat arrays, not the operators' own vectors:
+  // on tasks of 10^5 operators a cache miss per vector is most of an evaluation.
+  op_state_.resize(ops_.size());
+  pre_count_.resize(ops_.size());
+  effect_start_.reserve(ops_.size() + 1);
+  for (std::size_t i = 0; i < ops_.size(); ++i) {
+    pre_count_[i] = static_cast<int>(ops_[i].pre.size());
+    effect_start_.push_back(static_cast<std::uint32_t>(effects_.size()));
+    effects_.insert(effects_.end(), ops_[i].eff.begin(), ops_[i].eff.end());
+  }
+  effect_start_.push_back(static_cast<std::uint32_t>(effects_.size()));
+  for (std::size_t f = 0; f < facts_; ++f) {
+    trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
+    triggers_.insert(triggers_.end(), precondition_of_[f].begin(), precondition_of_[f].end());
+  }
+  trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
   base_cost_.resize(ops_.size());
   for (std::size_t i = 0; i < ops_.size(); ++i) base_cost_[i] = ops_[i].cost;
 }
@@ -56,19 +121,17 @@ void RelaxedTask::exploration(const State& s, bool max, const std::vector<double
   std::int64_t pushed = 0;
   std::fill(fact_cost_.begin(), fact_cost_.end(), kInfinity);
   std::fill(supporter_.begin(), supporter_.end(), -1);
-  for (std::size_t i = 0; i < ops_.size(); ++i) {
-    unsatisfied_[i] = static_cast<int>(ops_[i].pre.size());
-    op_value_[i] = 0.0;
-  }
-  for (FactId f = 0; f + 1 < static_cast<FactId>(facts_); ++f) {
-    if (holds(s, f)) {
+  for (std::size_t i = 0; i < ops_.size(); ++i) op_state_[i] = {pre_count_[i], 0.0};
+  for (FactId f = 0; f < goal_; ++f) {
+    if (holds_in(s, f)) {
       fact_cost_[f] = 0.0;
       queue.push({0.0, -(++pushed), f});
     }
   }
   auto fire = [&](int i) {
-    const double value = op_value_[i] + op_cost[i];
-    for (FactId e : ops_[i].eff) {
+    const double value = op_state_[i].value + op_cost[i];
+    for (std::uint32_t k = effect_start_[i]; k < effect_start_[i + 1]; ++k) {
+      const FactId e = effects_[k];
       if (value < fact_cost_[e]) {
         fact_cost_[e] = value;
         supporter_[e] = i;
@@ -83,9 +146,11 @@ void RelaxedTask::exploration(const State& s, bool max, const std::vector<double
     queue.pop();
     if (cost > fact_cost_[f]) continue;
     if (f == goal_ && stop_at_goal) break;
-    for (int i : precondition_of_[f]) {
-      op_value_[i] = max ? std::max(op_value_[i], cost) : op_value_[i] + cost;
-      if (--unsatisfied_[i] == 0) fire(i);
+    for (std::uint32_t k = trigger_start_[f]; k < trigger_start_[f + 1]; ++k) {
+      const int i = triggers_[k];
+      OpState& o = op_state_[i];
+      o.value = max ? std::max(o.value, cost) : o.value + cost;
+      if (--o.unsatisfied == 0) fire(i);
     }
   }
 }
@@ -161,7 +226,7 @@ double RelaxedTask::lmcut(const State& s) {
       const FactId f = open_.back();
       open_.pop_back();
       for (int i : achievers_[f]) {
-        if (unsatisfied_[i] > 0 || cost[i] != 0.0 || pcf_[i] == none || in_goal_zone_[pcf_[i]]) continue;
+        if (op_state_[i].unsatisfied > 0 || cost[i] != 0.0 || pcf_[i] == none || in_goal_zone_[pcf_[i]]) continue;
         in_goal_zone_[pcf_[i]] = 1;
         open_.push_back(pcf_[i]);
       }
@@ -170,15 +235,15 @@ double RelaxedTask::lmcut(const State& s) {
     // operators crossing into the zone form the cut.
     std::fill(reached_.begin(), reached_.end(), 0);
     open_.clear();
-    for (FactId f = 0; f + 1 < static_cast<FactId>(facts_); ++f) {
-      if (holds(s, f) && !in_goal_zone_[f]) {
+    for (FactId f = 0; f < goal_; ++f) {
+      if (holds_in(s, f) && !in_goal_zone_[f]) {
         reached_[f] = 1;
         open_.push_back(f);
       }
     }
     cut_.clear();
     auto visit = [&](int i) {
-      if (unsatisfied_[i] > 0) return;
+      if (op_state_[i].unsatisfied > 0) return;
       bool crosses = false;
       for (FactId e : ops_[i].eff) crosses = crosses || in_goal_zone_[e];
       if (crosses) {

@@ -2,6 +2,7 @@
 // Internal: delete-relaxation heuristics over a grounded task.
 
 #include <chrono>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -11,12 +12,17 @@ namespace cluttertamp::search::detail {
 
 inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-/// The delete relaxation: operators with their positive preconditions and adds (each
-/// conditional effect a relaxed operator of its own), axioms at cost 0, and one
-/// operator per goal disjunct reaching an artificial goal fact.
+/// The delete relaxation: operators with their preconditions and adds (each conditional
+/// effect a relaxed operator of its own), axioms at cost 0, and one operator per goal
+/// disjunct reaching an artificial goal fact. Facts: the task's, then a complement per
+/// fluent fact that some condition needs false (added by the operators deleting it),
+/// then the goal fact.
 class RelaxedTask {
  public:
-  explicit RelaxedTask(const Task& task);
+  /// How an operator's cost enters the relaxation: as it is, as 1 (plan length), or
+  /// plus one (LAMA's later iterations: zero-cost operators still count).
+  enum class Costs { normal, one, plus_one };
+  explicit RelaxedTask(const Task& task, Costs costs = Costs::normal);
   /// LM-cut looks at the clock between its rounds and throws TimeLimit after `at`: one
   /// evaluation on hundreds of blocks takes seconds.
   void set_deadline(std::chrono::steady_clock::time_point at) { deadline_ = at; }
@@ -35,10 +41,26 @@ class RelaxedTask {
   /// LM-cut (admissible).
   double lmcut(const State& s);
 
+  const std::vector<Op>& ops() const { return ops_; }
+  /// Facts including the complements and the artificial goal fact, which is the last.
+  std::size_t fact_count() const { return facts_; }
+  FactId goal_fact() const { return goal_; }
+  /// Whether relaxed fact f holds in state s (a complement: its fact does not).
+  bool holds_in(const State& s, FactId f) const {
+    if (f < task_facts_) return holds(s, f);
+    return f < goal_ && !holds(s, complemented_[f - task_facts_]);
+  }
+  const std::vector<int>& precondition_of(FactId f) const { return precondition_of_[f]; }
+  const std::vector<int>& achievers(FactId f) const { return achievers_[f]; }
+  const std::vector<int>& without_preconditions() const { return no_precondition_; }
+
  private:
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
   void exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
 
+  FactId task_facts_;
+  std::vector<FactId> complement_;    // per task fact: its complement, or -1
+  std::vector<FactId> complemented_;  // per complement (from task_facts_ on): its fact
   std::size_t facts_;
   FactId goal_;
   std::vector<Op> ops_;
@@ -48,8 +70,15 @@ class RelaxedTask {
   // Scratch, reused between calls.
   std::vector<double> fact_cost_;
   std::vector<int> supporter_;
-  std::vector<int> unsatisfied_;
-  std::vector<double> op_value_;
+  struct OpState {
+    int unsatisfied;  // preconditions not reached yet
+    double value;     // max or sum of the reached preconditions' costs
+  };
+  std::vector<OpState> op_state_;
+  std::vector<int> pre_count_;
+  std::vector<std::uint32_t> effect_start_, trigger_start_;  // per operator, per fact: into the flat arrays
+  std::vector<FactId> effects_;
+  std::vector<int> triggers_;  // per fact: the operators it is a precondition of
   std::vector<double> base_cost_;
   // LM-cut scratch.
   std::vector<FactId> pcf_;

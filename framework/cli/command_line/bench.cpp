@@ -53,10 +53,19 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
                     "pddl: also time parsing a generated Blocksworld problem with this many objects (0: not)")
       ->capture_default_str()
       ->check(CLI::Range(0, 10000000));
-  bench->add_option("--instances", args->pddl_instances, "pddl: directory of <family>/{domain,p*}.pddl")
+  bench->add_option("--instances", args->pddl_instances,
+                    "pddl: a folder of problem files, or a folder of such folders (the IPC layout); each problem's "
+                    "domain is domain_<p>, <p>-domain.pddl, domain-<p> or the folder's domain.pddl")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);
-  bench->add_option("--search", args->searches, "pddl: searches to run (repeatable; default lazy-gbfs-ff, astar-lmcut)")
+  bench->add_option("--per-domain", args->per_domain, "pddl: only the first N problems of each folder, in natural order (0: all)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  bench->add_option("--reference-costs", args->reference_costs,
+                    "pddl: file of 'folder/problem cost' lines, best known costs for the IPC quality score (default: "
+                    "the cheapest plan of the searches run)")
+      ->check(CLI::ExistingFile);
+  bench->add_option("--search", args->searches, "pddl: searches to run (repeatable; default lama-first, astar-lmcut)")
       ->expected(1)
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
@@ -76,7 +85,7 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(CLI::IsMember({"columns", "random"}));
-  bench->add_option("--csv", args->csv, "retrieval, push, occlusion: also write every run as CSV");
+  bench->add_option("--csv", args->csv, "pddl, retrieval, push, occlusion: also write every run as CSV");
   bench->add_option("--svg", args->svg, "push: also plot success rates and mean times (SVG)");
   args->push_scenes = source_file("problems/push/shelf10");
   bench->add_option("--push-scenes", args->push_scenes,

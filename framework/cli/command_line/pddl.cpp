@@ -14,7 +14,11 @@ Command declare_pddl(CLI::App& app, CommonOptions& common) {
   pddl->add_option("--time-limit", args->time_limit, "Seconds")->capture_default_str()->check(CLI::PositiveNumber);
   pddl->add_option("--max-expansions", args->max_expansions, "Stop after this many expansions");
   pddl->add_option("--weight", args->weight, "Weight of h in wastar-ff")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
-  pddl->add_option("--plan", args->plan_file, "Also write the plan to this file");
+  pddl->add_option("--plan", args->plan_file, "Also write the plan to this file (replaced whole; with --anytime, by each better plan)");
+  pddl->add_flag("--anytime", args->anytime,
+                 "After the first plan, search on for cheaper ones as LAMA does (weighted A* with weights 5, 3, 2, 1, "
+                 "each under the best cost so far) until --time-limit, --max-expansions (counted over all searches), "
+                 "or until no cheaper plan exists; each better plan is printed to stderr as found");
   add_memory_limit(*pddl, common);
   add_verbosity(*pddl, args->verbosity, "Same output as the default");
   return {pddl, [args] { return cli::pddl(*args); }};

@@ -23,13 +23,15 @@ struct BenchArgs {
   int objects = 20;
   std::filesystem::path json;  ///< empty: no JSON file
   std::filesystem::path robot;  ///< robot description file
-  std::filesystem::path pddl_instances;  ///< bench pddl: <dir>/<family>/{domain*,p*}.pddl
+  std::filesystem::path pddl_instances;  ///< bench pddl: a folder of problems, or of such folders (IPC layout)
+  int per_domain = 0;                    ///< bench pddl: the first N problems of each folder; 0: all
+  std::filesystem::path reference_costs; ///< bench pddl: "folder/problem cost" lines for the quality score
   std::vector<std::string> searches;     ///< bench pddl
   int parse_objects = 200000;            ///< bench pddl: objects of the generated problem it parses (0: none)
   double time_limit = 60;                ///< bench pddl, per search; bench retrieval, per run
   int instances = 5;                     ///< bench retrieval: scenes per object count
   std::vector<int> sizes;                ///< bench retrieval: object counts (default 12 16 20)
-  std::filesystem::path csv;             ///< bench retrieval, push
+  std::filesystem::path csv;             ///< bench pddl, retrieval, push
   std::filesystem::path svg;             ///< bench push
   std::filesystem::path push_scenes;     ///< bench push: directory of reach problems
   double goal_distance = 0.005;          ///< bench push: ReachTolerances::distance for every planner, m
@@ -70,7 +72,10 @@ CLUTTERTAMP_API int mobile(const BenchArgs& args);
 /// Pushing physics speed (times real time) on a generated shelf; exit code 0 when the
 /// 10-object goal (>= 20) is met or another size was asked for, 1 otherwise.
 CLUTTERTAMP_API int physics(const BenchArgs& args);
-/// Prints a table per instance and search; exit code 0.
+/// Every problem of a folder tree in the IPC layout with each search: a table per
+/// instance (each plan checked by the validator) and per domain folder (coverage, IPC
+/// quality score, median plan length and time). Exit code 0; 1 when a plan failed
+/// validation; 2 when a file was refused (after all the rest ran).
 CLUTTERTAMP_API int pddl(const BenchArgs& args);
 /// Grasp, motion and pick-and-place medians; exit code 0 when every goal is met.
 CLUTTERTAMP_API int samplers(const BenchArgs& args);

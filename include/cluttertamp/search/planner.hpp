@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -11,8 +12,11 @@
 namespace cluttertamp::search {
 
 /// Search algorithms by name (`cluttertamp pddl --search NAME`):
-///   lazy-gbfs-ff   greedy best-first, lazy evaluation, h_FF with preferred operators
-///                  (the default; like LAMA's first iteration without landmarks)
+///   lama-first     LAMA's first iteration (the default): lazy greedy best-first search
+///                  alternating h_FF and the landmark count (both counting plan length),
+///                  preferred operators of h_FF, boosted on progress
+///   lazy-gbfs-ff   greedy best-first, lazy evaluation, h_FF (in the task's costs) with
+///                  preferred operators
 ///   eager-gbfs-ff  greedy best-first, eager evaluation, h_FF, preferred operators
 ///   gbfs-add       greedy best-first, eager, h_add
 ///   wastar-ff      weighted A* (weight 5 unless SearchOptions::weight), h_FF
@@ -21,8 +25,10 @@ namespace cluttertamp::search {
 ///   astar-blind    A* with h = 0 (uniform cost): optimal
 CLUTTERTAMP_API const std::vector<std::string>& search_names();
 
+struct SearchResult;
+
 struct SearchOptions {
-  std::string algorithm = "lazy-gbfs-ff";
+  std::string algorithm = "lama-first";
   double time_limit = 1e9;              ///< seconds
   std::uint64_t max_expansions = ~0ull;
   double weight = 5.0;                  ///< wastar only
@@ -30,6 +36,14 @@ struct SearchOptions {
   /// is not followed. The greedy searches may then miss a cheaper plan that reaches a
   /// state first found by a dearer path; the A* searches and wastar do not.
   double cost_bound = std::numeric_limits<double>::infinity();
+  /// After the first plan, search on for cheaper ones as LAMA does (lazy weighted A*
+  /// with h_FF and the landmark count, weights 5, 3, 2, 1, then 1 again, each under the
+  /// best cost so far) until the time or expansion limit, or until a search proves that
+  /// no cheaper plan exists. The limits count over all searches: with a time limit only,
+  /// the last plan depends on the machine's speed; with `max_expansions` it does not.
+  bool anytime = false;
+  /// Called with each plan the anytime mode finds (the first one included), cheapest last.
+  std::function<void(const SearchResult&)> on_plan;
 };
 
 struct SearchStatistics {
@@ -44,7 +58,11 @@ struct SearchResult {
   std::string reason;             ///< why not solved: "time limit", "expansion limit", "no plan exists"
   std::vector<OperatorId> plan;
   double cost = 0;
-  SearchStatistics statistics;
+  SearchStatistics statistics;  ///< over all searches of the anytime mode
+  int plans_found = 0;          ///< plans found, each cheaper than the one before
+  /// Anytime mode: why it stopped looking for cheaper plans ("no cheaper plan exists",
+  /// "time limit", "expansion limit"); empty otherwise.
+  std::string anytime_end;
 };
 
 /// Runs a search on a grounded task. Throws std::invalid_argument for an unknown
