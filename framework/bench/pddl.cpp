@@ -87,7 +87,9 @@ std::vector<Pair> problems_of(const fs::path& folder, int first) {
     const std::string name = e.path().filename().string();
     if (e.is_regular_file() && name.ends_with(".pddl") && !names_a_domain(name)) names.push_back(name);
   }
-  std::sort(names.begin(), names.end(), natural_less);
+  std::sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
+    return natural_less(fs::path(a).stem().string(), fs::path(b).stem().string());  // p05 before p05-2
+  });
   if (first > 0 && names.size() > static_cast<std::size_t>(first)) names.resize(static_cast<std::size_t>(first));
   std::vector<Pair> out;
   for (const std::string& name : names) out.push_back({folder.filename().string(), domain_for(folder, name), folder / name});

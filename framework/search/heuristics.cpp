@@ -84,7 +84,6 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
     for (FactId f : ops_[i].pre) precondition_of_[f].push_back(i);
     for (FactId f : ops_[i].eff) achievers_[f].push_back(i);
   }
-  pcf_.resize(ops_.size());
   in_cut_.resize(ops_.size());
   in_goal_zone_.resize(facts_);
   reached_.resize(facts_);
@@ -103,9 +102,27 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
   effect_start_.push_back(static_cast<std::uint32_t>(effects_.size()));
   for (std::size_t f = 0; f < facts_; ++f) {
     trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
+  std::vector<std::vector<int>> relaxed_of(origin_count_);
+  for (std::size_t i = 0; i < ops_.size(); ++i) {
+    if (ops_[i].origin >= 0) relaxed_of[ops_[i].origin].push_back(static_cast<int>(i));
+  }
+  for (const auto& list : relaxed_of) {
+    relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
+    relaxed_of_.insert(relaxed_of_.end(), list.begin(), list.end());
+  }
+  relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
     triggers_.insert(triggers_.end(), precondition_of_[f].begin(), precondition_of_[f].end());
   }
   trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
+  std::vector<std::vector<int>> relaxed_of(origin_count_);
+  for (std::size_t i = 0; i < ops_.size(); ++i) {
+    if (ops_[i].origin >= 0) relaxed_of[ops_[i].origin].push_back(static_cast<int>(i));
+  }
+  for (const auto& list : relaxed_of) {
+    relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
+    relaxed_of_.insert(relaxed_of_.end(), list.begin(), list.end());
+  }
+  relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
   base_cost_.resize(ops_.size());
   for (std::size_t i = 0; i < ops_.size(); ++i) base_cost_[i] = ops_[i].cost;
 }
@@ -121,7 +138,7 @@ void RelaxedTask::exploration(const State& s, bool max, const std::vector<double
   std::int64_t pushed = 0;
   std::fill(fact_cost_.begin(), fact_cost_.end(), kInfinity);
   std::fill(supporter_.begin(), supporter_.end(), -1);
-  for (std::size_t i = 0; i < ops_.size(); ++i) op_state_[i] = {pre_count_[i], 0.0};
+  for (std::size_t i = 0; i < ops_.size(); ++i) op_state_[i] = {pre_count_[i], -1, 0.0};
   for (FactId f = 0; f < goal_; ++f) {
     if (holds_in(s, f)) {
       fact_cost_[f] = 0.0;
@@ -149,7 +166,12 @@ void RelaxedTask::exploration(const State& s, bool max, const std::vector<double
     for (std::uint32_t k = trigger_start_[f]; k < trigger_start_[f + 1]; ++k) {
       const int i = triggers_[k];
       OpState& o = op_state_[i];
-      o.value = max ? std::max(o.value, cost) : o.value + cost;
+      if (!max) {
+        o.value += cost;
+      } else if (cost >= o.value) {  // facts come in cost order: the last is a costliest
+        o.value = cost;
+        o.costliest = f;
+      }
       if (--o.unsatisfied == 0) fire(i);
     }
   }
@@ -195,29 +217,18 @@ double RelaxedTask::lmcut(const State& s) {
   for (const Op& o : ops_) {
     if (o.origin >= 0) remaining_[o.origin] = o.cost;
   }
-  std::vector<double> cost(ops_.size(), 0.0);
-  auto refresh = [&] {
-    for (std::size_t i = 0; i < ops_.size(); ++i) cost[i] = ops_[i].origin >= 0 ? remaining_[ops_[i].origin] : 0.0;
-  };
-  refresh();
+  std::vector<double>& cost = lmcut_cost_;
+  cost = base_cost_;
   double h = 0.0;
   constexpr FactId none = -1;
+  // Every operator's h_max once; after each cut only what the cheaper operators change.
+  exploration(s, true, cost, false);
   for (int round = 0; round < 100000; ++round) {
     if (std::chrono::steady_clock::now() >= deadline_) throw TimeLimit("time limit");
-    exploration(s, true, cost, false);  // the cut needs every operator's h_max
     if (fact_cost_[goal_] == kInfinity) return kInfinity;
     if (fact_cost_[goal_] <= 0.0) return h;
-    // Precondition choice function: the precondition with the largest h_max.
-    for (std::size_t i = 0; i < ops_.size(); ++i) {
-      pcf_[i] = none;
-      double best = -1.0;
-      for (FactId p : ops_[i].pre) {
-        if (fact_cost_[p] > best) {
-          best = fact_cost_[p];
-          pcf_[i] = p;
-        }
-      }
-    }
+    // Precondition choice function: a precondition with the largest h_max, which the
+    // explorations keep as each operator's costliest.
     // Goal zone: facts from which the goal is reached through zero-cost operators.
     std::fill(in_goal_zone_.begin(), in_goal_zone_.end(), 0);
     in_goal_zone_[goal_] = 1;
@@ -226,9 +237,10 @@ double RelaxedTask::lmcut(const State& s) {
       const FactId f = open_.back();
       open_.pop_back();
       for (int i : achievers_[f]) {
-        if (op_state_[i].unsatisfied > 0 || cost[i] != 0.0 || pcf_[i] == none || in_goal_zone_[pcf_[i]]) continue;
-        in_goal_zone_[pcf_[i]] = 1;
-        open_.push_back(pcf_[i]);
+        const FactId pcf = op_state_[i].costliest;
+        if (op_state_[i].unsatisfied > 0 || cost[i] != 0.0 || pcf == none || in_goal_zone_[pcf]) continue;
+        in_goal_zone_[pcf] = 1;
+        open_.push_back(pcf);
       }
     }
     // Forward from the state through the justification graph, stopping at the zone;
@@ -245,7 +257,7 @@ double RelaxedTask::lmcut(const State& s) {
     auto visit = [&](int i) {
       if (op_state_[i].unsatisfied > 0) return;
       bool crosses = false;
-      for (FactId e : ops_[i].eff) crosses = crosses || in_goal_zone_[e];
+      for (std::uint32_t k = effect_start_[i]; k < effect_start_[i + 1]; ++k) crosses = crosses || in_goal_zone_[effects_[k]];
       if (crosses) {
         if (!in_cut_[i]) {
           in_cut_[i] = 1;
@@ -253,7 +265,8 @@ double RelaxedTask::lmcut(const State& s) {
         }
         return;
       }
-      for (FactId e : ops_[i].eff) {
+      for (std::uint32_t k = effect_start_[i]; k < effect_start_[i + 1]; ++k) {
+        const FactId e = effects_[k];
         if (!reached_[e]) {
           reached_[e] = 1;
           open_.push_back(e);
@@ -265,26 +278,74 @@ double RelaxedTask::lmcut(const State& s) {
       const FactId f = open_.back();
       open_.pop_back();
       for (int i : precondition_of_[f]) {
-        if (pcf_[i] == f) visit(i);
+        if (op_state_[i].costliest == f) visit(i);
       }
     }
     if (cut_.empty()) return h;  // cannot happen with finite h_max > 0; stay safe
     double m = kInfinity;
     for (int i : cut_) m = std::min(m, cost[i]);
     h += m;
+    cheaper_.clear();
     for (int i : cut_) {
       in_cut_[i] = 0;
-      if (ops_[i].origin >= 0 && !origin_reduced_[ops_[i].origin]) {
-        origin_reduced_[ops_[i].origin] = 1;
-        remaining_[ops_[i].origin] -= m;
+      const OperatorId origin = ops_[i].origin;
+      if (origin < 0 || origin_reduced_[origin]) continue;
+      origin_reduced_[origin] = 1;
+      remaining_[origin] -= m;
+      for (std::uint32_t k = relaxed_start_[origin]; k < relaxed_start_[origin + 1]; ++k) {
+        cost[relaxed_of_[k]] = remaining_[origin];
+        cheaper_.push_back(relaxed_of_[k]);
       }
     }
     for (int i : cut_) {
       if (ops_[i].origin >= 0) origin_reduced_[ops_[i].origin] = 0;
     }
-    refresh();
+    lower_hmax(cheaper_, cost);
   }
   return h;
+}
+
+// Operator costs only fall between LM-cut's rounds, so h_max only falls: from the
+// cheaper operators' effects, a Dijkstra over the facts whose cost falls, each
+// operator's value (its most costly precondition) taken again where one of its
+// preconditions fell. Reachability does not change.
+void RelaxedTask::lower_hmax(const std::vector<int>& cheaper, const std::vector<double>& op_cost) {
+  using Entry = std::pair<double, FactId>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  auto offer = [&](int i) {
+    const double value = op_state_[i].value + op_cost[i];
+    for (std::uint32_t k = effect_start_[i]; k < effect_start_[i + 1]; ++k) {
+      const FactId e = effects_[k];
+      if (value < fact_cost_[e]) {
+        fact_cost_[e] = value;
+        queue.push({value, e});
+      }
+    }
+  };
+  for (int i : cheaper) {
+    if (op_state_[i].unsatisfied == 0) offer(i);
+  }
+  while (!queue.empty()) {
+    const auto [c, f] = queue.top();
+    queue.pop();
+    if (c > fact_cost_[f]) continue;
+    for (std::uint32_t k = trigger_start_[f]; k < trigger_start_[f + 1]; ++k) {
+      const int i = triggers_[k];
+      OpState& o = op_state_[i];
+      if (o.unsatisfied > 0) continue;
+      double value = -1.0;
+      for (FactId p : ops_[i].pre) {
+        if (fact_cost_[p] > value) {
+          value = fact_cost_[p];
+          o.costliest = p;  // even at an equal value: the one before may have fallen
+        }
+      }
+      if (value < o.value) {
+        o.value = value;
+        offer(i);
+      }
+    }
+  }
 }
 
 }  // namespace cluttertamp::search::detail

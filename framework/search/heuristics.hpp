@@ -57,6 +57,7 @@ class RelaxedTask {
  private:
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
   void exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
+  void lower_hmax(const std::vector<int>& cheaper, const std::vector<double>& op_cost);
 
   FactId task_facts_;
   std::vector<FactId> complement_;    // per task fact: its complement, or -1
@@ -71,8 +72,9 @@ class RelaxedTask {
   std::vector<double> fact_cost_;
   std::vector<int> supporter_;
   struct OpState {
-    int unsatisfied;  // preconditions not reached yet
-    double value;     // max or sum of the reached preconditions' costs
+    int unsatisfied;   // preconditions not reached yet
+    FactId costliest;  // h_max: a precondition of the largest cost (LM-cut's choice); -1: none
+    double value;      // max or sum of the reached preconditions' costs
   };
   std::vector<OpState> op_state_;
   std::vector<int> pre_count_;
@@ -81,12 +83,15 @@ class RelaxedTask {
   std::vector<int> triggers_;  // per fact: the operators it is a precondition of
   std::vector<double> base_cost_;
   // LM-cut scratch.
-  std::vector<FactId> pcf_;
   std::vector<char> in_goal_zone_, reached_, in_cut_;
   std::vector<int> cut_;
   std::vector<FactId> open_;
   std::size_t origin_count_;
   std::vector<double> remaining_;      // per task operator: cost left in this LM-cut evaluation
+  std::vector<double> lmcut_cost_;     // per relaxed operator: its origin's remaining cost
+  std::vector<int> cheaper_;           // relaxed operators the last cut made cheaper
+  std::vector<std::uint32_t> relaxed_start_;  // per task operator: into relaxed_of_
+  std::vector<int> relaxed_of_;               // the relaxed operators of each task operator
   std::vector<char> origin_reduced_;  // per task operator: already reduced by the current cut
 };
 

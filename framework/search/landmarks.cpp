@@ -65,6 +65,7 @@ class Labelling {
     return op_label_;
   }
   bool over_budget() const { return work_ > budget_; }
+  void allow(std::uint64_t more) { budget_ += more; }
 
  private:
   void apply(int op, std::vector<char>& queued) {
@@ -131,6 +132,7 @@ Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint
   } else {
     facts_ = in_every_disjunct;
   }
+  labelling.allow(work_budget);  // as much again for the orders
   std::vector<int> index(relaxed.fact_count(), -1);
   for (std::size_t i = 0; i < facts_.size(); ++i) index[facts_[i]] = static_cast<int>(i);
   parents_.assign(facts_.size(), {});
@@ -153,7 +155,8 @@ Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint
       if (p != f && index[p] >= 0) parents_[i].push_back(index[p]);
     }
     // Greedy-necessary: preconditions shared by every operator reachable without f.
-    if (relaxed.holds_in(initial, f)) continue;
+    // (Past the budget, the landmarks left get none: fewer orders, same landmarks.)
+    if (relaxed.holds_in(initial, f) || labelling.over_budget()) continue;
     bool first = true;
     Label shared;
     for (int op : relaxed.achievers(f)) {
