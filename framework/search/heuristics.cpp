@@ -102,15 +102,6 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
   effect_start_.push_back(static_cast<std::uint32_t>(effects_.size()));
   for (std::size_t f = 0; f < facts_; ++f) {
     trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
-  std::vector<std::vector<int>> relaxed_of(origin_count_);
-  for (std::size_t i = 0; i < ops_.size(); ++i) {
-    if (ops_[i].origin >= 0) relaxed_of[ops_[i].origin].push_back(static_cast<int>(i));
-  }
-  for (const auto& list : relaxed_of) {
-    relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
-    relaxed_of_.insert(relaxed_of_.end(), list.begin(), list.end());
-  }
-  relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
     triggers_.insert(triggers_.end(), precondition_of_[f].begin(), precondition_of_[f].end());
   }
   trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
