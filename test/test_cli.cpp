@@ -78,7 +78,7 @@ class Cli : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { if (!HasFailure()) fs::remove_all(dir_); }
 
   // A problem on the good test scene whose test planner ends with `outcome`.
   fs::path problem(const std::string& outcome, const std::string& planner = "test_planner") {
@@ -1051,6 +1051,46 @@ TEST(CliPddl, AnytimePrintsEachBetterPlanAndLeavesTheBestInThePlanFile) {
                           " --plan /dev/full");
   EXPECT_EQ(full.exit_code, 2) << full.output;
   EXPECT_NE(full.output.find("/dev/full"), std::string::npos) << full.output;
+}
+
+// A tree in the IPC layout made here: one folder with a shared domain.pddl (problems
+// p2 and p10, natural order), one with a domain file per problem, one problem that
+// cannot be read.
+TEST_F(Cli, BenchPddlRunsAnIpcTreeWithCoverageScoresAndValidation) {
+  const std::string gripper_domain = test::read_text(test::data("pddl/gripper/domain-untyped.pddl"));
+  fs::create_directories(dir_ / "tree/gripper");
+  fs::create_directories(dir_ / "tree/pairs");
+  std::ofstream(dir_ / "tree/gripper/domain.pddl") << gripper_domain;
+  fs::copy_file(test::data("pddl/gripper/p4.pddl"), dir_ / "tree/gripper/p2.pddl");
+  fs::copy_file(test::data("pddl/gripper/p6.pddl"), dir_ / "tree/gripper/p10.pddl");
+  std::ofstream(dir_ / "tree/gripper/p3.pddl") << "(define (problem broken) (:domain gripper-strips)";
+  std::ofstream(dir_ / "tree/pairs/domain_p01.pddl") << gripper_domain;
+  fs::copy_file(test::data("pddl/gripper/p4.pddl"), dir_ / "tree/pairs/p01.pddl");
+  std::ofstream(dir_ / "costs.txt") << "# best known\ngripper/p2 11\ngripper/p10 15\n";  // 15: better than any plan
+  const CliRun r = run("bench pddl --instances " + (dir_ / "tree").string() + " --search lama-first --search astar-lmcut" +
+                       " --runs 1 --parse-objects 0 --reference-costs " + (dir_ / "costs.txt").string() + " --csv " +
+                       (dir_ / "runs.csv").string() + " --json " + (dir_ / "runs.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;  // the broken file, after the rest ran
+  EXPECT_NE(r.output.find("p3.pddl:1:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1 problem file(s) refused"), std::string::npos) << r.output;
+  EXPECT_LT(r.output.find("gripper/p2 "), r.output.find("gripper/p10 ")) << r.output;
+  // Coverage per folder: p2, p3 (refused), p10; astar-lmcut scores 11/11 + 15/17.
+  EXPECT_NE(r.output.find("gripper                           astar-lmcut          2/3     1.88"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pairs                             astar-lmcut          1/1     1.00"), std::string::npos) << r.output;
+  const std::string csv = test::read_text(dir_ / "runs.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 4 * 2);  // header, 4 problems x 2 searches
+  EXPECT_NE(csv.find("\"gripper\",\"gripper/p10\",\"astar-lmcut\",1,1,\"\",17."), std::string::npos) << csv;
+  const auto json = nlohmann::json::parse(test::read_text(dir_ / "runs.json"));
+  EXPECT_EQ(json.at("runs").size(), 8u);
+  EXPECT_EQ(json.at("per_domain").size(), 4u);  // 2 folders x 2 searches
+  for (const auto& run : json.at("runs")) {
+    if (run.at("solved").get<bool>()) EXPECT_TRUE(run.at("valid").get<bool>()) << run.dump();
+  }
+  std::ofstream(dir_ / "bad-costs.txt") << "gripper/p2 eleven\n";
+  const CliRun bad = run("bench pddl --instances " + (dir_ / "tree").string() + " --runs 1 --parse-objects 0 --reference-costs " +
+                         (dir_ / "bad-costs.txt").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("bad-costs.txt:1:1: error: expected 'folder/problem cost'"), std::string::npos) << bad.output;
 }
 
 TEST(CliPddl, ExitCodesForBadInputAndNoPlan) {

@@ -345,7 +345,7 @@ int pddl(const BenchArgs& args) {
       if (error.empty()) {
         row = measure(pair, *domain, *problem, algorithm, args, parse_s);
       } else {
-        row.reason = "input refused: " + error;
+        row.reason = "input refused: " + error.substr(0, error.find('\n'));  // the located line, not the excerpt
       }
       row.instance = name;
       row.domain_folder = pair.domain_folder;
