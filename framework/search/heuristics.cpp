@@ -77,11 +77,11 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
   }
   for (const Axiom& a : task.axioms) ops_.push_back({condition(a.body, {}), {a.head}, 0.0, -1});
   for (const Condition& c : task.goal) ops_.push_back({condition(c, {}), {goal_}, 0.0, -1});
-  precondition_of_.resize(facts_);
+  std::vector<std::vector<int>> precondition_of(facts_);
   achievers_.resize(facts_);
   for (int i = 0; i < static_cast<int>(ops_.size()); ++i) {
     if (ops_[i].pre.empty()) no_precondition_.push_back(i);
-    for (FactId f : ops_[i].pre) precondition_of_[f].push_back(i);
+    for (FactId f : ops_[i].pre) precondition_of[f].push_back(i);
     for (FactId f : ops_[i].eff) achievers_[f].push_back(i);
   }
   in_cut_.resize(ops_.size());
@@ -102,7 +102,7 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
   effect_start_.push_back(static_cast<std::uint32_t>(effects_.size()));
   for (std::size_t f = 0; f < facts_; ++f) {
     trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
-    triggers_.insert(triggers_.end(), precondition_of_[f].begin(), precondition_of_[f].end());
+    triggers_.insert(triggers_.end(), precondition_of[f].begin(), precondition_of[f].end());
   }
   trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
   std::vector<std::vector<int>> relaxed_of(origin_count_);
@@ -268,7 +268,7 @@ double RelaxedTask::lmcut(const State& s) {
     while (!open_.empty()) {
       const FactId f = open_.back();
       open_.pop_back();
-      for (int i : precondition_of_[f]) {
+      for (int i : precondition_of(f)) {
         if (op_state_[i].costliest == f) visit(i);
       }
     }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "search/state_space.hpp"
@@ -50,7 +51,10 @@ class RelaxedTask {
     if (f < task_facts_) return holds(s, f);
     return f < goal_ && !holds(s, complemented_[f - task_facts_]);
   }
-  const std::vector<int>& precondition_of(FactId f) const { return precondition_of_[f]; }
+  /// The relaxed operators fact f is a precondition of.
+  std::span<const int> precondition_of(FactId f) const {
+    return {triggers_.data() + trigger_start_[f], triggers_.data() + trigger_start_[f + 1]};
+  }
   const std::vector<int>& achievers(FactId f) const { return achievers_[f]; }
   const std::vector<int>& without_preconditions() const { return no_precondition_; }
 
@@ -65,7 +69,6 @@ class RelaxedTask {
   std::size_t facts_;
   FactId goal_;
   std::vector<Op> ops_;
-  std::vector<std::vector<int>> precondition_of_;
   std::vector<std::vector<int>> achievers_;  // per fact: operators adding it
   std::vector<int> no_precondition_;
   // Scratch, reused between calls.
