@@ -681,6 +681,60 @@ Problem random_problem(const Domain& domain, std::size_t objects, double density
   return parse_problem(text.str(), "random.pddl", domain);
 }
 
+// The grounder joins precondition atoms by looking up the tuples that agree with what it
+// has bound. Whatever order it joins in and whichever argument it looks up, the
+// operators are exactly the bindings whose precondition holds, found here by trying
+// every binding: chains through shared variables, a repeated variable, a constant, a
+// negated atom, an existential and a parameter no atom binds.
+TEST(PddlGrounding, JoinsFindExactlyTheBindingsWhosePreconditionHolds) {
+  const Domain d = parse_domain(R"((define (domain j) (:requirements :adl)
+    (:constants c0)
+    (:predicates (e ?a ?b) (r ?a ?b) (s ?a ?b) (u ?a) (done ?a ?b ?c ?d))
+    (:action go :parameters (?a ?b ?c ?d)
+      :precondition (and (e ?b ?c) (e ?a ?b) (r ?a ?a) (s c0 ?c) (not (e ?c ?a)) (exists (?z) (and (u ?z) (e ?c ?z))))
+      :effect (done ?a ?b ?c ?d))))",
+                                "j.pddl");
+  std::mt19937_64 rng(11);
+  std::size_t found = 0;
+  for (int round = 0; round < 6; ++round) {
+    SCOPED_TRACE(round);
+    const std::vector<std::string> objects{"c0", "o1", "o2", "o3", "o4", "o5", "o6"};
+    std::set<std::string> init;
+    std::bernoulli_distribution coin(0.45);
+    for (const std::string& x : objects) {
+      if (coin(rng)) init.insert("u " + x);
+      for (const std::string& y : objects) {
+        for (const char* predicate : {"e", "r", "s"}) {
+          if (coin(rng)) init.insert(std::string(predicate) + " " + x + " " + y);
+        }
+      }
+    }
+    std::string text = "(define (problem q) (:domain j) (:objects o1 o2 o3 o4 o5 o6) (:init";
+    for (const std::string& fact : init) text += " (" + fact + ")";
+    const Problem p = parse_problem(text + ") (:goal (exists (?a ?b ?c ?d) (done ?a ?b ?c ?d))))", "q.pddl", d);
+    auto holds = [&](const std::string& predicate, const std::string& x, const std::string& y) {
+      return init.count(predicate + " " + x + " " + y) > 0;
+    };
+    std::set<std::string> expected;
+    for (const std::string& a : objects) {
+      for (const std::string& b : objects) {
+        for (const std::string& c : objects) {
+          bool witness = false;
+          for (const std::string& z : objects) witness = witness || (init.count("u " + z) && holds("e", c, z));
+          if (!(holds("e", b, c) && holds("e", a, b) && holds("r", a, a) && holds("s", "c0", c) && !holds("e", c, a) && witness)) continue;
+          for (const std::string& dd : objects) expected.insert("(go " + a + " " + b + " " + c + " " + dd + ")");
+        }
+      }
+    }
+    const search::Task task = search::ground(d, p);
+    std::set<std::string> grounded;
+    for (const search::Operator& op : task.operators) grounded.insert(op.name);
+    EXPECT_EQ(grounded, expected);
+    found += expected.size();
+  }
+  EXPECT_GT(found, 50u);  // the rounds are not vacuous
+}
+
 // The problems of a stream search: objects only added, facts added and taken away.
 // Grounded one after another in a session, each task can do what a fresh grounding
 // of the same problem can (operators and axioms that can apply, the goal, the initial

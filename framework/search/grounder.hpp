@@ -108,6 +108,41 @@ struct Cached {
 // pose looks at thousands, and checking them would cost what grounding it again does.
 constexpr std::size_t kMaxDependencies = 256;
 
+// The reached tuples of each predicate, in the order reached, and per argument position
+// the tuples with a given object there: a join looks up the tuples that agree with what
+// it has bound instead of scanning them all.
+class __attribute__((visibility("hidden"))) ReachedTuples {
+ public:
+  void resize(std::size_t predicates) {
+    tuples_.resize(predicates);
+    index_.resize(predicates);
+  }
+  void add(int predicate, const std::vector<int>& tuple) {
+    auto& positions = index_[predicate];
+    positions.resize(tuple.size());
+    const auto id = static_cast<std::uint32_t>(tuples_[predicate].size());
+    for (std::size_t i = 0; i < tuple.size(); ++i) {
+      auto& by_object = positions[i];
+      if (static_cast<std::size_t>(tuple[i]) >= by_object.size()) by_object.resize(static_cast<std::size_t>(tuple[i]) + 1);
+      by_object[tuple[i]].push_back(id);
+    }
+    tuples_[predicate].push_back(tuple);
+  }
+  const std::vector<std::vector<int>>& of(int predicate) const { return tuples_[predicate]; }
+  /// Indices into of(predicate), ascending, of the tuples with `object` at `position`.
+  const std::vector<std::uint32_t>& with(int predicate, std::size_t position, int object) const {
+    static const std::vector<std::uint32_t> none;
+    const auto& positions = index_[predicate];
+    if (position >= positions.size() || static_cast<std::size_t>(object) >= positions[position].size()) return none;
+    return positions[position][object];
+  }
+
+ private:
+  std::vector<std::vector<std::vector<int>>> tuples_;
+  // [predicate][position][object]: objects are dense indices, and a position admits few
+  std::vector<std::vector<std::vector<std::vector<std::uint32_t>>>> index_;
+};
+
 // Hidden: the library exports its symbols by default, and the grounder is none of its
 // interface (nor may another library interpose its functions).
 class __attribute__((visibility("hidden"))) Grounder {
@@ -124,6 +159,7 @@ class __attribute__((visibility("hidden"))) Grounder {
 
  private:
   void compile();
+  void order_joins(std::vector<CAtom>& core) const;
   void add_objects(const pddl::Problem& problem);
   void ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& out);
   bool still_valid(const Cached& c) const;
@@ -135,7 +171,7 @@ class __attribute__((visibility("hidden"))) Grounder {
     if (rec_->atoms.size() > kMaxDependencies) rec_->reusable = false;
   }
   void note_witness(int predicate) const {
-    if (rec_) rec_->witnesses.emplace_back(predicate, reached_by_predicate_[predicate].size());
+    if (rec_) rec_->witnesses.emplace_back(predicate, reached_tuples_.of(predicate).size());
   }
   void note_objects() const {
     if (rec_) rec_->objects = object_names_.size();
@@ -235,7 +271,7 @@ class __attribute__((visibility("hidden"))) Grounder {
   std::vector<std::pair<int, std::vector<int>>> atoms_;  // predicate, args
   std::vector<bool> reached_;
   std::vector<bool> initially_;  // atoms true in the initial state (static or not)
-  std::vector<std::vector<std::vector<int>>> reached_by_predicate_;
+  ReachedTuples reached_tuples_;
 
   std::vector<Schema> schemas_;
   std::vector<bool> by_type_;  // per schema: a parameter or quantifier ranges over a type
@@ -265,7 +301,7 @@ template <class Visit>
 void Grounder::each_witness(const CFormula& f, const CAtom& witness, std::vector<int>& b, Visit&& visit) const {
   auto quantified = [&](int slot) { return std::find(f.slots.begin(), f.slots.end(), slot) - f.slots.begin(); };
   note_witness(witness.predicate);
-  for (const std::vector<int>& tuple : reached_by_predicate_[witness.predicate]) {
+  for (const std::vector<int>& tuple : reached_tuples_.of(witness.predicate)) {
     for (int slot : f.slots) b[slot] = -1;
     bool fits = true;
     for (std::size_t i = 0; i < witness.args.size() && fits; ++i) {

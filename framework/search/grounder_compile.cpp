@@ -1,6 +1,7 @@
 #include "search/grounder.hpp"
 
 #include <set>
+#include <tuple>
 
 #include "cluttertamp/pddl/parser.hpp"
 
@@ -128,6 +129,35 @@ void Grounder::add_objects(const pddl::Problem& problem) {
   }
 }
 
+// The order the core atoms are joined in: next, an atom with an argument bound by those
+// before (its tuples are looked up by that object, not scanned), static before fluent
+// (static atoms are complete from the start and most selective), then the most bound
+// arguments; on a tie, the order written.
+void Grounder::order_joins(std::vector<CAtom>& core) const {
+  std::vector<CAtom> ordered;
+  std::vector<bool> bound;
+  auto bound_args = [&](const CAtom& a) {
+    int n = 0;
+    for (const CTerm& t : a.args) n += !t.variable || (t.value != kWildcard && static_cast<std::size_t>(t.value) < bound.size() && bound[t.value]);
+    return n;
+  };
+  while (!core.empty()) {
+    auto best = core.begin();
+    auto rank = [&](const CAtom& a) { return std::tuple(bound_args(a) > 0, !fluent_[a.predicate], bound_args(a)); };
+    for (auto it = core.begin(); it != core.end(); ++it) {
+      if (rank(*it) > rank(*best)) best = it;
+    }
+    for (const CTerm& t : best->args) {
+      if (!t.variable || t.value == kWildcard) continue;
+      if (static_cast<std::size_t>(t.value) >= bound.size()) bound.resize(static_cast<std::size_t>(t.value) + 1, false);
+      bound[t.value] = true;
+    }
+    ordered.push_back(std::move(*best));
+    core.erase(best);
+  }
+  core = std::move(ordered);
+}
+
 // What depends on the domain alone: predicates, functions, constants and the schemas.
 void Grounder::compile() {
   compiled_ = true;
@@ -143,7 +173,7 @@ void Grounder::compile() {
   }
   fluent_.assign(predicate_names_.size(), false);
   derived_.assign(predicate_names_.size(), false);
-  reached_by_predicate_.resize(predicate_names_.size());
+  reached_tuples_.resize(predicate_names_.size());
   for (const pddl::Action& a : domain_.actions) mark_fluents(a.effect);
   for (const pddl::DerivedRule& r : domain_.derived) {
     fluent_[predicate_ids_.at(r.head.name)] = true;
@@ -185,10 +215,7 @@ void Grounder::compile() {
     s.conditional = has_when(s.effect);
     collect_core(s.precondition, s.core);
     collect_predicates(s.precondition, s.mentioned);
-    // Join static atoms first: they are complete from the start and most selective.
-    std::stable_sort(s.core.begin(), s.core.end(), [&](const CAtom& x, const CAtom& y) {
-      return !fluent_[x.predicate] && fluent_[y.predicate];
-    });
+    order_joins(s.core);
     schemas_.push_back(std::move(s));
   }
   for (const Schema& s : schemas_) {

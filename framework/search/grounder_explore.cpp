@@ -11,48 +11,73 @@ namespace {
 using Ranges = std::vector<std::pair<std::size_t, std::size_t>>;
 constexpr std::size_t kMaxInlineArgs = 16;
 
+// The object a core atom's argument must be under the binding so far, or -1 when free.
+int fixed_value(const CTerm& term, const std::vector<int>& binding, const std::vector<bool>& bound) {
+  if (!term.variable) return term.value;
+  if (term.value == kWildcard || !bound[term.value]) return -1;
+  return binding[term.value];
+}
+
+// Binds the free arguments of `a` to `tuple` if it agrees with the binding so far and
+// the parameters' types; the slots it bound are appended to `newly` (also on failure).
+bool bind_tuple(const Schema& s, const CAtom& a, const std::vector<int>& tuple, std::vector<int>& binding,
+                std::vector<bool>& bound, int* newly, std::size_t& newly_count) {
+  for (std::size_t i = 0; i < a.args.size(); ++i) {
+    const CTerm& term = a.args[i];
+    if (!term.variable) {
+      if (term.value != tuple[i]) return false;
+    } else if (term.value == kWildcard) {
+      continue;
+    } else if (bound[term.value]) {
+      if (binding[term.value] != tuple[i]) return false;
+    } else {
+      // The parameter's type must admit the object.
+      const auto param = std::find(s.parameters.begin(), s.parameters.end(), term.value);
+      if (param != s.parameters.end()) {
+        const auto* domain = s.parameter_domains[param - s.parameters.begin()];
+        if (!std::binary_search(domain->begin(), domain->end(), tuple[i])) return false;
+      }
+      binding[term.value] = tuple[i];
+      bound[term.value] = true;
+      newly[newly_count++] = term.value;
+    }
+  }
+  return true;
+}
+
 // Binds the schema's parameters by joining its positive precondition atoms with the
-// facts reached so far, then the rest from their types.
-void enumerate(const Schema& s, const std::vector<std::vector<std::vector<int>>>& reached_by_predicate, std::size_t k,
-               std::vector<int>& binding, std::vector<bool>& bound, const Ranges& ranges,
-               const std::function<void()>& visit) {
+// facts reached so far, then the rest from their types. Where an argument of the next
+// atom is already fixed, only the tuples with that object there are tried.
+void enumerate(const Schema& s, const ReachedTuples& reached, std::size_t k, std::vector<int>& binding,
+               std::vector<bool>& bound, const Ranges& ranges, const std::function<void()>& visit) {
   if (k < s.core.size()) {
     const CAtom& a = s.core[k];
-    const auto& tuples = reached_by_predicate[a.predicate];
-    for (std::size_t t = ranges[k].first; t < ranges[k].second; ++t) {
-      const std::vector<int>& tuple = tuples[t];
-      // The slots this tuple binds, at most one per argument: on the stack, as this runs
-      // for every reached tuple of every core atom.
-      std::array<int, kMaxInlineArgs> newly_inline;
-      std::vector<int> newly_heap;
-      if (a.args.size() > kMaxInlineArgs) newly_heap.resize(a.args.size());
-      int* newly = a.args.size() > kMaxInlineArgs ? newly_heap.data() : newly_inline.data();
+    const auto& tuples = reached.of(a.predicate);
+    // The slots one tuple binds, at most one per argument: on the stack, as this runs
+    // for every reached tuple of every core atom.
+    std::array<int, kMaxInlineArgs> newly_inline;
+    std::vector<int> newly_heap;
+    if (a.args.size() > kMaxInlineArgs) newly_heap.resize(a.args.size());
+    int* newly = a.args.size() > kMaxInlineArgs ? newly_heap.data() : newly_inline.data();
+    auto try_tuple = [&](std::size_t t) {
       std::size_t newly_count = 0;
-      bool ok = true;
-      for (std::size_t i = 0; i < a.args.size() && ok; ++i) {
-        const CTerm& term = a.args[i];
-        if (!term.variable) {
-          ok = term.value == tuple[i];
-        } else if (term.value == kWildcard) {
-          continue;
-        } else if (bound[term.value]) {
-          ok = binding[term.value] == tuple[i];
-        } else {
-          // The parameter's type must admit the object.
-          const auto param = std::find(s.parameters.begin(), s.parameters.end(), term.value);
-          if (param != s.parameters.end()) {
-            const auto* domain = s.parameter_domains[param - s.parameters.begin()];
-            ok = std::binary_search(domain->begin(), domain->end(), tuple[i]);
-          }
-          if (ok) {
-            binding[term.value] = tuple[i];
-            bound[term.value] = true;
-            newly[newly_count++] = term.value;
-          }
-        }
-      }
-      if (ok) enumerate(s, reached_by_predicate, k + 1, binding, bound, ranges, visit);
+      if (bind_tuple(s, a, tuples[t], binding, bound, newly, newly_count)) enumerate(s, reached, k + 1, binding, bound, ranges, visit);
       for (std::size_t n = 0; n < newly_count; ++n) bound[newly[n]] = false;
+    };
+    const std::vector<std::uint32_t>* candidates = nullptr;
+    for (std::size_t i = 0; i < a.args.size(); ++i) {
+      const int value = fixed_value(a.args[i], binding, bound);
+      if (value < 0) continue;
+      const std::vector<std::uint32_t>& with = reached.with(a.predicate, i, value);
+      if (!candidates || with.size() < candidates->size()) candidates = &with;
+    }
+    if (!candidates) {
+      for (std::size_t t = ranges[k].first; t < ranges[k].second; ++t) try_tuple(t);
+      return;
+    }
+    for (auto it = std::lower_bound(candidates->begin(), candidates->end(), ranges[k].first);
+         it != candidates->end() && *it < ranges[k].second; ++it) {
+      try_tuple(*it);
     }
     return;
   }
@@ -63,7 +88,7 @@ void enumerate(const Schema& s, const std::vector<std::vector<std::vector<int>>>
     bound[slot] = true;
     for (int o : *s.parameter_domains[p]) {
       binding[slot] = o;
-      enumerate(s, reached_by_predicate, k, binding, bound, ranges, visit);
+      enumerate(s, reached, k, binding, bound, ranges, visit);
     }
     bound[slot] = false;
     return;
@@ -148,7 +173,7 @@ bool Grounder::witness_values(const CFormula& f, std::size_t k, const std::vecto
   if (!witness) return false;
   const CAtom& a = witness->atom;
   note_witness(a.predicate);
-  for (const std::vector<int>& tuple : reached_by_predicate_[a.predicate]) {
+  for (const std::vector<int>& tuple : reached_tuples_.of(a.predicate)) {
     int value = -1;
     bool fits = true;
     for (std::size_t i = 0; i < a.args.size() && fits; ++i) {
@@ -270,7 +295,7 @@ void Grounder::explore() {
   auto reach = [&](int a) {
     if (reached_[a]) return;
     reached_[a] = true;
-    reached_by_predicate_[atoms_[a].first].push_back(atoms_[a].second);
+    reached_tuples_.add(atoms_[a].first, atoms_[a].second);
   };
   std::vector<int> now;
   now.reserve(problem_->init.size());
@@ -296,7 +321,7 @@ void Grounder::explore() {
   // every pass).
   auto reached_count = [&](const Schema& s) {
     std::size_t n = 0;
-    for (int predicate : s.mentioned) n += reached_by_predicate_[predicate].size();
+    for (int predicate : s.mentioned) n += reached_tuples_.of(predicate).size();
     return n;
   };
   seen_.resize(schemas_.size(), std::numeric_limits<std::size_t>::max());
@@ -357,16 +382,16 @@ void Grounder::explore() {
       const std::size_t n = s.core.size();
       Ranges ranges(n);
       std::vector<std::size_t> now(n);
-      for (std::size_t k = 0; k < n; ++k) now[k] = reached_by_predicate_[s.core[k].predicate].size();
+      for (std::size_t k = 0; k < n; ++k) now[k] = reached_tuples_.of(s.core[k].predicate).size();
       const bool full = last.size() != n || !core_complete_[i] || objects_changed || s.conditional;
       if (full || n == 0) {
         for (std::size_t k = 0; k < n; ++k) ranges[k] = {0, now[k]};
-        enumerate(s, reached_by_predicate_, 0, binding, bound, ranges, visit);
+        enumerate(s, reached_tuples_, 0, binding, bound, ranges, visit);
       } else {
         for (std::size_t delta = 0; delta < n; ++delta) {
           if (last[delta] == now[delta]) continue;
           for (std::size_t k = 0; k < n; ++k) ranges[k] = {k == delta ? last[k] : 0, k < delta ? last[k] : now[k]};
-          enumerate(s, reached_by_predicate_, 0, binding, bound, ranges, visit);
+          enumerate(s, reached_tuples_, 0, binding, bound, ranges, visit);
         }
       }
       last = std::move(now);

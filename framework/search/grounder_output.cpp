@@ -273,7 +273,7 @@ bool Grounder::still_valid(const Cached& c) const {
     if (state(atom) != was) return false;
   }
   for (const auto& [predicate, count] : c.witnesses) {
-    if (reached_by_predicate_[predicate].size() != count) return false;
+    if (reached_tuples_.of(predicate).size() != count) return false;
   }
   for (const auto& [key, value] : c.costs) {
     const auto it = function_values_.find(key);
