@@ -291,7 +291,9 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
   std::vector<double> values;  // per state: its k heuristic values
   std::vector<double> best(k, kInfinity);
   std::vector<OperatorId> preferred, successors;
-  auto evaluate = [&](int id) -> bool {  // false: a dead end
+  // False: a dead end. The initial state's values are the first best ones, not progress
+  // (as in Fast Downward: no boost before the first expansion).
+  auto evaluate = [&](int id, bool initial) -> bool {
     const State& state = registry.state(id);
     preferred.clear();
     ++result.statistics.evaluated;
@@ -306,7 +308,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
         progress = true;
       }
     }
-    if (progress) open.boost();
+    if (progress && !initial) open.boost();
     return true;
   };
   auto expand = [&](int id) {
@@ -328,7 +330,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
   registry.node(start) = {-1, -1, 0.0, 0.0, true};
   for (LazyHeuristic* h : heuristics) h->start(start, registry.state(start));
   if (space.is_goal(registry.state(start))) return finish(space, registry, start, result);
-  if (!evaluate(start)) {
+  if (!evaluate(start, true)) {
     result.reason = "no plan exists (the initial state is a dead end)";
     return result;
   }
@@ -349,7 +351,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     c.g = child_g;
     c.closed = true;
     if (space.is_goal(registry.state(child))) return finish(space, registry, child, result);
-    if (!evaluate(child)) {
+    if (!evaluate(child, false)) {
       registry.node(child).h = kInfinity;
       continue;
     }
