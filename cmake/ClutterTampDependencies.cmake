@@ -7,6 +7,9 @@ find_package(nlohmann_json 3.10 REQUIRED)
 find_package(CLI11 2.1 REQUIRED)
 find_package(fcl 0.7 REQUIRED)
 find_package(urdfdom REQUIRED)
+# Robot meshes: assimp reads STL, COLLADA and OBJ; qhull makes their convex hulls.
+find_package(assimp 5 REQUIRED)
+find_package(Qhull REQUIRED)
 # Wraps a package found in module mode (include directories and libraries in
 # variables) as an INTERFACE target whose headers are SYSTEM headers.
 function(cluttertamp_wrap_package target include_dirs libraries)

@@ -7,6 +7,7 @@
 #include "cli/command_line/command.hpp"
 #include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/core/memory_limit.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/version.hpp"
 
@@ -65,6 +66,7 @@ int main(int argc, char** argv) {
   }
 
   cluttertamp::set_memory_limit(common.memory_limit_mib);
+  cluttertamp::io::set_command_line_package_paths(common.package_paths);
   for (const cli::Command& command : commands) {
     if (command.app->parsed()) return run(command);
   }

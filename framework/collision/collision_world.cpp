@@ -6,7 +6,9 @@
 #include <stdexcept>
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/convex.h>
 #include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
@@ -37,6 +39,27 @@ Geometry make_geometry(const Shape& shape, double shrink = 0.0) {
   const auto& cylinder = std::get<Cylinder>(shape);
   return std::make_shared<fcl::Cylinderd>(std::max(cylinder.radius - shrink, 1e-4),
                                           std::max(cylinder.height - 2 * shrink, 1e-4));
+}
+
+// A link mesh as FCL geometry: its convex hull as a convex polytope (GJK on its
+// vertices), or its triangles in a bounding volume hierarchy of oriented boxes.
+Geometry make_geometry(const robot::TriangleMesh& mesh, bool convex) {
+  if (convex) {
+    auto vertices = std::make_shared<std::vector<fcl::Vector3d>>(mesh.vertices.begin(), mesh.vertices.end());
+    auto faces = std::make_shared<std::vector<int>>();
+    faces->reserve(mesh.triangles.size() * 4);
+    for (const auto& t : mesh.triangles) faces->insert(faces->end(), {3, static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
+    return std::make_shared<fcl::Convexd>(vertices, static_cast<int>(mesh.triangles.size()), faces);
+  }
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  std::vector<fcl::Vector3d> vertices(mesh.vertices.begin(), mesh.vertices.end());
+  std::vector<fcl::Triangle> triangles;
+  triangles.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
+  model->beginModel(static_cast<int>(triangles.size()), static_cast<int>(vertices.size()));
+  model->addSubModel(vertices, triangles);
+  model->endModel();
+  return model;
 }
 
 fcl::Transform3d to_fcl(const Eigen::Isometry3d& pose) { return fcl::Transform3d(pose.matrix()); }
@@ -143,8 +166,19 @@ struct CollisionWorld::Impl {
   struct RobotShape {
     robot::LinkIndex link;
     Shape shape;
-    Eigen::Isometry3d link_T_shape;
+    Eigen::Isometry3d link_T_shape;  // of the mesh, for a mesh
     bool gripper;  // part of the hand (below the tool's rigid body): may touch the held object
+    std::shared_ptr<const robot::TriangleMesh> mesh;  // null for a primitive
+    bool convex = false;
+    // A mesh's FCL geometry, built once: each context gets a copy, which costs a
+    // fraction of building it (a polytope's adjacency, a hierarchy's boxes).
+    std::shared_ptr<const fcl::CollisionGeometryd> prototype;
+
+    Geometry geometry() const {
+      if (!prototype) return make_geometry(shape);
+      if (convex) return std::make_shared<fcl::Convexd>(static_cast<const fcl::Convexd&>(*prototype));
+      return std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>(static_cast<const fcl::BVHModel<fcl::OBBRSSd>&>(*prototype));
+    }
   };
   struct MovableObject {
     Geometry geometry;
@@ -210,7 +244,9 @@ CollisionWorld::CollisionWorld(const Scene& scene, std::shared_ptr<const robot::
   for (std::size_t l = 0; l < model.links().size(); ++l) {
     const auto link = static_cast<robot::LinkIndex>(l);
     for (const robot::CollisionShape& c : model.links()[l].collision) {
-      w.robot_shapes.push_back({link, c.shape, c.link_T_shape, model.descends_from(link, tool_root)});
+      const bool gripper = model.descends_from(link, tool_root);
+      if (c.mesh) w.robot_shapes.push_back({link, c.shape, c.link_T_mesh, gripper, c.mesh, c.convex, make_geometry(*c.mesh, c.convex)});
+      else w.robot_shapes.push_back({link, c.shape, c.link_T_shape, gripper, nullptr, false, nullptr});
     }
   }
   const auto& adjacent = w.robot->disabled_collisions();
@@ -312,7 +348,7 @@ void CollisionWorld::sync(const WorldState& state) {
 std::unique_ptr<CollisionWorld::Context> CollisionWorld::make_context() const {
   std::unique_ptr<Context> context(new Context());
   for (const Impl::RobotShape& shape : impl_->robot_shapes) {
-    context->state_->shapes.push_back(std::make_unique<Object>(make_geometry(shape.shape)));
+    context->state_->shapes.push_back(std::make_unique<Object>(shape.geometry()));
     context->state_->shapes.back()->setUserData(nullptr);  // FCL leaves it uninitialised
   }
   return context;

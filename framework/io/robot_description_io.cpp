@@ -1,5 +1,6 @@
 #include "cluttertamp/io/robot_description_io.hpp"
 
+#include <mutex>
 #include <stdexcept>
 
 #include "io/yaml_reader.hpp"
@@ -10,7 +11,39 @@ namespace {
 using detail::MapReader;
 using detail::YamlFile;
 using namespace robot;
+
+std::mutex g_package_paths_mutex;
+std::vector<std::filesystem::path> g_command_line_package_paths;
+
+std::vector<std::filesystem::path> command_line_package_paths() {
+  std::lock_guard<std::mutex> lock(g_package_paths_mutex);
+  return g_command_line_package_paths;
+}
+
+// package_paths: and mesh_collision: (URDF loading options; defaults when absent).
+UrdfOptions urdf_options(const YamlFile& yaml, const MapReader& top) {
+  std::vector<std::filesystem::path> directories = command_line_package_paths();
+  if (top.has("package_paths")) {
+    const YAML::Node list = top.optional("package_paths");
+    if (const auto names = yaml.strings(list, "package_paths")) {
+      for (const std::string& name : *names) directories.push_back(yaml.resolve(name));
+    }
+  }
+  UrdfOptions options{PackagePaths::with_environment(std::move(directories))};
+  if (top.has("mesh_collision")) {
+    const YAML::Node node = top.optional("mesh_collision");
+    const auto name = yaml.string(node, "mesh_collision");
+    if (name == std::string("triangles")) options.mesh_collision = MeshCollision::triangles;
+    else if (name && *name != "convex_hull") yaml.error(node, "mesh_collision must be 'convex_hull' or 'triangles', not '" + *name + "'");
+  }
+  return options;
+}
 }  // namespace
+
+void set_command_line_package_paths(std::vector<std::filesystem::path> directories) {
+  std::lock_guard<std::mutex> lock(g_package_paths_mutex);
+  g_command_line_package_paths = std::move(directories);
+}
 
 RobotDescription load_robot_description(const std::filesystem::path& file) {
   Diagnostics diagnostics;
@@ -19,7 +52,8 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
   RobotDescription::Parts robot;
   robot.name = file.stem().string();
   MapReader top(yaml, yaml.root(), "the robot description",
-                {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home", "disabled_collisions"});
+                {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home", "disabled_collisions",
+                  "package_paths", "mesh_collision"});
   if (!top.valid()) diagnostics.throw_if_any();
 
   yaml.check_version(top.required("version"), "robot description", 1);
@@ -55,11 +89,12 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
   } else {
     top.required("gripper");
   }
+  const UrdfOptions urdf_loading = urdf_options(yaml, top);
   top.report_unknown_keys();
   diagnostics.throw_if_any();
 
   robot.urdf = yaml.resolve(*urdf_name);
-  robot.model = std::make_shared<const RobotModel>(RobotModel::load_urdf(robot.urdf));
+  robot.model = std::make_shared<const RobotModel>(RobotModel::load_urdf(robot.urdf, urdf_loading));
   const RobotModel& model = *robot.model;
   auto link = [&](const YAML::Node& node, const std::string& name) -> LinkIndex {
     if (auto index = model.find_link(name)) return *index;

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include <console_bridge/console.h>
 #include <urdf_model/model.h>
@@ -58,8 +59,9 @@ Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   return t;
 }
 
-Shape to_shape(const fs::path& file, const std::string& link, std::size_t index, const urdf::Geometry& geometry) {
-  const std::string where = "link '" + link + "' <collision> #" + std::to_string(index + 1);
+Shape to_shape(const fs::path& file, const std::string& link, std::size_t index, const urdf::Geometry& geometry,
+               const char* element = "collision") {
+  const std::string where = "link '" + link + "' <" + element + "> #" + std::to_string(index + 1);
   switch (geometry.type) {
     case urdf::Geometry::BOX: {
       const auto& box = static_cast<const urdf::Box&>(geometry);
@@ -79,21 +81,87 @@ Shape to_shape(const fs::path& file, const std::string& link, std::size_t index,
       if (s.radius <= 0) throw InputError({file.string(), 0, 0}, where + ": sphere radius must be positive");
       return Sphere{s.radius};
     }
-    case urdf::Geometry::MESH:
-      throw InputError({file.string(), 0, 0},
-                       where + " is a <mesh>; cluttertamp needs primitive collision geometry (box, cylinder, sphere)");
+    case urdf::Geometry::MESH: break;  // MeshReader
   }
   throw InputError({file.string(), 0, 0}, where + " has an unknown geometry type");
 }
 
+// Where `filename="uri"` first stands in the URDF text (urdfdom keeps no positions).
+SourceLocation locate(const fs::path& file, const std::string& text, const std::string& uri) {
+  for (const char quote : {'"', '\''}) {
+    const auto at = text.find(std::string("filename=") + quote + uri + quote);
+    if (at == std::string::npos) continue;
+    const auto line_start = text.rfind('\n', at);
+    const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+    return {file.string(), line, at - (line_start == std::string::npos ? 0 : line_start + 1) + 1};
+  }
+  return {file.string(), 0, 0};
+}
+
+// Reads the meshes of one URDF, each file once per scale.
+class MeshReader {
+ public:
+  MeshReader(const fs::path& file, const std::string& text, const UrdfOptions& options)
+      : file_(file), text_(text), options_(options) {}
+
+  CollisionShape shape(const std::string& link, std::size_t index, const urdf::Mesh& m, const Eigen::Isometry3d& link_T_mesh) {
+    const SourceLocation at = locate(file_, text_, m.filename);
+    const Eigen::Vector3d scale = checked_scale(m, at, "link '" + link + "' <collision> #" + std::to_string(index + 1));
+    const fs::path found = resolve_mesh_uri(m.filename, file_.parent_path(), options_.packages, at);
+    const bool convex = options_.mesh_collision == MeshCollision::convex_hull;
+    auto& cached = cache_[{found.string(), scale.x(), scale.y(), scale.z(), convex}];
+    if (!cached) {
+      TriangleMesh mesh = load_mesh(found, scale, at);
+      cached = std::make_shared<const TriangleMesh>(convex ? convex_hull(mesh, at) : std::move(mesh));
+    }
+    CollisionShape c;
+    c.mesh = cached;
+    c.convex = convex;
+    c.link_T_mesh = link_T_mesh;
+    c.mesh_file = found.string();
+    Eigen::Vector3d min, max;
+    cached->bounds(min, max);
+    c.shape = Box{(max - min).cwiseMax(1e-6)};
+    c.link_T_shape = link_T_mesh * Eigen::Translation3d((min + max) / 2);
+    return c;
+  }
+
+  // A visual mesh is found now (a missing file is an error here, not when drawing) and
+  // read only by what draws it.
+  VisualShape visual(const std::string& link, std::size_t index, const urdf::Mesh& m, const Eigen::Isometry3d& link_T_mesh) {
+    const SourceLocation at = locate(file_, text_, m.filename);
+    VisualShape v;
+    v.mesh_scale = checked_scale(m, at, "link '" + link + "' <visual> #" + std::to_string(index + 1));
+    v.mesh_file = resolve_mesh_uri(m.filename, file_.parent_path(), options_.packages, at).string();
+    v.link_T_visual = link_T_mesh;
+    return v;
+  }
+
+ private:
+  static Eigen::Vector3d checked_scale(const urdf::Mesh& m, const SourceLocation& at, const std::string& where) {
+    const Eigen::Vector3d scale(m.scale.x, m.scale.y, m.scale.z);
+    if (!scale.allFinite() || (scale.array() == 0).any()) throw InputError(at, where + ": mesh scale must be finite and not zero");
+    return scale;
+  }
+
+  const fs::path& file_;
+  const std::string& text_;
+  const UrdfOptions& options_;
+  std::map<std::tuple<std::string, double, double, double, bool>, std::shared_ptr<const TriangleMesh>> cache_;
+};
+
 }  // namespace
 
-RobotModel RobotModel::load_urdf(const fs::path& file) {
+RobotModel RobotModel::load_urdf(const fs::path& file) { return load_urdf(file, UrdfOptions{PackagePaths::with_environment({})}); }
+
+RobotModel RobotModel::load_urdf(const fs::path& file, const UrdfOptions& options) {
   std::ifstream in(file);
   if (!in) throw InputError({file.string(), 0, 0}, fs::exists(file) ? "cannot read the URDF file" : "no such URDF file");
   std::stringstream text;
   text << in.rdbuf();
-  const auto urdf_model = parse(file, text.str());
+  const std::string xml = text.str();
+  const auto urdf_model = parse(file, xml);
+  MeshReader meshes(file, xml, options);
 
   RobotModel model;
   model.name_ = urdf_model->getName();
@@ -106,7 +174,26 @@ RobotModel RobotModel::load_urdf(const fs::path& file) {
     for (std::size_t i = 0; i < link->collision_array.size(); ++i) {
       const auto& c = link->collision_array[i];
       if (!c || !c->geometry) continue;
-      l.collision.push_back({to_shape(file, name, i, *c->geometry), to_isometry(c->origin)});
+      if (c->geometry->type == urdf::Geometry::MESH) {
+        l.collision.push_back(meshes.shape(name, i, static_cast<const urdf::Mesh&>(*c->geometry), to_isometry(c->origin)));
+      } else {
+        CollisionShape primitive;
+        primitive.shape = to_shape(file, name, i, *c->geometry);
+        primitive.link_T_shape = to_isometry(c->origin);
+        l.collision.push_back(std::move(primitive));
+      }
+    }
+    for (std::size_t i = 0; i < link->visual_array.size(); ++i) {
+      const auto& v = link->visual_array[i];
+      if (!v || !v->geometry) continue;
+      if (v->geometry->type == urdf::Geometry::MESH) {
+        l.visual.push_back(meshes.visual(name, i, static_cast<const urdf::Mesh&>(*v->geometry), to_isometry(v->origin)));
+      } else {
+        VisualShape primitive;
+        primitive.primitive = to_shape(file, name, i, *v->geometry, "visual");
+        primitive.link_T_visual = to_isometry(v->origin);
+        l.visual.push_back(std::move(primitive));
+      }
     }
     model.links_.push_back(std::move(l));
   }

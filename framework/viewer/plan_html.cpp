@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cluttertamp/core/world_state.hpp"
+#include "cluttertamp/robot/mesh.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/io/shape_json.hpp"
 #include "cluttertamp/io/text_file.hpp"
@@ -36,6 +37,21 @@ Json pose_json(const Eigen::Isometry3d& pose) {
 }
 
 using io::shape_json;
+
+// Triangles a mesh keeps on the page: the page stays one self-contained file of a few
+// megabytes for a robot of a dozen meshed links.
+constexpr std::size_t kMaxDrawnTriangles = 20000;
+
+// {"mesh": {"vertices": [x y z ...], "triangles": [i j k ...]}}, simplified if large.
+Json mesh_json(const robot::TriangleMesh& full) {
+  const robot::TriangleMesh mesh = robot::simplified(full, kMaxDrawnTriangles);
+  Json vertices = Json::array(), triangles = Json::array();
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    for (int k = 0; k < 3; ++k) vertices.push_back(rounded(v[k]));
+  }
+  for (const auto& t : mesh.triangles) triangles.insert(triangles.end(), {t[0], t[1], t[2]});
+  return {{"mesh", {{"vertices", std::move(vertices)}, {"triangles", std::move(triangles)}}}};
+}
 
 // Beyond these a result.json is not a plan but a way to exhaust memory.
 constexpr double kMaxFrames = 1e5;
@@ -81,7 +97,7 @@ class Replayer {
       state_.robot_configuration = robot::initial_configuration(problem.robot);
       const auto& links = robot_->model()->links();
       for (std::size_t i = 0; i < links.size(); ++i) {
-        if (!links[i].collision.empty()) drawn_links_.push_back(static_cast<robot::LinkIndex>(i));
+        if (!links[i].collision.empty() || !links[i].visual.empty()) drawn_links_.push_back(static_cast<robot::LinkIndex>(i));
       }
     }
   }
@@ -92,7 +108,19 @@ class Replayer {
     for (robot::LinkIndex l : drawn_links_) {
       const robot::Link& link = robot_->model()->links()[static_cast<std::size_t>(l)];
       Json shapes = Json::array();
-      for (const robot::CollisionShape& s : link.collision) shapes.push_back({{"shape", shape_json(s.shape)}, {"pose", pose_json(s.link_T_shape)}});
+      // What the link looks like when the URDF says (<visual>), else what collides.
+      for (const robot::VisualShape& v : link.visual) {
+        if (v.primitive) {
+          shapes.push_back({{"shape", shape_json(*v.primitive)}, {"pose", pose_json(v.link_T_visual)}});
+        } else {
+          const robot::TriangleMesh mesh = robot::load_mesh(v.mesh_file, v.mesh_scale, {v.mesh_file, 0, 0});
+          shapes.push_back({{"shape", mesh_json(mesh)}, {"pose", pose_json(v.link_T_visual)}});
+        }
+      }
+      for (const robot::CollisionShape& s : link.visual.empty() ? link.collision : std::vector<robot::CollisionShape>{}) {
+        if (s.mesh) shapes.push_back({{"shape", mesh_json(*s.mesh)}, {"pose", pose_json(s.link_T_mesh)}});
+        else shapes.push_back({{"shape", shape_json(s.shape)}, {"pose", pose_json(s.link_T_shape)}});
+      }
       links.push_back({{"name", link.name}, {"shapes", shapes}});
     }
     return {{"name", robot_->name()}, {"links", links}};

@@ -41,6 +41,7 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
       "KPIECE and guided reaching through clutter on the bundled shelves (Fig. 6 of Papallas & Dogar); 'occlusion' runs the "
       "occlusion planner on generated occlusion shelves (Table II of Tian et al.); 'mobile' runs retrieval_graph with "
       "pr2_mobile on generated tables for three initial exploration limits (Table III)");
+  add_package_paths(*bench, common);
   bench->add_option("what", args->what, "What to measure")
       ->required()
       ->check(CLI::IsMember({"collision", "pddl", "samplers", "retrieval", "physics", "push", "occlusion", "mobile"}));

@@ -28,6 +28,15 @@ void add_plugin_paths(CLI::App& app, std::vector<std::filesystem::path>& paths) 
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
+void add_package_paths(CLI::App& app, CommonOptions& common) {
+  app.add_option("--package-path", common.package_paths,
+                 "Look for a URDF's package://NAME/... meshes in DIR: DIR itself when named NAME, DIR/NAME or "
+                 "DIR/*/NAME (repeatable; searched before the robot description's package_paths and ROS_PACKAGE_PATH)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
 CLI::Validator seed_validator() {
   return CLI::Validator(
       [](const std::string& text) {

@@ -24,6 +24,7 @@ struct Command {
 /// What every command may set beside its own arguments.
 struct CommonOptions {
   std::size_t memory_limit_mib = 0;  ///< 0: the default
+  std::vector<std::filesystem::path> package_paths;  ///< --package-path, for package:// meshes
 };
 
 /// Declares one subcommand on `app`, its arguments owned by the returned Command.
@@ -45,6 +46,8 @@ void add_verbosity(CLI::App& app, Verbosity& verbosity, const std::string& verbo
 void add_memory_limit(CLI::App& app, CommonOptions& common);
 /// --plugin-path DIR, repeatable.
 void add_plugin_paths(CLI::App& app, std::vector<std::filesystem::path>& paths);
+/// --package-path DIR (repeatable): where a robot's package:// meshes are looked for.
+void add_package_paths(CLI::App& app, CommonOptions& common);
 /// A whole number from 0 to 2^63 - 1.
 CLI::Validator seed_validator();
 /// A finite number of seconds greater than 0.

@@ -6,6 +6,7 @@ Command declare_compare(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<CompareArgs>();
   auto* compare = app.add_subcommand(
       "compare", "Stream planning focused and not: {adaptive, incremental} x {pruned, all movable} (Tian et al., Table IV)");
+  add_package_paths(*compare, common);
   compare->add_option("problems", args->problems, "Stream problem files (task: pddl); with several, --svg plots time against object count")
       ->required()
       ->check(CLI::ExistingFile);

@@ -5,6 +5,7 @@ namespace cluttertamp::cli {
 Command declare_generate(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<GenerateArgs>();
   auto* generate = app.add_subcommand("generate", "Generate a shelf scene (Tian et al., Section VI-B) and optionally a problem file");
+  add_package_paths(*generate, common);
   generate->add_option("--objects", args->objects, "Cylinders in the shelf (12 to 20, and 100, in the paper)")
       ->capture_default_str()
       ->check(CLI::Range(1, 500));

@@ -8,6 +8,7 @@ Command declare_guide(CLI::App& app, CommonOptions& common) {
       "guide", "Guide a reach problem from a browser (Papallas & Dogar's GRTC-HITL): serves a page on localhost where "
                "you click an object, then where it should go; the push is planned, and \"let the robot finish\" "
                "reaches the target in the time left. With --auto, write the automatic guidance to a file instead");
+  add_package_paths(*guide, common);
   guide->add_option("problem", args->problem, "Problem file with task: {reach: <target>}")->required()->check(CLI::ExistingFile);
   guide->add_flag("--auto", args->automatic,
                   "Write the automatic guidance (the objects on the straight way from the exit to the target, each "

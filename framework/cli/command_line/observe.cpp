@@ -2,11 +2,12 @@
 
 namespace cluttertamp::cli {
 
-Command declare_observe(CLI::App& app, CommonOptions&) {
+Command declare_observe(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<ObserveArgs>();
   auto* observe = app.add_subcommand(
       "observe", "What the scene's camera sees: each object observed or hidden, how much of it is in view and "
                  "what hides it (ray casting; Tian et al., Section V-A)");
+  add_package_paths(*observe, common);
   observe->add_option("file", args->file, "Scene or problem file")->required()->check(CLI::ExistingFile);
   observe->add_option("--remove", args->remove, "Take these objects away first (ids, repeatable or comma-separated)")
       ->delimiter(',');

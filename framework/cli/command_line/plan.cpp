@@ -5,6 +5,7 @@ namespace cluttertamp::cli {
 Command declare_plan(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<PlanArgs>();
   auto* plan = app.add_subcommand("plan", "Plan a problem file; write OUTPUT/result.json");
+  add_package_paths(*plan, common);
   plan->add_option("problem", args->problem, "Problem file (YAML)")->required()->check(CLI::ExistingFile);
   plan->add_option("--seed", args->seed, "Random seed, 0 to 2^63-1 (overrides the problem file's planner.seed)")
       ->check(seed_validator());

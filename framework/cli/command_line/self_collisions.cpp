@@ -2,11 +2,12 @@
 
 namespace cluttertamp::cli {
 
-Command declare_self_collisions(CLI::App& app, CommonOptions&) {
+Command declare_self_collisions(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<SelfCollisionArgs>();
   auto* self = app.add_subcommand(
       "self-collisions",
       "Count which pairs of a robot's links touch over random configurations; list those that never do, for disabled_collisions");
+  add_package_paths(*self, common);
   self->add_option("robot", args->robot, "Robot description file")->required()->check(CLI::ExistingFile);
   self->add_option("--samples", args->samples, "Random configurations")->capture_default_str()->check(CLI::Range(100, 10000000));
   self->add_option("--seed", args->seed, "Seed of the configurations")->capture_default_str();

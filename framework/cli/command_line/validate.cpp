@@ -2,9 +2,10 @@
 
 namespace cluttertamp::cli {
 
-Command declare_validate(CLI::App& app, CommonOptions&) {
+Command declare_validate(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<ValidateArgs>();
   auto* validate = app.add_subcommand("validate", "Check problem and scene files; print every error with its location");
+  add_package_paths(*validate, common);
   validate->add_option("files", args->files, "Problem or scene files (YAML)")->required();
   validate->add_flag("--no-plugins", args->skip_plugins,
                      "Do not check that the plugins a problem names exist and accept their parameters");

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 
 #include "cluttertamp/core/geometry.hpp"
 #include "cluttertamp/export.hpp"
+#include "cluttertamp/robot/mesh.hpp"
 
 namespace cluttertamp::robot {
 
@@ -44,16 +46,41 @@ struct Joint {
   double value(const Eigen::VectorXd& q, const std::vector<Joint>& joints) const;
 };
 
-/// A collision primitive of a link, placed in the link frame.
+/// A collision body of a link: a primitive, or a mesh.
 struct CollisionShape {
+  /// The primitive, placed in the link frame. For a mesh: the box bounding it (what a
+  /// user of primitives only sees, conservative).
   Shape shape;
   Eigen::Isometry3d link_T_shape = Eigen::Isometry3d::Identity();
+  /// For a URDF <mesh>: what collides, in the frame link_T_mesh (its convex hull or its
+  /// triangles, as `convex` says). Null for a primitive.
+  std::shared_ptr<const TriangleMesh> mesh;
+  Eigen::Isometry3d link_T_mesh = Eigen::Isometry3d::Identity();
+  bool convex = false;
+  std::string mesh_file;  ///< where the mesh was found (for messages)
+};
+
+/// How URDF meshes are found and made to collide.
+struct UrdfOptions {
+  /// Where package:// URIs are looked for (PackagePaths::with_environment adds ROS_PACKAGE_PATH).
+  PackagePaths packages;
+  MeshCollision mesh_collision = MeshCollision::convex_hull;
+};
+
+/// What a link looks like (URDF <visual>): a primitive, or a mesh file that is read
+/// only when something draws it.
+struct VisualShape {
+  std::optional<Shape> primitive;
+  std::string mesh_file;  ///< resolved path; empty for a primitive
+  Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();
+  Eigen::Isometry3d link_T_visual = Eigen::Isometry3d::Identity();
 };
 
 struct Link {
   std::string name;
   JointIndex parent_joint = -1;  ///< -1 for the root
   std::vector<CollisionShape> collision;
+  std::vector<VisualShape> visual;
 };
 
 /// A robot's kinematic tree as read from a URDF: links, joints, joint limits and
@@ -64,10 +91,13 @@ struct Link {
 /// Immutable after loading; every const member is safe to call from several threads.
 class CLUTTERTAMP_API RobotModel {
  public:
-  /// Reads a URDF file. Throws InputError naming the file and the element for a
-  /// malformed file, a mesh (only box, cylinder and sphere are supported), a planar
-  /// or floating joint (not supported; model a base as prismatic and revolute
-  /// joints), or a revolute or prismatic joint without a velocity limit.
+  /// Reads a URDF file: box, cylinder, sphere and mesh collision geometry (meshes found
+  /// as `options` say; STL, DAE, OBJ). Throws InputError naming the file and the element
+  /// (with the line of a <mesh>) for a malformed file, a mesh that is missing or
+  /// unreadable, a planar or floating joint (not supported; model a base as prismatic
+  /// and revolute joints), or a revolute or prismatic joint without a velocity limit.
+  static RobotModel load_urdf(const std::filesystem::path& file, const UrdfOptions& options);
+  /// The same, with package paths from ROS_PACKAGE_PATH only and convex-hull collision.
   static RobotModel load_urdf(const std::filesystem::path& file);
 
   const std::string& name() const { return name_; }

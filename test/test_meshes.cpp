@@ -1,0 +1,319 @@
+// Robot meshes: STL, OBJ and COLLADA files of our own making read with their transforms
+// and units, package:// and other URIs resolved (and every directory searched named
+// when not), convex hulls, and meshed links colliding as the primitives they model.
+#include <cstdlib>
+#include <fstream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "cluttertamp/collision/collision_world.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
+#include "cluttertamp/robot/mesh.hpp"
+#include "cluttertamp/robot/robot_model.hpp"
+#include "test_support.hpp"
+
+namespace cluttertamp::robot {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A box centred at the origin, 12 outward triangles.
+TriangleMesh box_mesh(const Eigen::Vector3d& size) {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i) {
+    m.vertices.emplace_back((i & 1 ? 0.5 : -0.5) * size.x(), (i & 2 ? 0.5 : -0.5) * size.y(), (i & 4 ? 0.5 : -0.5) * size.z());
+  }
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+void write(const fs::path& file, const std::string& text) {
+  fs::create_directories(file.parent_path());
+  std::ofstream(file) << text;
+}
+
+// A fresh directory per test, removed afterwards.
+class MeshFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("cluttertamp_meshes_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void expect_bounds(const TriangleMesh& m, const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
+    Eigen::Vector3d lo, hi;
+    m.bounds(lo, hi);
+    // assimp reads single precision
+    EXPECT_LT((lo - min).cwiseAbs().maxCoeff(), 1e-6) << lo.transpose() << " vs " << min.transpose();
+    EXPECT_LT((hi - max).cwiseAbs().maxCoeff(), 1e-6) << hi.transpose() << " vs " << max.transpose();
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(MeshFiles, AsciiStlRoundTripsAndScales) {
+  write(dir_ / "box.stl", to_ascii_stl(box_mesh({0.1, 0.2, 0.3}), "box"));
+  const TriangleMesh m = load_mesh(dir_ / "box.stl", {2.0, 1.0, 0.5}, {});
+  EXPECT_EQ(m.triangles.size(), 12u);
+  expect_bounds(m, {-0.1, -0.1, -0.075}, {0.1, 0.1, 0.075});
+}
+
+TEST_F(MeshFiles, ObjFacesAreTriangulated) {
+  // A unit square split into two triangles by the reader, lifted by 0.5.
+  write(dir_ / "quad.obj", "v 0 0 0.5\nv 1 0 0.5\nv 1 1 0.5\nv 0 1 0.5\nf 1 2 3 4\n");
+  const TriangleMesh m = load_mesh(dir_ / "quad.obj", Eigen::Vector3d::Ones(), {});
+  EXPECT_EQ(m.triangles.size(), 2u);
+  expect_bounds(m, {0, 0, 0.5}, {1, 1, 0.5});
+}
+
+// One triangle in centimetres, placed by a node matrix (a 90 degree turn about z and a
+// shift of 100 cm along x), declared Z_UP: the unit applies, the up axis does not.
+TEST_F(MeshFiles, ColladaNodeTransformAndUnitApplyUpAxisDoesNot) {
+  write(dir_ / "tri.dae", R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="centimeter" meter="0.01"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="tri" name="tri"><mesh>
+      <source id="tri-pos"><float_array id="tri-pos-array" count="9">0 0 0 10 0 0 0 20 5</float_array>
+        <technique_common><accessor source="#tri-pos-array" count="3" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common></source>
+      <vertices id="tri-vtx"><input semantic="POSITION" source="#tri-pos"/></vertices>
+      <triangles count="1"><input semantic="VERTEX" source="#tri-vtx" offset="0"/><p>0 1 2</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes><visual_scene id="scene">
+    <node id="n"><matrix>0 -1 0 100  1 0 0 0  0 0 1 0  0 0 0 1</matrix><instance_geometry url="#tri"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+)");
+  const TriangleMesh m = load_mesh(dir_ / "tri.dae", Eigen::Vector3d::Ones(), {});
+  ASSERT_EQ(m.triangles.size(), 1u);
+  // (x, y, z) cm -> (1 - 0.01 y, 0.01 x, 0.01 z) m
+  expect_bounds(m, {0.8, 0.0, 0.0}, {1.0, 0.1, 0.05});
+}
+
+TEST_F(MeshFiles, UnreadableAndEmptyMeshesAreLocatedErrors) {
+  write(dir_ / "junk.stl", "this is not a mesh\n");
+  const SourceLocation where{"robot.urdf", 7, 19};
+  auto d = test::expect_input_error([&] { load_mesh(dir_ / "junk.stl", Eigen::Vector3d::Ones(), where); });
+  EXPECT_TRUE(test::has_error(d, 7, 19, "cannot read mesh")) << d.str();
+  TriangleMesh flat;
+  flat.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  flat.triangles = {{0, 1, 2}, {1, 3, 2}};
+  d = test::expect_input_error([&] { convex_hull(flat, where); });
+  EXPECT_TRUE(test::has_error(d, 7, 19, "no convex hull")) << d.str();
+}
+
+TEST_F(MeshFiles, ConvexHullOfPointsInsideABoxIsTheBox) {
+  TriangleMesh cloud = box_mesh({0.4, 0.2, 0.1});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.04, 0.04);
+  for (int i = 0; i < 200; ++i) cloud.vertices.emplace_back(u(rng), u(rng), u(rng));  // interior points
+  const TriangleMesh hull = convex_hull(cloud, {});
+  EXPECT_EQ(hull.vertices.size(), 8u);
+  EXPECT_EQ(hull.triangles.size(), 12u);
+  for (const auto& t : hull.triangles) {  // outward: the centre is behind every face
+    const Eigen::Vector3d& a = hull.vertices[t[0]];
+    const Eigen::Vector3d n = (hull.vertices[t[1]] - a).cross(hull.vertices[t[2]] - a);
+    EXPECT_LT(n.dot(-a), 0.0);
+  }
+}
+
+std::string arm_urdf(const std::string& geometry);
+
+// A box whose faces are each split into n x n squares (2 n^2 triangles per face).
+TriangleMesh fine_box(int n) {
+  TriangleMesh m;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double side : {-0.5, 0.5}) {
+      const auto base = static_cast<std::uint32_t>(m.vertices.size());
+      for (int i = 0; i <= n; ++i) {
+        for (int j = 0; j <= n; ++j) {
+          Eigen::Vector3d v;
+          v[axis] = side;
+          v[(axis + 1) % 3] = -0.5 + double(i) / n;
+          v[(axis + 2) % 3] = -0.5 + double(j) / n;
+          m.vertices.push_back(v);
+        }
+      }
+      for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+          const std::uint32_t a = base + static_cast<std::uint32_t>(i * (n + 1) + j), b = a + 1, c = a + static_cast<std::uint32_t>(n + 1), d = c + 1;
+          m.triangles.push_back({a, c, b});
+          m.triangles.push_back({b, c, d});
+        }
+      }
+    }
+  }
+  return m;
+}
+
+TEST_F(MeshFiles, SimplifiedMeshesFitTheBudgetAndKeepTheirExtent) {
+  const TriangleMesh fine = fine_box(40);  // 19200 triangles
+  ASSERT_EQ(fine.triangles.size(), 19200u);
+  EXPECT_EQ(simplified(fine, 20000).triangles.size(), 19200u);  // fits: unchanged
+  const TriangleMesh coarse = simplified(fine, 2000);
+  EXPECT_LE(coarse.triangles.size(), 2000u);
+  EXPECT_GT(coarse.triangles.size(), 100u);
+  Eigen::Vector3d lo, hi;
+  coarse.bounds(lo, hi);
+  EXPECT_LT((lo - Eigen::Vector3d::Constant(-0.5)).cwiseAbs().maxCoeff(), 0.05);
+  EXPECT_LT((hi - Eigen::Vector3d::Constant(0.5)).cwiseAbs().maxCoeff(), 0.05);
+  const TriangleMesh again = simplified(fine, 2000);
+  EXPECT_EQ(again.triangles, coarse.triangles);  // deterministic
+}
+
+TEST_F(MeshFiles, VisualMeshesAreFoundAtLoadAndReadWhenDrawn) {
+  write(dir_ / "meshes/look.stl", to_ascii_stl(box_mesh({0.1, 0.2, 0.3}), "look"));
+  std::string urdf = arm_urdf(R"(<box size="0.1 0.2 0.3"/>)");
+  const std::string visual = R"(<visual><origin xyz="0 0 0.1"/><geometry><mesh filename="meshes/look.stl" scale="2 2 2"/></geometry></visual>
+    <visual><geometry><sphere radius="0.05"/></geometry></visual>
+    <collision>)";
+  urdf.replace(urdf.find("<collision>"), std::string("<collision>").size(), visual);
+  write(dir_ / "look.urdf", urdf);
+  const RobotModel model = RobotModel::load_urdf(dir_ / "look.urdf", UrdfOptions{});
+  const Link& link = model.links()[*model.find_link("arm")];
+  ASSERT_EQ(link.visual.size(), 2u);
+  EXPECT_TRUE(fs::equivalent(link.visual[0].mesh_file, dir_ / "meshes/look.stl"));
+  EXPECT_EQ(link.visual[0].mesh_scale, Eigen::Vector3d(2, 2, 2));
+  EXPECT_NEAR(link.visual[0].link_T_visual.translation().z(), 0.1, 1e-12);
+  ASSERT_TRUE(link.visual[1].primitive.has_value());
+  EXPECT_EQ(std::get<Sphere>(*link.visual[1].primitive).radius, 0.05);
+
+  fs::remove(dir_ / "meshes/look.stl");
+  const Diagnostics d = test::expect_input_error([&] { RobotModel::load_urdf(dir_ / "look.urdf", UrdfOptions{}); });
+  EXPECT_TRUE(test::has_error(d, 5, 52, "mesh 'meshes/look.stl' not found")) << d.str();
+}
+
+TEST_F(MeshFiles, PackageUrisAreFoundEveryWayRosUsersWriteThem) {
+  write(dir_ / "ws/src/arm_description/meshes/link.stl", to_ascii_stl(box_mesh({0.1, 0.1, 0.1}), "link"));
+  const fs::path expected = dir_ / "ws/src/arm_description/meshes/link.stl";
+  const std::string uri = "package://arm_description/meshes/link.stl";
+  for (const fs::path& root : {dir_ / "ws/src", dir_ / "ws", dir_ / "ws/src/arm_description"}) {
+    EXPECT_TRUE(fs::equivalent(resolve_mesh_uri(uri, "/nowhere", PackagePaths{{dir_ / "empty", root}}, {}), expected)) << root;
+  }
+  EXPECT_TRUE(fs::equivalent(resolve_mesh_uri("file://" + expected.string(), "/nowhere", {}, {}), expected));
+  EXPECT_TRUE(fs::equivalent(resolve_mesh_uri("meshes/link.stl", dir_ / "ws/src/arm_description", {}, {}), expected));
+  ::setenv("ROS_PACKAGE_PATH", ("/nonexistent:" + (dir_ / "ws/src").string()).c_str(), 1);
+  const PackagePaths from_environment = PackagePaths::with_environment({});
+  ::unsetenv("ROS_PACKAGE_PATH");
+  EXPECT_TRUE(fs::equivalent(resolve_mesh_uri(uri, "/nowhere", from_environment, {}), expected));
+
+  // Missing: the error names the URI and every directory looked in.
+  const SourceLocation where{"arm.urdf", 12, 27};
+  auto d = test::expect_input_error(
+      [&] { resolve_mesh_uri("package://arm_description/meshes/gone.stl", "/nowhere", PackagePaths{{dir_ / "ws"}}, where); });
+  EXPECT_TRUE(test::has_error(d, 12, 27, "mesh 'package://arm_description/meshes/gone.stl' not found")) << d.str();
+  EXPECT_NE(d.str().find((dir_ / "ws/src/arm_description").string()), std::string::npos) << d.str();
+  EXPECT_NE(d.str().find((dir_ / "ws/arm_description").string()), std::string::npos) << d.str();
+  d = test::expect_input_error([&] { resolve_mesh_uri(uri, "/nowhere", PackagePaths{}, where); });
+  EXPECT_TRUE(test::has_error(d, 12, 27, "no package path")) << d.str();
+  d = test::expect_input_error([&] { resolve_mesh_uri("http://example.com/x.stl", "/nowhere", {}, where); });
+  EXPECT_TRUE(test::has_error(d, 12, 27, "scheme")) << d.str();
+}
+
+// A one-joint arm whose link is a 0.1 x 0.2 x 0.3 m box, written as a mesh or a primitive.
+std::string arm_urdf(const std::string& geometry) {
+  return R"(<?xml version="1.0"?>
+<robot name="boxarm">
+  <link name="base"/>
+  <link name="arm">
+    <collision><origin xyz="0.3 0 0.2" rpy="0 0 0.3"/>
+      <geometry>)" + geometry + R"(</geometry></collision>
+  </link>
+  <link name="tool"/>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="arm"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" velocity="1" effort="1"/>
+  </joint>
+  <joint name="tool_joint" type="fixed"><parent link="arm"/><child link="tool"/><origin xyz="0.5 0 0"/></joint>
+</robot>
+)";
+}
+
+std::shared_ptr<const RobotDescription> arm(const fs::path& dir, const std::string& name, const std::string& geometry,
+                                             const std::string& extra = "") {
+  write(dir / (name + ".urdf"), arm_urdf(geometry));
+  write(dir / (name + ".yaml"), "version: 1\nurdf: " + name + ".urdf\nbase_link: base\ntip_link: tool\nik: numeric\n"
+                                "gripper: {finger_thickness: 0.01, base_half_length: 0.05, stroke: 0.08}\n" + extra);
+  return std::make_shared<const RobotDescription>(io::load_robot_description(dir / (name + ".yaml")));
+}
+
+TEST_F(MeshFiles, AMeshedLinkCollidesAsThePrimitiveItModels) {
+  write(dir_ / "pkg/boxarm/meshes/arm.stl", to_ascii_stl(box_mesh({1.0, 1.0, 1.0}), "arm"));
+  const auto primitive = arm(dir_, "primitive", R"(<box size="0.1 0.2 0.3"/>)");
+  const std::string mesh = R"(<mesh filename="package://boxarm/meshes/arm.stl" scale="0.1 0.2 0.3"/>)";
+  const auto hull = arm(dir_, "hull", mesh, "package_paths: [pkg]\n");
+  const auto triangles = arm(dir_, "triangles", mesh, "package_paths: [pkg]\nmesh_collision: triangles\n");
+  ASSERT_TRUE(hull->model()->links()[*hull->model()->find_link("arm")].collision.at(0).convex);
+  ASSERT_FALSE(triangles->model()->links()[*triangles->model()->find_link("arm")].collision.at(0).convex);
+
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> offset(-1.0, 1.0), angle(-3.0, 3.0);
+  const robot::LinkIndex link = *primitive->model()->find_link("arm");
+  int collisions = 0, compared_triangles = 0;
+  for (int i = 0; i < 400; ++i) {
+    Eigen::VectorXd q(1);
+    q << angle(rng);
+    std::vector<Eigen::Isometry3d> poses;
+    primitive->model()->link_poses(q, poses);
+    const Eigen::Isometry3d world_T_box = poses[link] * primitive->model()->links()[link].collision[0].link_T_shape;
+    // A ball of radius 0.04 m about the box (half sizes 0.05, 0.1, 0.15 m): within
+    // 0.1 m of each face, so that it often touches.
+    const Eigen::Vector3d p(0.15 * offset(rng), 0.2 * offset(rng), 0.25 * offset(rng));
+    Scene scene;
+    SceneObject ball;
+    ball.id = "ball";
+    ball.shape = Sphere{0.04};
+    ball.world_T_object = Eigen::Translation3d(world_T_box * p) * Eigen::Isometry3d::Identity();
+    ball.mass = 0.1;
+    scene.objects.push_back(ball);
+    auto valid = [&](const std::shared_ptr<const RobotDescription>& robot) {
+      collision::CollisionWorld world(scene, robot);
+      auto context = world.make_context();
+      return world.is_valid(q, *context);
+    };
+    const bool expected = valid(primitive);
+    collisions += !expected;
+    EXPECT_EQ(valid(hull), expected) << "sample " << i;
+    // The triangles are a surface: a ball wholly inside the box touches none of them.
+    const bool inside = (p.cwiseAbs().array() + 0.04 < Eigen::Array3d(0.05, 0.1, 0.15)).all();
+    if (!inside) {
+      EXPECT_EQ(valid(triangles), expected) << "sample " << i;
+      ++compared_triangles;
+    }
+  }
+  EXPECT_GT(collisions, 100);  // the samples are not all clear
+  EXPECT_LT(collisions, 300);  // nor all in collision
+  EXPECT_GT(compared_triangles, 300);
+}
+
+TEST_F(MeshFiles, AMissingMeshIsLocatedInTheUrdf) {
+  write(dir_ / "gone.urdf", arm_urdf(R"(<mesh filename="package://boxarm/meshes/gone.stl"/>)"));
+  UrdfOptions options{PackagePaths{{dir_}}};
+  const Diagnostics d = test::expect_input_error([&] { RobotModel::load_urdf(dir_ / "gone.urdf", options); });
+  // Line 6, column 23: where filename= stands.
+  EXPECT_TRUE(test::has_error(d, 6, 23, "mesh 'package://boxarm/meshes/gone.stl' not found")) << d.str();
+  EXPECT_NE(d.str().find((dir_ / "boxarm").string()), std::string::npos) << d.str();
+
+  write(dir_ / "meshes/arm.stl", to_ascii_stl(box_mesh({1, 1, 1}), "arm"));
+  write(dir_ / "flat.urdf", arm_urdf(R"(<mesh filename="meshes/arm.stl" scale="1 0 1"/>)"));
+  const Diagnostics flat = test::expect_input_error([&] { RobotModel::load_urdf(dir_ / "flat.urdf", options); });
+  EXPECT_TRUE(test::has_error(flat, 6, 23, "link 'arm' <collision> #1: mesh scale must be finite and not zero")) << flat.str();
+}
+
+TEST_F(MeshFiles, DescriptionMeshKeysAreChecked) {
+  const Diagnostics d = test::expect_input_error(
+      [&] { arm(dir_, "bad", R"(<box size="0.1 0.2 0.3"/>)", "mesh_collision: exact\npackage_paths: 3\n"); });
+  EXPECT_TRUE(test::has_error(d, 7, 17, "mesh_collision must be 'convex_hull' or 'triangles', not 'exact'")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 8, 16, "package_paths")) << d.str();
+}
+
+}  // namespace
+}  // namespace cluttertamp::robot
