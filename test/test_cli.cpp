@@ -22,6 +22,7 @@
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/io/scene_io.hpp"
+#include "cluttertamp/robot/mesh.hpp"
 #include "cluttertamp/perception/visibility.hpp"
 #include "cluttertamp/physics/push_planning.hpp"
 #include "test_support.hpp"
@@ -545,6 +546,51 @@ TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {
   EXPECT_NE(unwritable.output.find("c.json: error: cannot write the JSON file"), std::string::npos) << unwritable.output;
   EXPECT_EQ(run("bench retrieval --table VI --table6-scenes " + (dir_ / "none").string()).exit_code, 2);
   EXPECT_EQ(run("generate --objects 12 --min-removals 1 --output x.yaml").exit_code, 2);  // 2 at least
+}
+
+// IK on reachable poses: the share solved does not depend on the machine (the poses
+// and the restarts are seeded), only the times do.
+TEST_F(Cli, BenchCollisionSolvesReachablePosesWithTheNumericIk) {
+  const fs::path json_file = dir_ / "c.json";
+  const CliRun r = run("bench collision --samples 500 --robot " + (fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml").string() +
+                       " --json " + json_file.string());
+  ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.output;  // 1: a speed goal missed on this machine
+  EXPECT_NE(r.output.find("numeric IK on 500 reachable poses"), std::string::npos) << r.output;
+  std::ifstream in(json_file);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["ik_reachable"]["poses"].get<int>(), 500);
+  EXPECT_GE(j["ik_reachable"]["solved_percent"].get<double>(), 98.0);
+}
+
+// A robot whose meshes are in a package: found through --package-path, and without it
+// an error that says where to give one.
+TEST_F(Cli, PackagePathFindsARobotsMeshes) {
+  robot::TriangleMesh box;
+  for (int i = 0; i < 8; ++i) box.vertices.emplace_back(i & 1 ? 0.05 : -0.05, i & 2 ? 0.05 : -0.05, i & 4 ? 0.2 : 0.0);
+  box.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  fs::create_directories(dir_ / "ws/src/my_robot/meshes");
+  std::ofstream(dir_ / "ws/src/my_robot/meshes/link.stl") << robot::to_ascii_stl(box, "link");
+  const std::string link = R"(<collision><geometry><mesh filename="package://my_robot/meshes/link.stl"/></geometry></collision>)";
+  std::ofstream(dir_ / "r.urdf") << R"(<?xml version="1.0"?>
+<robot name="r">
+  <link name="base">)" << link << R"(</link>
+  <link name="a">)" << link << R"(</link>
+  <link name="b">)" << link << R"(</link>
+  <link name="tcp"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/><origin xyz="0 0 0.2"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" velocity="1" effort="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.2"/><axis xyz="0 1 0"/><limit lower="-2.5" upper="2.5" velocity="1" effort="1"/></joint>
+  <joint name="t" type="fixed"><parent link="b"/><child link="tcp"/><origin xyz="0 0 0.2"/></joint>
+</robot>
+)";
+  std::ofstream(dir_ / "r.yaml") << "version: 1\nurdf: r.urdf\nbase_link: base\ntip_link: tcp\nik: numeric\n"
+                                    "gripper: {finger_thickness: 0.01, base_half_length: 0.05, stroke: 0.08}\n";
+  const CliRun found = run("self-collisions " + (dir_ / "r.yaml").string() + " --samples 300 --package-path " + (dir_ / "ws").string());
+  EXPECT_EQ(found.exit_code, 0) << found.output;
+  EXPECT_NE(found.output.find("base"), std::string::npos) << found.output;
+  const CliRun missing = run("self-collisions " + (dir_ / "r.yaml").string() + " --samples 300");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("r.urdf:3:"), std::string::npos) << missing.output;
+  EXPECT_NE(missing.output.find("no package path to find package 'my_robot'"), std::string::npos) << missing.output;
 }
 
 // Table V compares retrieval_graph with the traversability graph run by run: the JSON's

@@ -144,6 +144,33 @@ int collision(const BenchArgs& args) {
     sink += world.min_distance(reach_q[i], *context) > 0;
   }));
 
+  // IK as planners use it, on poses known to be reachable: the tool poses of random
+  // configurations within the limits, each solved from the home configuration and timed alone.
+  std::vector<double> ik_us;
+  std::size_t ik_solved = 0;
+  std::mt19937_64 ik_rng(args.seed);
+  for (std::size_t i = 0; i < n; ++i) {
+    Eigen::VectorXd q(static_cast<Eigen::Index>(model.variable_count()));
+    for (std::size_t v = 0; v < model.variable_count(); ++v) {
+      const robot::Joint& joint = model.joints()[model.variables()[v]];
+      q[static_cast<Eigen::Index>(v)] = std::uniform_real_distribution<double>(joint.lower, joint.upper)(ik_rng);
+    }
+    std::vector<Eigen::Isometry3d> frames;
+    model.link_poses(q, frames);
+    const Eigen::Isometry3d goal = frames[robot->base_link()].inverse() * frames[robot->tip_link()];
+    const auto t0 = Clock::now();
+    const auto solutions = robot->ik().solve(goal, robot->home(), i);
+    ik_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    if (!solutions.empty()) {
+      model.link_poses(solutions.front(), frames);
+      const auto [position, orientation] = robot::pose_error(frames[robot->base_link()].inverse() * frames[robot->tip_link()], goal);
+      ik_solved += position < 1e-6 && orientation < 1e-6;
+    }
+  }
+  const double ik_success = 100.0 * double(ik_solved) / double(std::max<std::size_t>(n, 1));
+  const double ik_median = median(ik_us);
+  const bool ik_met = analytic || (ik_success >= 99.0 && ik_median <= 200.0);
+
   std::cout << robot->name() << " before a " << scene.objects.size() << "-cylinder shelf (" << scene.name << "), "
             << m << " reaching configurations (" << colliding << " in collision, " << with_objects
             << " touching objects), medians over batches of " << batch << " calls\n\n";
@@ -165,6 +192,13 @@ int collision(const BenchArgs& args) {
     std::cout << "\n";
     json["results"].push_back({{"query", r.query}, {"median_us", r.median_us}, {"goal_us", r.goal_us}, {"calls", r.calls}});
   }
+  std::cout << "\n" << (analytic ? "analytic" : "numeric") << " IK on " << n
+            << " reachable poses (the tool poses of random configurations within the joint limits), from the home configuration: " << std::setprecision(2)
+            << ik_success << " % solved, median " << std::setprecision(1) << ik_median << " µs per query";
+  if (!analytic) std::cout << " (goal: 99 %, 200 µs: " << (ik_met ? "met" : "NOT met") << ")";
+  std::cout << "\n";
+  json["ik_reachable"] = {{"poses", n}, {"solved_percent", ik_success}, {"median_us", ik_median}};
+  all_met = all_met && ik_met;
   if (sink == 42) std::cout << "";
   if (!args.json.empty()) {
     write_json_file(args.json, json);
