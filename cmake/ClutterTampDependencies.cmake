@@ -10,6 +10,12 @@ find_package(urdfdom REQUIRED)
 # Robot meshes: assimp reads STL, COLLADA and OBJ; qhull makes their convex hulls.
 find_package(assimp 5 REQUIRED)
 find_package(Qhull REQUIRED)
+# MoveIt's SRDF files: TinyXML (what urdfdom reads URDF with; no CMake config).
+find_path(CLUTTERTAMP_TINYXML_INCLUDE tinyxml.h)
+find_library(CLUTTERTAMP_TINYXML_LIBRARY tinyxml)
+if(NOT CLUTTERTAMP_TINYXML_INCLUDE OR NOT CLUTTERTAMP_TINYXML_LIBRARY)
+  message(FATAL_ERROR "TinyXML not found: install libtinyxml-dev (scripts/install-deps.sh)")
+endif()
 # Wraps a package found in module mode (include directories and libraries in
 # variables) as an INTERFACE target whose headers are SYSTEM headers.
 function(cluttertamp_wrap_package target include_dirs libraries)
@@ -19,6 +25,7 @@ function(cluttertamp_wrap_package target include_dirs libraries)
     target_link_libraries(${target} INTERFACE ${libraries})
   endif()
 endfunction()
+cluttertamp_wrap_package(cluttertamp_tinyxml "${CLUTTERTAMP_TINYXML_INCLUDE}" "${CLUTTERTAMP_TINYXML_LIBRARY}")
 # OMPL has no imported target. Physics and plugins only.
 find_package(ompl 1.5 REQUIRED)
 cluttertamp_wrap_package(cluttertamp_ompl "${OMPL_INCLUDE_DIRS}" "${OMPL_LIBRARIES}")

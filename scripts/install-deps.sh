@@ -7,7 +7,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config ccache git
-  libeigen3-dev libfcl-dev libompl-dev liburdfdom-dev libbullet-dev libassimp-dev libqhull-dev
+  libeigen3-dev libfcl-dev libompl-dev liburdfdom-dev libbullet-dev libassimp-dev libqhull-dev libtinyxml-dev
   libboost-dev libboost-graph-dev libboost-filesystem-dev libboost-system-dev
   libboost-serialization-dev libboost-program-options-dev
   libyaml-cpp-dev libgtest-dev libgmock-dev

@@ -1,14 +1,17 @@
 // Robot meshes: STL, OBJ and COLLADA files of our own making read with their transforms
 // and units, package:// and other URIs resolved (and every directory searched named
-// when not), convex hulls, and meshed links colliding as the primitives they model.
+// when not), convex hulls, meshed links colliding as the primitives they model, and
+// MoveIt SRDF files' disabled pairs.
 #include <cstdlib>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
+#include "cluttertamp/io/srdf.hpp"
 #include "cluttertamp/robot/mesh.hpp"
 #include "cluttertamp/robot/robot_model.hpp"
 #include "test_support.hpp"
@@ -317,3 +320,77 @@ TEST_F(MeshFiles, DescriptionMeshKeysAreChecked) {
 
 }  // namespace
 }  // namespace cluttertamp::robot
+
+namespace cluttertamp::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SrdfFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("cluttertamp_srdf_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    panda_ = std::make_shared<const robot::RobotDescription>(
+        load_robot_description(fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml"));
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  robot::LinkIndex link(const std::string& name) const { return *panda_->model()->find_link(name); }
+
+  fs::path dir_;
+  std::shared_ptr<const robot::RobotDescription> panda_;
+};
+
+TEST_F(SrdfFiles, DisabledPairsRoundTrip) {
+  const std::vector<DisabledPair> pairs{{link("panda_link0"), link("panda_link3"), "Never"}, {link("panda_hand"), link("panda_link7"), "Adjacent"}};
+  std::ofstream(dir_ / "p.srdf") << srdf_text(*panda_->model(), pairs);
+  const std::vector<DisabledPair> back = load_srdf_disabled_collisions(dir_ / "p.srdf", *panda_->model());
+  ASSERT_EQ(back.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back[i].first, pairs[i].first);
+    EXPECT_EQ(back[i].second, pairs[i].second);
+    EXPECT_EQ(back[i].reason, pairs[i].reason);
+  }
+}
+
+TEST_F(SrdfFiles, ErrorsAreLocatedAndAllReported) {
+  std::ofstream(dir_ / "bad.srdf") << R"(<?xml version="1.0"?>
+<robot name="panda">
+  <group name="arm"><joint name="panda_joint1"/></group>
+  <disable_collisions link1="panda_link0" link2="panda_link99" reason="Never"/>
+  <disable_collisions link1="panda_link1" reason="Never"/>
+</robot>
+)";
+  Diagnostics d = test::expect_input_error([&] { load_srdf_disabled_collisions(dir_ / "bad.srdf", *panda_->model()); });
+  EXPECT_TRUE(test::has_error(d, 4, 3, "names link 'panda_link99', which the URDF (robot 'panda') does not have")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 5, 3, "needs a link2 attribute")) << d.str();
+  std::ofstream(dir_ / "broken.srdf") << "<robot name=\"x\">\n  <disable_collisions link1=\"a\"\n</robot>\n";
+  d = test::expect_input_error([&] { load_srdf_disabled_collisions(dir_ / "broken.srdf", *panda_->model()); });
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_NE(d.items()[0].message.find("malformed SRDF"), std::string::npos) << d.str();
+  EXPECT_GT(d.items()[0].location.line, 0u) << d.str();
+  std::ofstream(dir_ / "root.srdf") << "<robotx/>\n";
+  d = test::expect_input_error([&] { load_srdf_disabled_collisions(dir_ / "root.srdf", *panda_->model()); });
+  EXPECT_TRUE(test::has_error(d, 1, 1, "root element must be <robot>")) << d.str();
+}
+
+TEST_F(SrdfFiles, ADescriptionsSrdfIsMergedWithItsOwnPairs) {
+  ASSERT_FALSE(std::binary_search(panda_->disabled_collisions().begin(), panda_->disabled_collisions().end(),
+                                  std::pair{link("panda_link0"), link("panda_link3")}));
+  std::ofstream(dir_ / "p.srdf") << srdf_text(*panda_->model(), {{link("panda_link3"), link("panda_link0"), "Never"}});
+  std::ifstream in(fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml");
+  std::stringstream yaml;
+  yaml << in.rdbuf();
+  std::string text = yaml.str();
+  text.replace(text.find("urdf: panda.urdf"), std::string("urdf: panda.urdf").size(),
+               "urdf: " + (fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.urdf").string() + "\nsrdf: p.srdf");
+  std::ofstream(dir_ / "panda.yaml") << text;
+  const robot::RobotDescription merged = load_robot_description(dir_ / "panda.yaml");
+  const auto& pairs = merged.disabled_collisions();
+  EXPECT_TRUE(std::binary_search(pairs.begin(), pairs.end(), std::pair{link("panda_link0"), link("panda_link3")}));
+  EXPECT_EQ(pairs.size(), panda_->disabled_collisions().size() + 1);
+}
+
+}  // namespace
+}  // namespace cluttertamp::io

@@ -129,6 +129,7 @@ struct SelfCollisionArgs {
   std::size_t samples = 20000;
   std::uint64_t seed = 1;
   Verbosity verbosity = Verbosity::normal;
+  std::filesystem::path srdf;  ///< --srdf: also write the disabled pairs as an SRDF
 };
 /// Counts self contacts per link pair over random configurations; exit code 0.
 int self_collisions(const SelfCollisionArgs& args);

@@ -2,6 +2,7 @@
 // configurations — the pairs that never do can go into the description's
 // `disabled_collisions`, so validity checks skip them (as MoveIt's setup assistant
 // does with its "never in collision" pairs).
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -10,6 +11,8 @@
 
 #include "cli/commands.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
+#include "cluttertamp/io/srdf.hpp"
+#include "cluttertamp/io/text_file.hpp"
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/robot/robot_model.hpp"
@@ -59,6 +62,17 @@ int self_collisions(const SelfCollisionArgs& args) {
   }
   std::cout << never.size() << " checked pairs never touched; for the description's disabled_collisions:\n";
   for (const auto& [a, b] : never) std::cout << "  - [" << links[a].name << ", " << links[b].name << "]\n";
+  if (!args.srdf.empty()) {
+    std::vector<io::DisabledPair> pairs;
+    const auto& adjacent = model.adjacent_links();
+    for (const auto& [a, b] : robot->disabled_collisions()) {
+      const bool is_adjacent = std::binary_search(adjacent.begin(), adjacent.end(), std::pair{a, b});
+      pairs.push_back({a, b, is_adjacent ? "Adjacent" : "User"});
+    }
+    for (const auto& [a, b] : never) pairs.push_back({static_cast<robot::LinkIndex>(a), static_cast<robot::LinkIndex>(b), "Never"});
+    io::write_text_file(args.srdf, io::srdf_text(model, pairs), "SRDF file");
+    std::cout << "wrote " << args.srdf.string() << " (" << pairs.size() << " disabled pairs)\n";
+  }
   return run::ExitCode::solved;
 }
 

@@ -3,6 +3,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "cluttertamp/io/srdf.hpp"
 #include "io/yaml_reader.hpp"
 
 namespace cluttertamp::io {
@@ -53,7 +54,7 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
   robot.name = file.stem().string();
   MapReader top(yaml, yaml.root(), "the robot description",
                 {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home", "disabled_collisions",
-                  "package_paths", "mesh_collision"});
+                  "package_paths", "mesh_collision", "srdf"});
   if (!top.valid()) diagnostics.throw_if_any();
 
   yaml.check_version(top.required("version"), "robot description", 1);
@@ -116,6 +117,14 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
       }
       const LinkIndex a = link(pairs[i][0], (*names)[0]), b = link(pairs[i][1], (*names)[1]);
       if (a >= 0 && b >= 0) robot.disabled_collisions.emplace_back(a, b);
+    }
+  }
+  if (top.has("srdf")) {  // a MoveIt SRDF's disable_collisions, merged with ours
+    const YAML::Node node = top.optional("srdf");
+    if (const auto name = yaml.string(node, "srdf")) {
+      for (const DisabledPair& p : load_srdf_disabled_collisions(yaml.resolve(*name), model)) {
+        robot.disabled_collisions.emplace_back(p.first, p.second);
+      }
     }
   }
   robot.home = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.variable_count()));
