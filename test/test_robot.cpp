@@ -332,3 +332,34 @@ TEST(RobotErrors, UrAnalyticIkRefusesANonUrArm) {
 
 }  // namespace
 }  // namespace cluttertamp::robot
+
+namespace cluttertamp::robot {
+namespace {
+
+// Every tip position of every configuration lies in the reach ball, and some come close
+// to its surface (it is not needlessly large for a serial arm).
+TEST(RobotReach, TheReachBallHoldsEveryTipPosition) {
+  for (const char* name : {"ur10_ag95", "panda", "pr2_mobile"}) {
+    SCOPED_TRACE(name);
+    const RobotDescription robot =
+        io::load_robot_description(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots" / (std::string(name) + ".yaml"));
+    const IkSolver::Reach reach = robot.ik().reach();
+    const RobotModel& model = *robot.model();
+    std::mt19937_64 rng(9);
+    double farthest = 0;
+    for (int i = 0; i < 20000; ++i) {
+      Eigen::VectorXd q(static_cast<Eigen::Index>(model.variable_count()));
+      for (std::size_t v = 0; v < model.variable_count(); ++v) {
+        const Joint& joint = model.joints()[model.variables()[v]];
+        q[static_cast<Eigen::Index>(v)] = std::uniform_real_distribution<double>(joint.lower, joint.upper)(rng);
+      }
+      const double d = (robot.ik().forward(q).translation() - reach.centre).norm();
+      EXPECT_LE(d, reach.radius + 1e-9);
+      farthest = std::max(farthest, d);
+    }
+    if (std::string(name) != "pr2_mobile") EXPECT_GT(farthest, 0.75 * reach.radius);  // the base's travel dominates the PR2's
+  }
+}
+
+}  // namespace
+}  // namespace cluttertamp::robot

@@ -91,6 +91,19 @@ TEST_F(ViewerTest, ReplayMovesPushedAndHeldObjectsToWhereThePlanLeavesThem) {
   EXPECT_FALSE(replay["robot"].is_null());  // the retrieval moves the arm
 }
 
+// A target beyond the arm's reach fails before planning, saying where both are: no
+// grasp sampling until the time limit.
+TEST_F(ViewerTest, ATargetOutOfReachFailsBeforePlanningSayingSo) {
+  Problem problem = io::load_problem(kProblems / "default.yaml");
+  problem.scene.world_T_robot_base.translation().x() -= 3.0;
+  const run::RunOutcome run = run::plan(problem, registry_, {});
+  EXPECT_FALSE(run.result.solved);
+  EXPECT_EQ(run.info.exit_code, run::ExitCode::no_plan);
+  EXPECT_NE(run.result.reason.find("the target 'target' at ("), std::string::npos) << run.result.reason;
+  EXPECT_NE(run.result.reason.find("is out of the robot's reach from its base at ("), std::string::npos) << run.result.reason;
+  EXPECT_TRUE(run.result.counters.empty() || run.result.counters.at("samples") == 0);
+}
+
 // A result without object paths (written by 0.1.0) still draws: the pushed object jumps
 // to its end pose at the end of the push, and the page says why.
 TEST_F(ViewerTest, APushWithoutObjectPathsMovesItsObjectsToTheirEndPosesAndSaysSo) {

@@ -123,6 +123,27 @@ Eigen::Isometry3d IkSolver::forward(const Eigen::VectorXd& q) const {
   return t;
 }
 
+IkSolver::Reach IkSolver::reach() const {
+  const auto& joints = model_->joints();
+  Reach reach;
+  Eigen::Isometry3d before = Eigen::Isometry3d::Identity();  // base to the first movable joint
+  bool moving = false;
+  for (JointIndex j : path_) {
+    const Joint& joint = joints[j];
+    if (!moving) {
+      before = before * joint.parent_T_joint;
+      if (joint.type == JointType::fixed) continue;
+      moving = true;
+      reach.centre = before.translation();
+    } else {
+      reach.radius += joint.parent_T_joint.translation().norm();
+    }
+    if (joint.type == JointType::prismatic) reach.radius += std::max(std::abs(joint.lower), std::abs(joint.upper));
+  }
+  if (!moving) reach.centre = before.translation();  // nothing moves: the tip stays put
+  return reach;
+}
+
 // ---------------------------------------------------------------------------------
 // UR analytic IK (the closed form of Hawkins, "Analytic inverse kinematics for the
 // Universal Robots UR-5/UR-10 arms", 2013, for joints 1, 5 and 6; joints 2 to 4 as a

@@ -1,6 +1,8 @@
 #include "cluttertamp/run/runner.hpp"
 
 #include <chrono>
+#include <cstdio>
+#include <optional>
 #include <new>
 
 #include "cluttertamp/core/memory_limit.hpp"
@@ -54,6 +56,35 @@ Plugins create_plugins(const Problem& problem, const plugin::Registry& registry)
   return plugins;
 }
 
+namespace {
+
+// A retrieval whose target no configuration of the arm can reach fails before planning,
+// saying so, instead of sampling grasps until the time limit.
+std::optional<std::string> out_of_reach(const Problem& problem) {
+  if (!problem.robot.loaded || !std::holds_alternative<RetrievalTask>(problem.task)) return std::nullopt;
+  const SceneObject& target = problem.scene.objects.at(problem.scene.target);
+  const robot::IkSolver::Reach reach = problem.robot.loaded->ik().reach();
+  const Eigen::Isometry3d world_T_base = problem.scene.world_T_robot_base;
+  const Eigen::Vector3d centre = world_T_base * reach.centre;
+  const Eigen::Vector3d at = target.world_T_object.translation();
+  const Eigen::AlignedBox3d bounds = world_bounds(target.shape, target.world_T_object);
+  const double half_size = 0.5 * (bounds.max() - bounds.min()).norm();
+  const double distance = (at - centre).norm();
+  if (distance - half_size <= reach.radius) return std::nullopt;
+  auto point = [](const Eigen::Vector3d& p) {
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.3f, %.3f, %.3f)", p.x(), p.y(), p.z());
+    return std::string(text);
+  };
+  char figures[160];
+  std::snprintf(figures, sizeof figures, "%.3f m from the arm's first joint at %s, which the tool reaches at most %.3f m from",
+                distance, point(centre).c_str(), reach.radius);
+  return "the target '" + target.id + "' at " + point(at) + " is out of the robot's reach from its base at " +
+         point(world_T_base.translation()) + ": " + figures;
+}
+
+}  // namespace
+
 RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RunOutcome outcome;
@@ -75,6 +106,12 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   context.phases = &phases;
   WorldState initial = WorldState::initial(problem.scene);
   initial.robot_configuration = robot::initial_configuration(problem.robot);
+  if (auto why = out_of_reach(problem)) {
+    outcome.result.reason = *why;
+    outcome.info.exit_code = ExitCode::no_plan;
+    outcome.result.time.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return outcome;
+  }
   try {
     outcome.result = planner->solve(context, initial);
     outcome.info.exit_code = outcome.result.solved ? ExitCode::solved : ExitCode::no_plan;

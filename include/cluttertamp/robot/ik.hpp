@@ -35,6 +35,16 @@ class CLUTTERTAMP_API IkSolver {
   /// The tip pose (in the base frame) of a configuration: forward kinematics of the chain.
   Eigen::Isometry3d forward(const Eigen::VectorXd& q) const;
 
+  /// A ball (base frame, metres) holding every tip position of every configuration:
+  /// centred at the first movable joint's origin, with the length of the offsets after
+  /// it plus the travel of its prismatic joints as radius. Conservative: a point
+  /// outside it is out of reach; one inside may still be.
+  struct Reach {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double radius = 0.0;
+  };
+  Reach reach() const;
+
  protected:
   /// Throws std::invalid_argument when `tip` does not descend from `base`.
   IkSolver(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip);
