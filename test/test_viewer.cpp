@@ -3,12 +3,16 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/io/result_json.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
+#include "cluttertamp/robot/mesh.hpp"
+#include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/physics/push_world.hpp"
 #include "cluttertamp/run/guided_session.hpp"
 #include "cluttertamp/run/runner.hpp"
@@ -102,6 +106,70 @@ TEST_F(ViewerTest, ATargetOutOfReachFailsBeforePlanningSayingSo) {
   EXPECT_NE(run.result.reason.find("the target 'target' at ("), std::string::npos) << run.result.reason;
   EXPECT_NE(run.result.reason.find("is out of the robot's reach from its base at ("), std::string::npos) << run.result.reason;
   EXPECT_TRUE(run.result.counters.empty() || run.result.counters.at("samples") == 0);
+}
+
+// A link's <visual> meshes are drawn, simplified to the page's budget; a link with none
+// is drawn from its collision shapes.
+TEST_F(ViewerTest, VisualMeshesAreDrawnAndSimplified) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "cluttertamp_viewer_meshes";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // A finely tessellated sphere-ish blob: 80 x 160 quads, 25,600 triangles.
+  robot::TriangleMesh blob;
+  const int rows = 80, cols = 160;
+  for (int i = 0; i <= rows; ++i) {
+    for (int j = 0; j < cols; ++j) {
+      const double theta = M_PI * i / rows, phi = 2 * M_PI * j / cols;
+      blob.vertices.emplace_back(0.08 * std::sin(theta) * std::cos(phi), 0.08 * std::sin(theta) * std::sin(phi), 0.08 * std::cos(theta));
+    }
+  }
+  for (int i = 0; i < rows; ++i) {
+    for (int j = 0; j < cols; ++j) {
+      const auto a = static_cast<std::uint32_t>(i * cols + j), b = static_cast<std::uint32_t>(i * cols + (j + 1) % cols);
+      const auto c = a + static_cast<std::uint32_t>(cols), d = b + static_cast<std::uint32_t>(cols);
+      blob.triangles.push_back({a, c, b});
+      blob.triangles.push_back({b, c, d});
+    }
+  }
+  std::ofstream(dir / "blob.stl") << robot::to_ascii_stl(blob, "blob");
+  std::ifstream urdf_in(fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.urdf");
+  std::stringstream urdf;
+  urdf << urdf_in.rdbuf();
+  std::string text = urdf.str();
+  const std::string shoulder = "<link name=\"shoulder_link\">";
+  text.insert(text.find(shoulder) + shoulder.size(), "<visual><geometry><mesh filename=\"blob.stl\"/></geometry></visual>");
+  std::ofstream(dir / "ur10.urdf") << text;
+  std::ifstream yaml_in(fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml");
+  std::stringstream yaml;
+  yaml << yaml_in.rdbuf();
+  std::string description = yaml.str();
+  description.replace(description.find("urdf: ur10_ag95.urdf"), std::string("urdf: ur10_ag95.urdf").size(), "urdf: ur10.urdf");
+  std::ofstream(dir / "ur10.yaml") << description;
+
+  Problem problem = io::load_problem(kProblems / "default.yaml");
+  problem.robot.loaded = std::make_shared<const robot::RobotDescription>(io::load_robot_description(dir / "ur10.yaml"));
+  const run::RunOutcome run = run::plan(problem, registry_, {});
+  ASSERT_TRUE(run.result.solved) << run.result.reason;
+  const Json replay = Json::parse(viewer::replay_json(problem, {io::result_to_json(problem, run.result, run.info), "", "r.json"}));
+  bool drew_mesh = false, drew_primitive = false;
+  for (const Json& link : replay["robot"]["links"]) {
+    for (const Json& shape : link["shapes"]) {
+      if (link["name"] == "shoulder_link") {
+        ASSERT_TRUE(shape["shape"].contains("mesh")) << shape;
+        const std::size_t triangles = shape["shape"]["mesh"]["triangles"].size() / 3;
+        EXPECT_LE(triangles, 20000u);
+        EXPECT_GT(triangles, 1000u);
+        EXPECT_EQ(shape["shape"]["mesh"]["vertices"].size() % 3, 0u);
+        drew_mesh = true;
+      } else {
+        drew_primitive = drew_primitive || shape["shape"].contains("cylinder") || shape["shape"].contains("box");
+      }
+    }
+  }
+  EXPECT_TRUE(drew_mesh);
+  EXPECT_TRUE(drew_primitive);
+  fs::remove_all(dir);
 }
 
 // A result without object paths (written by 0.1.0) still draws: the pushed object jumps
