@@ -7,6 +7,7 @@
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/robot/ik.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
+#include "cluttertamp/scenes/shelf_fit.hpp"
 #include "test_support.hpp"
 
 namespace cluttertamp::robot {
@@ -363,3 +364,27 @@ TEST(RobotReach, TheReachBallHoldsEveryTipPosition) {
 
 }  // namespace
 }  // namespace cluttertamp::robot
+
+namespace cluttertamp::scenes {
+namespace {
+
+// The UR10 reaches all of the default shelf: it stays where it is. The Panda does not:
+// the shelf moves to where it reaches more.
+TEST(ShelfFit, AShelfMovesOnlyForARobotThatCannotReachIt) {
+  const auto load = [](const char* name) {
+    return std::make_shared<const robot::RobotDescription>(
+        io::load_robot_description(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots" / name));
+  };
+  const ShelfSpec given;
+  const ShelfFit ur10 = fit_shelf_to_robot(given, load("ur10_ag95.yaml"));
+  EXPECT_EQ(ur10.spec.front, given.front);
+  EXPECT_EQ(ur10.spec.floor_height, given.floor_height);
+  EXPECT_EQ(ur10.reached, ur10.tried);
+  const ShelfFit panda = fit_shelf_to_robot(given, load("panda.yaml"));
+  EXPECT_LT(panda.reached_as_given, panda.tried);
+  EXPECT_GT(panda.reached, panda.reached_as_given);
+  EXPECT_TRUE(panda.spec.front != given.front || panda.spec.floor_height != given.floor_height);
+}
+
+}  // namespace
+}  // namespace cluttertamp::scenes

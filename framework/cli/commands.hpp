@@ -91,6 +91,7 @@ struct GenerateArgs {
   bool occlusion = false;  ///< an occlusion shelf (columns of 4 hidden behind a front row)
   std::string occlusion_layout = "columns";  ///< with occlusion: "columns" or "random"
   bool table = false;      ///< a table for a mobile manipulator, reachable from every side
+  bool fit_to_robot = false;  ///< --robot given: the shelf goes where that robot reaches it
   Verbosity verbosity = Verbosity::normal;
 };
 /// Exit code 0 when a scene was written, 1 when no attempt needed a removal.

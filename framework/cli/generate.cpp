@@ -1,12 +1,14 @@
 // `cluttertamp generate`: shelf scenes as in Tian et al., Section VI-B, and a problem
 // file beside each, keeping only scenes whose target cannot be retrieved without
 // removing something (checked with the shipped samplers).
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 
 #include "cli/commands.hpp"
 #include "cluttertamp/run/shelf_runs.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
+#include "cluttertamp/scenes/shelf_fit.hpp"
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
@@ -64,6 +66,14 @@ int generate(const GenerateArgs& args) {
   spec.width = args.width;
   spec.depth = args.depth;
   if (args.min_gap) spec.min_gap = *args.min_gap;
+  if (args.fit_to_robot) {
+    const scenes::ShelfFit fit = scenes::fit_shelf_to_robot(spec, robot);
+    spec = fit.spec;
+    if (args.verbosity != Verbosity::quiet) {
+      std::printf("shelf for %s: opening at x = %.2f m, floor at z = %.2f m: %d of %d test grasps reachable (%d where it stood)\n",
+                  robot->name().c_str(), spec.front, spec.floor_height, fit.reached, fit.tried, fit.reached_as_given);
+    }
+  }
   if (args.occlusion && (args.width > 0 || args.depth > 0 || args.min_removals > 0)) {
     throw InputError({"--occlusion", 0, 0}, "an occlusion shelf is sized by its columns: --width, --depth and --min-removals do not apply");
   }

@@ -29,7 +29,9 @@ Command declare_generate(CLI::App& app, CommonOptions& common) {
   generate->add_option("--output", args->output, "Scene file to write")->required();
   generate->add_option("--problem", args->problem, "Also write a problem file for the scene here");
   args->robot = source_file("domains/robots/ur10_ag95.yaml");
-  auto* robot = generate->add_option("--robot", args->robot, "Robot description (with --table: pr2_mobile)")
+  auto* robot = generate->add_option("--robot", args->robot,
+                                     "Robot description (with --table: pr2_mobile); given, a shelf's opening and floor are "
+                                     "moved to where this robot's arm reaches inside it (kept when it reaches all of it)")
                     ->capture_default_str()
                     ->check(CLI::ExistingFile);
   generate->add_flag("--table", args->table,
@@ -54,6 +56,7 @@ Command declare_generate(CLI::App& app, CommonOptions& common) {
   add_verbosity(*generate, args->verbosity, "Also say which seeds were rejected");
   return {generate, [args, robot] {
             if (args->table && !robot->count()) args->robot = source_file("domains/robots/pr2_mobile.yaml");
+            args->fit_to_robot = robot->count() > 0 && !args->table && !args->occlusion;
             return cli::generate(*args);
           }};
 }
