@@ -113,24 +113,28 @@ fs::path resolve_mesh_uri(const std::string& uri, const fs::path& relative_to, c
 
 namespace {
 
-// Appends the triangles of `node` and its children, each placed by the product of the
-// transforms from the root.
-void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent_T_node, TriangleMesh& out) {
-  const aiMatrix4x4 root_T_node = parent_T_node * node.mTransformation;
-  for (unsigned m = 0; m < node.mNumMeshes; ++m) {
-    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
-    const auto base = static_cast<std::uint32_t>(out.vertices.size());
-    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-      const aiVector3D p = root_T_node * mesh.mVertices[v];
-      out.vertices.emplace_back(p.x, p.y, p.z);
+// Appends the triangles of every node, each placed by the product of the transforms
+// from the root. Iterative: a file may nest nodes deeper than the stack goes.
+void collect(const aiScene& scene, TriangleMesh& out) {
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> open{{scene.mRootNode, scene.mRootNode->mTransformation}};
+  while (!open.empty()) {
+    const auto [node, root_T_node] = open.back();
+    open.pop_back();
+    for (unsigned m = 0; m < node->mNumMeshes; ++m) {
+      const aiMesh& mesh = *scene.mMeshes[node->mMeshes[m]];
+      const auto base = static_cast<std::uint32_t>(out.vertices.size());
+      for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+        const aiVector3D p = root_T_node * mesh.mVertices[v];
+        out.vertices.emplace_back(p.x, p.y, p.z);
+      }
+      for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+        const aiFace& face = mesh.mFaces[f];
+        if (face.mNumIndices != 3) continue;  // points and lines left by triangulation
+        out.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+      }
     }
-    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-      const aiFace& face = mesh.mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines left by triangulation
-      out.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
-    }
+    for (unsigned c = node->mNumChildren; c-- > 0;) open.emplace_back(node->mChildren[c], root_T_node * node->mChildren[c]->mTransformation);
   }
-  for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], root_T_node, out);
 }
 
 }  // namespace
@@ -145,7 +149,7 @@ TriangleMesh load_mesh(const fs::path& file, const Eigen::Vector3d& scale, const
     throw InputError(where, "cannot read mesh " + file.string() + ": " + importer.GetErrorString());
   }
   TriangleMesh mesh;
-  collect(*scene, *scene->mRootNode, aiMatrix4x4(), mesh);
+  collect(*scene, mesh);
   if (mesh.triangles.empty()) throw InputError(where, "mesh " + file.string() + " has no triangles");
   for (Eigen::Vector3d& v : mesh.vertices) {
     v = v.cwiseProduct(scale);

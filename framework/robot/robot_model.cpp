@@ -118,7 +118,6 @@ class MeshReader {
     c.mesh = cached;
     c.convex = convex;
     c.link_T_mesh = link_T_mesh;
-    c.mesh_file = found.string();
     Eigen::Vector3d min, max;
     cached->bounds(min, max);
     c.shape = Box{(max - min).cwiseMax(1e-6)};

@@ -74,10 +74,12 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
     }
     return fit;
   };
-  ShelfFit best = judge(spec);
-  best.reached_as_given = best.reached;
-  if (best.reached == best.tried) return best;
-  const int as_given = best.reached;
+  const ShelfFit as_given = judge(spec);
+  ShelfFit best = as_given;
+  if (best.reached == best.tried) {
+    best.reached_as_given = best.reached;
+    return best;
+  }
   auto distance = [&](const ShelfSpec& s) { return std::hypot(s.front - spec.front, s.floor_height - spec.floor_height); };
   for (int f = 0; f <= 14; ++f) {
     for (int h = 0; h <= 18; ++h) {
@@ -88,7 +90,7 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
       if (fit.reached > best.reached || (fit.reached == best.reached && distance(fit.spec) < distance(best.spec))) best = fit;
     }
   }
-  best.reached_as_given = as_given;
+  best.reached_as_given = as_given.reached;
   return best;
 }
 

@@ -117,9 +117,11 @@ class Replayer {
           shapes.push_back({{"shape", mesh_json(mesh)}, {"pose", pose_json(v.link_T_visual)}});
         }
       }
-      for (const robot::CollisionShape& s : link.visual.empty() ? link.collision : std::vector<robot::CollisionShape>{}) {
-        if (s.mesh) shapes.push_back({{"shape", mesh_json(*s.mesh)}, {"pose", pose_json(s.link_T_mesh)}});
-        else shapes.push_back({{"shape", shape_json(s.shape)}, {"pose", pose_json(s.link_T_shape)}});
+      if (link.visual.empty()) {
+        for (const robot::CollisionShape& s : link.collision) {
+          if (s.mesh) shapes.push_back({{"shape", mesh_json(*s.mesh)}, {"pose", pose_json(s.link_T_mesh)}});
+          else shapes.push_back({{"shape", shape_json(s.shape)}, {"pose", pose_json(s.link_T_shape)}});
+        }
       }
       links.push_back({{"name", link.name}, {"shapes", shapes}});
     }

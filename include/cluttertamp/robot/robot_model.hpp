@@ -57,7 +57,6 @@ struct CollisionShape {
   std::shared_ptr<const TriangleMesh> mesh;
   Eigen::Isometry3d link_T_mesh = Eigen::Isometry3d::Identity();
   bool convex = false;
-  std::string mesh_file;  ///< where the mesh was found (for messages)
 };
 
 /// How URDF meshes are found and made to collide.
