@@ -38,14 +38,21 @@ void write(const fs::path& file, const std::string& text) {
 }
 
 // A fresh directory per test, removed afterwards.
-class MeshFiles : public ::testing::Test {
+class TestDirectory : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("cluttertamp_meshes_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    dir_ = fs::temp_directory_path() / ("cluttertamp_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name()) +
+                                        "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+};
+
+class MeshFiles : public TestDirectory {
+ protected:
 
   void expect_bounds(const TriangleMesh& m, const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
     Eigen::Vector3d lo, hi;
@@ -54,8 +61,6 @@ class MeshFiles : public ::testing::Test {
     EXPECT_LT((lo - min).cwiseAbs().maxCoeff(), 1e-6) << lo.transpose() << " vs " << min.transpose();
     EXPECT_LT((hi - max).cwiseAbs().maxCoeff(), 1e-6) << hi.transpose() << " vs " << max.transpose();
   }
-
-  fs::path dir_;
 };
 
 TEST_F(MeshFiles, AsciiStlRoundTripsAndScales) {
@@ -326,19 +331,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class SrdfFiles : public ::testing::Test {
+class SrdfFiles : public robot::TestDirectory {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("cluttertamp_srdf_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TestDirectory::SetUp();
     panda_ = std::make_shared<const robot::RobotDescription>(
         load_robot_description(fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml"));
   }
-  void TearDown() override { fs::remove_all(dir_); }
   robot::LinkIndex link(const std::string& name) const { return *panda_->model()->find_link(name); }
 
-  fs::path dir_;
   std::shared_ptr<const robot::RobotDescription> panda_;
 };
 
