@@ -116,6 +116,10 @@ TEST_F(MeshFiles, UnreadableAndEmptyMeshesAreLocatedErrors) {
   flat.triangles = {{0, 1, 2}, {1, 3, 2}};
   d = test::expect_input_error([&] { convex_hull(flat, where); });
   EXPECT_TRUE(test::has_error(d, 7, 19, "no convex hull")) << d.str();
+  flat.vertices.pop_back();  // three points: qhull is not even started
+  flat.triangles.pop_back();
+  d = test::expect_input_error([&] { convex_hull(flat, where); });
+  EXPECT_TRUE(test::has_error(d, 7, 19, "fewer than 4 vertices")) << d.str();
 }
 
 TEST_F(MeshFiles, ConvexHullOfPointsInsideABoxIsTheBox) {

@@ -169,14 +169,14 @@ TriangleMesh convex_hull(const TriangleMesh& mesh, const SourceLocation& where) 
   // qhull's messages go to a memory stream: ours says what failed.
   char* messages = nullptr;
   std::size_t message_size = 0;
-  FILE* errors = open_memstream(&messages, &message_size);
+  FILE* memory = open_memstream(&messages, &message_size);
+  FILE* errors = memory ? memory : stderr;
   qhT state;
   qhT* qh = &state;
   qh_zero(qh, errors);
   char options[] = "qhull Qt";  // triangulated facets
-  const int failed = mesh.vertices.size() < 4
-                         ? 1
-                         : qh_new_qhull(qh, 3, static_cast<int>(mesh.vertices.size()), points.data(), False, options, nullptr, errors);
+  const bool ran = mesh.vertices.size() >= 4;  // qhull is not started on fewer
+  const int failed = ran ? qh_new_qhull(qh, 3, static_cast<int>(mesh.vertices.size()), points.data(), False, options, nullptr, errors) : 1;
   TriangleMesh hull;
   if (!failed) {
     std::unordered_map<int, std::uint32_t> index;  // qhull point id -> hull vertex
@@ -197,10 +197,12 @@ TriangleMesh convex_hull(const TriangleMesh& mesh, const SourceLocation& where) 
       hull.triangles.push_back(t);
     }
   }
-  qh_freeqhull(qh, !qh_ALL);
-  int long_left = 0, long_bytes = 0;
-  qh_memfreeshort(qh, &long_left, &long_bytes);
-  std::fclose(errors);
+  if (ran) {
+    qh_freeqhull(qh, !qh_ALL);
+    int long_left = 0, long_bytes = 0;
+    qh_memfreeshort(qh, &long_left, &long_bytes);
+  }
+  if (memory) std::fclose(memory);
   std::string why(messages ? messages : "", message_size);
   std::free(messages);
   if (failed || hull.triangles.empty()) {
