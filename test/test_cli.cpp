@@ -422,6 +422,47 @@ TEST_F(Cli, GeneratedShelfProblemIsSolved) {
   EXPECT_GE(json["moved_objects"].size(), 2u);  // something had to move first
 }
 
+// For the Panda the shelf moves to where it reaches it, and since its home would stand
+// among the front objects there, the problem starts it drawn back; the plan starts
+// there. Without that start, validate and plan refuse the problem, naming every body
+// the home overlaps with its line in the scene file.
+TEST_F(Cli, GenerateForAnotherRobotGivesAStartClearOfTheShelf) {
+  const fs::path scene = dir_ / "shelf.yaml", problem_file = dir_ / "shelf_problem.yaml";
+  const std::string panda = (fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml").string();
+  const CliRun g = run("generate --objects 12 --seed 1 --robot " + panda + " --output " + scene.string() + " --problem " +
+                       problem_file.string());
+  ASSERT_EQ(g.exit_code, 0) << g.output;
+  EXPECT_NE(g.output.find("the problem starts with the tool drawn back"), std::string::npos) << g.output;
+  const std::string problem_text = test::read_text(problem_file);
+  const std::size_t from = problem_text.find(", configuration: [");
+  ASSERT_NE(from, std::string::npos) << problem_text;
+  EXPECT_EQ(run("validate " + problem_file.string()).exit_code, 0);
+
+  const CliRun r = plan(problem_file, "--time-limit 120");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto json = result();
+  EXPECT_EQ(json["moved_objects"].back(), "target");
+  const std::size_t to = problem_text.find(']', from);
+  std::stringstream values(problem_text.substr(from + 18, to - from - 18));
+  const auto& first = json["plan"][0]["trajectory"]["positions"][0];
+  std::size_t i = 0;
+  for (std::string value; std::getline(values, value, ','); ++i) {
+    ASSERT_LT(i, first.size());
+    EXPECT_NEAR(first[i].get<double>(), std::stod(value), 1e-6) << i;
+  }
+  EXPECT_EQ(i, first.size());
+
+  const fs::path at_home = dir_ / "at_home.yaml";
+  std::ofstream(at_home) << problem_text.substr(0, from) + problem_text.substr(to + 1);
+  const CliRun refused = run("validate " + at_home.string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find(scene.string() + ":"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("overlaps the robot's start configuration (its description's `home`)"), std::string::npos)
+      << refused.output;
+  const Planned planned_at_home = planned(at_home, "out_at_home");
+  EXPECT_EQ(planned_at_home.run.exit_code, 2) << planned_at_home.run.output;
+}
+
 // The bench's 90th percentile: linear between the closest ranks, as NumPy's default.
 TEST(BenchStatistics, PercentileInterpolatesBetweenRanks) {
   EXPECT_DOUBLE_EQ(bench::percentile({}, 90), 0.0);

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/robot/ik.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
@@ -384,6 +385,37 @@ TEST(ShelfFit, AShelfMovesOnlyForARobotThatCannotReachIt) {
   EXPECT_LT(panda.reached_as_given, panda.tried);
   EXPECT_GT(panda.reached, panda.reached_as_given);
   EXPECT_TRUE(panda.spec.front != given.front || panda.spec.floor_height != given.floor_height);
+}
+
+// The Panda's home holds its hand where the fitted shelf's front objects stand: the fit
+// gives a start drawn back out of the cabinet, which the home is not.
+TEST(ShelfFit, ARobotWhoseHomeReachesIntoTheCabinetGetsAStartClearOfIt) {
+  const auto panda = std::make_shared<const robot::RobotDescription>(
+      io::load_robot_description(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml"));
+  const ShelfFit fit = fit_shelf_to_robot(ShelfSpec{}, panda);
+  ASSERT_TRUE(fit.start.has_value());
+  EXPECT_GT(fit.start_drawn_back, 0.0);
+  EXPECT_TRUE(panda->model()->within_limits(*fit.start));
+
+  // The cabinet with its interior filled, as objects may fill it.
+  ShelfSpec boards = fit.spec;
+  const Eigen::Vector3d size = cabinet_size(fit.spec);
+  boards.objects = 0;
+  Scene scene = generate_shelf_scene(boards, 0);
+  SceneObject interior;
+  interior.id = "interior";
+  interior.shape = Box{size};
+  interior.world_T_object.translation() = Eigen::Vector3d(fit.spec.front + size.x() / 2, 0, fit.spec.floor_height + size.z() / 2);
+  scene.objects = {interior};
+  const collision::CollisionWorld world(scene, panda);
+  auto context = world.make_context();
+  EXPECT_FALSE(world.is_valid(panda->home(), *context));
+  EXPECT_TRUE(world.is_valid(*fit.start, *context));
+  // Drawn back, not turned away: the tool keeps the home's orientation.
+  const Eigen::Isometry3d home_tool = world.tool_pose(panda->home(), *context);
+  const Eigen::Isometry3d start_tool = world.tool_pose(*fit.start, *context);
+  EXPECT_TRUE(start_tool.linear().isApprox(home_tool.linear(), 1e-4));
+  EXPECT_LT(start_tool.translation().head<2>().norm(), home_tool.translation().head<2>().norm());
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 //   VI: retrieval_graph (L = 1) against the exhaustive optimum on the bundled
 //       16-object shelves whose fewest objects to move is 2, 3 and 4.
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -21,6 +22,7 @@
 #include "cluttertamp/run/shelf_runs.hpp"
 #include "bench/statistics.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
+#include "cluttertamp/scenes/shelf_fit.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -146,12 +148,25 @@ Figure of(const std::vector<double>& v) { return v.empty() ? Figure{} : Figure{m
 std::uint64_t counter(const Result& r, const std::string& name) { return r.counters.count(name) ? r.counters.at(name) : 0; }
 
 // Generated shelves of `objects` cylinders whose target needs a removal, as the paper's.
-std::vector<Scene> generated(int objects, const BenchArgs& args, const std::shared_ptr<const robot::RobotDescription>& robot,
+// With args.fit_to_robot the shelf goes where `robot` reaches it, and `robot` becomes the
+// description to plan these scenes with: its home replaced by the fit's start when the
+// home reaches into the cabinet.
+std::vector<Scene> generated(int objects, const BenchArgs& args, std::shared_ptr<const robot::RobotDescription>& robot,
                              const plugin::Samplers& samplers, double width = 0.0) {
   scenes::ShelfSpec spec;
   spec.objects = objects;
   spec.width = width;
   spec.min_gap = args.min_gap;
+  if (args.fit_to_robot) {
+    const scenes::ShelfFit fit = scenes::fit_shelf_to_robot(spec, robot);
+    spec = fit.spec;
+    if (fit.start) robot = std::make_shared<const robot::RobotDescription>(robot->with_home(*fit.start));
+    if (args.verbosity != Verbosity::quiet) {
+      std::printf("shelf%d for %s: opening at x = %.2f m, floor at z = %.2f m: %d of %d test grasps reachable%s\n", objects,
+                  robot->name().c_str(), spec.front, spec.floor_height, fit.reached, fit.tried,
+                  fit.start ? "; the home reaches into the cabinet, so the runs start with the tool drawn back" : "");
+    }
+  }
   std::vector<Scene> out;
   for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < args.seed + 1000; ++seed) {
     Scene scene = scenes::generate_shelf_scene(spec, seed);  // throws runtime_error: too crowded
@@ -176,6 +191,10 @@ class Bench {
 
   const plugin::Samplers& samplers() const { return samplers_; }
   const std::shared_ptr<const robot::RobotDescription>& robot() const { return robot_; }
+  /// The description the scenes named `scenes` are planned with, when not robot().
+  void set_robot(const std::string& scenes, std::shared_ptr<const robot::RobotDescription> robot) {
+    robots_[scenes] = std::move(robot);
+  }
 
   void set_total(int runs) { total_ = runs; }
 
@@ -209,7 +228,9 @@ class Bench {
     const auto planner = registry_.create<plugin::TaskPlanner>(row.planner, parameters);
     const std::uint64_t seed = args_.seed + static_cast<std::uint64_t>(run);
     const auto t0 = std::chrono::steady_clock::now();
-    const Result r = run::plan_scene(scene, robot_, *planner, samplers_, seed, args_.time_limit);
+    const auto fitted = robots_.find(row.scenes);
+    const Result r = run::plan_scene(scene, fitted == robots_.end() ? robot_ : fitted->second, *planner, samplers_, seed,
+                                     args_.time_limit);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++m.runs;
     m.checks.push_back(double(counter(r, counter::collision_checks)));
@@ -352,6 +373,7 @@ class Bench {
   plugin::Registry registry_;
   plugin::Samplers samplers_;
   std::shared_ptr<const robot::RobotDescription> robot_;
+  std::map<std::string, std::shared_ptr<const robot::RobotDescription>> robots_;
   std::ofstream csv_;
   nlohmann::ordered_json rows_ = nlohmann::ordered_json::array();
   std::map<std::pair<std::string, std::string>, Measured> measured_;  // (scenes, planner/initial_L) -> its runs
@@ -372,7 +394,9 @@ int retrieval(const BenchArgs& args) {
     if (wants("I")) {
       for (int n : args.sizes.empty() ? std::vector<int>{12, 16, 20} : args.sizes) {
         const std::string key = "shelf" + std::to_string(n);
-        scenes[key] = generated(n, args, bench.robot(), bench.samplers());
+        auto robot = bench.robot();
+        scenes[key] = generated(n, args, robot, bench.samplers());
+        bench.set_robot(key, robot);
         for (const std::string strategy : {"one", "nodecol", "objects"}) {
           const Paper p = kTableI.count({n, strategy}) ? kTableI.at({n, strategy}) : Paper{};
           rows.push_back({"I", key, "retrieval_graph", strategy, n, nullptr, p});
@@ -381,7 +405,9 @@ int retrieval(const BenchArgs& args) {
       }
     }
     if (wants("V")) {
-      scenes["shelf100"] = generated(100, args, bench.robot(), bench.samplers(), args.table_v_width);
+      auto robot = bench.robot();
+      scenes["shelf100"] = generated(100, args, robot, bench.samplers(), args.table_v_width);
+      bench.set_robot("shelf100", robot);
       rows.push_back({"V", "shelf100", "traversability_graph", "", 100, nullptr, kTableVNam});
       rows.push_back({"V", "shelf100", "retrieval_graph", "one", 100, nullptr, kTableVOurs});
     }

@@ -333,6 +333,7 @@ int validate(const ValidateArgs& args) {
           const plugin::Registry registry(run::plugin_search_paths(problem, options));
           run::create_plugins(problem, registry);
         }
+        run::check_start_configuration(problem);
         if (args.verbosity != Verbosity::quiet) {
           std::cout << file.string() << ": valid problem '" << problem.name << "', scene " << describe_scene(problem.scene)
                     << "\n";

@@ -44,6 +44,15 @@ RobotDescription::RobotDescription(Parts parts)
   }
 }
 
+RobotDescription RobotDescription::with_home(Eigen::VectorXd home) const {
+  if (static_cast<std::size_t>(home.size()) != model_->variable_count()) {
+    throw std::invalid_argument("a robot description's home must have one value per joint variable");
+  }
+  RobotDescription copy = *this;
+  copy.home_ = std::move(home);
+  return copy;
+}
+
 Eigen::VectorXd initial_configuration(const RobotSpec& spec) {
   if (spec.configuration) return *spec.configuration;
   return spec.loaded ? spec.loaded->home() : Eigen::VectorXd();

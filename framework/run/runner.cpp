@@ -7,6 +7,7 @@
 
 #include "cluttertamp/core/memory_limit.hpp"
 
+#include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/plugin/stream_sampler.hpp"
@@ -85,6 +86,38 @@ std::optional<std::string> out_of_reach(const Problem& problem) {
 
 }  // namespace
 
+void check_start_configuration(const Problem& problem) {
+  if (!problem.robot.loaded || !std::holds_alternative<RetrievalTask>(problem.task)) return;
+  const Eigen::VectorXd q = robot::initial_configuration(problem.robot);
+  const collision::CollisionWorld world(problem.scene, problem.robot.loaded);
+  auto context = world.make_context();
+  const collision::CollisionReport contacts = world.check(q, *context);
+  if (contacts.valid()) return;
+  const std::string start = problem.robot.configuration ? "the robot's start configuration (the problem's `configuration`)"
+                                                        : "the robot's start configuration (its description's `home`)";
+  Diagnostics errors;
+  for (const ObjectIndex o : contacts.objects) {
+    const SceneObject& object = problem.scene.objects[o];
+    errors.error(object.where, "object '" + object.id + "' overlaps " + start + "; no plan can start there");
+  }
+  std::map<std::size_t, std::vector<std::string>> links_on_body;
+  for (const collision::FixedContact& c : world.fixed_contacts(q, *context)) {
+    links_on_body[c.fixed_body].push_back(c.link ? problem.robot.loaded->model()->links()[*c.link].name : "the held object");
+  }
+  for (const auto& [body, links] : links_on_body) {
+    std::string names;
+    for (const std::string& link : links) names += (names.empty() ? "" : ", ") + link;
+    const FixedBody& fixed = problem.scene.fixed[body];
+    errors.error(fixed.where, "fixed body '" + fixed.id + "' overlaps " + start + " (" + names + "); no plan can start there");
+  }
+  for (const auto& [a, b] : world.self_contacts(q, *context)) {
+    const robot::RobotModel& model = *problem.robot.loaded->model();
+    errors.error(problem.robot.where, start + " is in self collision: '" + model.links()[a].name + "' touches '" +
+                                          model.links()[b].name + "'");
+  }
+  errors.throw_if_any();
+}
+
 RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RunOutcome outcome;
@@ -96,6 +129,8 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   const Plugins plugins = create_plugins(problem, registry);
   const plugin::Samplers& samplers = plugins.samplers;
   const auto& planner = plugins.planner;
+
+  check_start_configuration(problem);
 
   std::map<std::string, std::uint64_t> counters;
   std::unique_ptr<collision::SharedWorld> world;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <tuple>
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/robot/ik.hpp"
@@ -40,6 +41,29 @@ std::vector<Eigen::Isometry3d> test_grasps(const ShelfSpec& spec, const Scene& s
   return out;
 }
 
+// A start clear of `world` (the cabinet with its interior as one object) when the
+// home is not: the home's tool pose drawn back horizontally towards the base in 5 cm
+// steps, and raised, solved from the home so that the arm keeps its posture.
+std::optional<std::pair<Eigen::VectorXd, double>> clear_start(const collision::CollisionWorld& world,
+                                                              collision::CollisionWorld::Context& context,
+                                                              const robot::IkSolver& ik, const Eigen::VectorXd& home) {
+  const Eigen::Isometry3d home_tool = world.tool_pose(home, context);
+  Eigen::Vector3d towards_base(-home_tool.translation().x(), -home_tool.translation().y(), 0);
+  if (towards_base.norm() < 1e-6) return std::nullopt;  // the tool stands over the base already
+  towards_base.normalize();
+  std::uint64_t seed = 0;
+  for (int back = 1; back <= 12; ++back) {
+    for (const double up : {0.0, 0.1, 0.2}) {
+      Eigen::Isometry3d tool = home_tool;
+      tool.translation() += 0.05 * back * towards_base + up * Eigen::Vector3d::UnitZ();
+      for (const Eigen::VectorXd& q : ik.solve(tool, home, seed++)) {
+        if (world.is_valid(q, context)) return std::make_pair(q, 0.05 * back);
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::RobotDescription> robot) {
@@ -60,17 +84,34 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
     boards.depth = size.x();
     boards.width = size.y();
     boards.objects = 0;
-    ShelfFit fit{candidate, 0, 0};
+    ShelfFit fit;
+    fit.spec = candidate;
     Scene scene = generate_shelf_scene(boards, 0);
+    // The objects may stand anywhere inside, so the home configuration must keep out of
+    // the whole interior: it is one more object, which the test grasps ignore.
+    SceneObject interior;
+    interior.id = "interior";
+    interior.shape = Box{size};
+    interior.world_T_object.translation() = Eigen::Vector3d(candidate.front + size.x() / 2, 0, candidate.floor_height + size.z() / 2);
+    scene.objects = {interior};
+    scene.target = 0;
     const collision::CollisionWorld world(scene, robot);
     auto context = world.make_context();
     const std::vector<Eigen::Isometry3d> grasps = test_grasps(candidate, scene);
     fit.tried = static_cast<int>(grasps.size());
-    if (!world.is_valid(robot->home(), *context)) return fit;  // the robot starts inside the furniture
+    Eigen::VectorXd start = robot->home();
+    if (!world.is_valid(start, *context)) {
+      const auto clear = clear_start(world, *context, *ik, start);
+      if (!clear) return fit;
+      fit.start = start = clear->first;
+      fit.start_drawn_back = clear->second;
+    }
+    const ObjectIndex ignored[] = {0};
     std::uint64_t seed = 0;
     for (const Eigen::Isometry3d& grasp : grasps) {
-      const auto solutions = ik->solve(grasp, robot->home(), seed++);
-      fit.reached += std::any_of(solutions.begin(), solutions.end(), [&](const Eigen::VectorXd& q) { return world.is_valid(q, *context); });
+      const auto solutions = ik->solve(grasp, start, seed++);
+      fit.reached += std::any_of(solutions.begin(), solutions.end(),
+                                 [&](const Eigen::VectorXd& q) { return world.is_valid(q, *context, ignored); });
     }
     return fit;
   };
@@ -87,7 +128,9 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
       candidate.front = 0.2 + 0.05 * f;
       candidate.floor_height = 0.05 * h;
       const ShelfFit fit = judge(candidate);
-      if (fit.reached > best.reached || (fit.reached == best.reached && distance(fit.spec) < distance(best.spec))) best = fit;
+      // At equal reach, a placement the robot's own home clears wins.
+      const auto rank = [&](const ShelfFit& f) { return std::make_tuple(f.reached, !f.start, -distance(f.spec)); };
+      if (rank(fit) > rank(best)) best = fit;
     }
   }
   best.reached_as_given = as_given.reached;

@@ -11,7 +11,10 @@ namespace {
 int run_bench(BenchArgs& args, const CLI::Option& objects, const CLI::Option& scenes, const CLI::Option& robot) {
   if (args.what == "pddl") return bench::pddl(args);
   if (args.what == "samplers") return bench::samplers(args);
-  if (args.what == "retrieval") return bench::retrieval(args);
+  if (args.what == "retrieval") {
+    args.fit_to_robot = robot.count() > 0;
+    return bench::retrieval(args);
+  }
   if (args.what == "push") return bench::push(args);
   if (args.what == "mobile") {
     if (!scenes.count()) args.instances = 20;
@@ -143,8 +146,9 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
   add_verbosity(*bench, args->verbosity, "Same output as the default");
   args->robot = source_file("domains/robots/ur10_ag95.yaml");
   auto* robot = bench->add_option("--robot", args->robot,
-                                        "Robot description (collision: a UR arm, the bench times analytic IK; mobile: "
-                                        "default pr2_mobile)")
+                                        "Robot description (collision: a UR arm, the bench times analytic IK; retrieval: "
+                                        "given, the generated shelves go where it reaches them, as generate --robot places "
+                                        "them; mobile: default pr2_mobile)")
       ->capture_default_str()
       ->check(CLI::ExistingFile);
   return {bench, [args, objects, scenes, robot] { return run_bench(*args, *objects, *scenes, *robot); }};

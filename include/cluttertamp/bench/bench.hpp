@@ -41,6 +41,9 @@ struct BenchArgs {
   std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
   std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml
   double min_gap = 0.0;                  ///< bench retrieval: m between generated cylinders (0: the paper's)
+  /// bench retrieval: --robot given, so generated shelves go where that robot reaches
+  /// them (scenes::fit_shelf_to_robot, as `generate --robot` places them)
+  bool fit_to_robot = false;
   double table_v_width = 0.0;            ///< bench retrieval: Table V cabinet width, m; 0: ShelfSpec's
   std::string mobile_tables = "fig9";    ///< bench mobile: "fig9" (Tian et al.'s Fig. 9 tables) or "random"
   std::vector<std::string> occlusion_layouts;  ///< bench occlusion: "columns", "random" (default both)

@@ -61,6 +61,9 @@ class CLUTTERTAMP_API RobotDescription {
   LinkIndex tip_link() const { return tip_link_; }  ///< the TCP: grasp poses are its poses
   const GripperParameters& gripper() const { return gripper_; }
   const Eigen::VectorXd& home() const { return home_; }
+  /// This description with another home configuration (one value per model variable;
+  /// throws std::invalid_argument otherwise): how a problem's start stands in for it.
+  RobotDescription with_home(Eigen::VectorXd home) const;
   /// The IK solver of the arm chain (base_link to tip_link).
   const IkSolver& ik() const { return *ik_; }
   /// The configuration variable that opens and closes the fingers (a movable joint

@@ -53,8 +53,15 @@ struct Plugins {
 /// one is missing or rejects its parameters.
 CLUTTERTAMP_API Plugins create_plugins(const Problem& problem, const plugin::Registry& registry);
 
+/// Throws InputError, one error per contact, when a retrieval problem's robot starts in
+/// collision: its initial configuration touching a movable object (located at the
+/// object), a fixed body (at the body, naming the links) or itself (at the robot). No
+/// plan can leave such a start; `plan` and `validate` refuse it before planning.
+CLUTTERTAMP_API void check_start_configuration(const Problem& problem);
+
 /// Creates the problem's plugins from `registry` and runs its task planner within the
-/// time limit. Throws InputError when a plugin is missing or rejects its parameters.
+/// time limit. Throws InputError when a plugin is missing or rejects its parameters, or
+/// when the robot starts in collision (check_start_configuration).
 /// Planning failure is an unsolved Result with a reason (exit code 1); an exception
 /// escaping a plugin is caught and reported as an internal error (exit code 3).
 CLUTTERTAMP_API RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const RunOptions& options);

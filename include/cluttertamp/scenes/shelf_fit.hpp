@@ -3,6 +3,9 @@
 // reaches the inside with side grasps.
 
 #include <memory>
+#include <optional>
+
+#include <Eigen/Core>
 
 #include "cluttertamp/export.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
@@ -16,13 +19,20 @@ struct ShelfFit {
   int reached = 0;  ///< test grasps the arm reaches without touching the furniture
   int tried = 0;
   int reached_as_given = 0;  ///< the same, at the placement `spec` gave
+  /// Where the robot must start instead of its home, which reaches into the cabinet at
+  /// this placement: the home's tool pose drawn back towards the base (and raised)
+  /// until the arm clears the cabinet. Empty when the home is clear.
+  std::optional<Eigen::VectorXd> start;
+  double start_drawn_back = 0.0;  ///< m, horizontally, when `start` is set
 };
 
 /// Keeps `spec` when `robot` reaches every test grasp in it, else moves its opening
 /// (`front`, 0.2 to 0.9 m in 5 cm steps) and floor (`floor_height`, 0 to 0.9 m) to the
 /// placement that reaches the most, nearest the given one on a tie. A test grasp counts
 /// when IK finds a configuration for it that touches neither the cabinet, the buffer
-/// table nor the robot itself; a placement where the home configuration touches them
+/// table nor the robot itself. The robot must start clear of the furniture and of the
+/// cabinet's interior (where objects may stand): where its home is not, `start` is a
+/// configuration that is (see ShelfFit::start), and a placement where neither is found
 /// counts none. Test grasps: the tool at mid-cylinder height on a 3 x 3 grid of the
 /// interior (front, middle, back x left, centre, right), at the exit pose and over the
 /// buffer table, approaching horizontally from the robot's base, fingers vertical, both
