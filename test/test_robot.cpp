@@ -1,5 +1,7 @@
 // Robot models, forward kinematics against hand-computed poses, IK property tests.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -325,6 +327,57 @@ TEST(RobotErrors, DisabledCollisionsNameExistingLinkPairs) {
   const Diagnostics d = test::expect_input_error([] { io::load_robot_description(test::data("robots/bad_disabled.yaml")); });
   EXPECT_TRUE(test::has_error(d, 8, 19, "has no link 'panda_link99'"));
   EXPECT_TRUE(test::has_error(d, 9, 5, "each disabled_collisions entry names two links"));
+}
+
+// A UR10 in the layout of ROS-Industrial's files (axes along y, upright at zero, one
+// axis reversed, a turned tool frame): the closed form reads its DH parameters through
+// those frames and solves its poses as for a DH-laid-out arm.
+TEST(UrAnalyticIk, ReadsAUrArmInTheFramesItsUrdfUses) {
+  const RobotDescription robot = io::load_robot_description(test::data("robots/ur10_y_axes.yaml"));
+  const auto* ik = dynamic_cast<const UrAnalyticIk*>(&robot.ik());
+  ASSERT_NE(ik, nullptr);
+  EXPECT_NEAR(ik->dh().d1, 0.1273, 1e-9);
+  EXPECT_NEAR(std::abs(ik->dh().a2), 0.612, 1e-9);
+  EXPECT_NEAR(std::abs(ik->dh().a3), 0.5723, 1e-9);
+  EXPECT_NEAR(ik->dh().d4, 0.163941, 1e-9);  // 0.220941 - 0.1719 + 0.1149, the sideways offsets summed
+  EXPECT_NEAR(ik->dh().d5, 0.1157, 1e-9);
+  const RobotModel& model = *robot.model();
+  std::mt19937_64 rng(3);
+  int found_original = 0;
+  const int trials = 1000;
+  for (int trial = 0; trial < trials; ++trial) {
+    const Eigen::VectorXd q = random_configuration(model, rng);
+    const Eigen::Isometry3d pose = ik->forward(q);
+    const auto solutions = ik->solve(pose, Eigen::VectorXd::Zero(6));
+    ASSERT_FALSE(solutions.empty()) << q.transpose();
+    EXPECT_LE(solutions.size(), 8u);
+    bool original = false;
+    for (const Eigen::VectorXd& s : solutions) {
+      const auto [position, orientation] = pose_error(ik->forward(s), pose);
+      EXPECT_LT(position, 1e-6);
+      EXPECT_LT(orientation, 1e-6);
+      EXPECT_TRUE(model.within_limits(s));
+      original = original || angle_distance(s, q) < 1e-6;
+    }
+    found_original += original;
+  }
+  EXPECT_GE(found_original, trials - 3);
+}
+
+// Six revolute joints that do not stand as a UR arm's (the elbow turned about x) are
+// refused, not solved wrongly.
+TEST(UrAnalyticIk, RefusesSixJointsThatDoNotStandAsAUrArm) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cluttertamp_ur_layout";
+  std::filesystem::create_directories(dir);
+  const std::string urdf = test::read_text(test::data("robots/ur10_y_axes.urdf"));
+  std::ofstream(dir / "ur10_y_axes.urdf")
+      << test::replaced(urdf, "<origin xyz=\"0 -0.1719 0.612\" rpy=\"0 0 0\"/><axis xyz=\"0 1 0\"/>",
+                        "<origin xyz=\"0 -0.1719 0.612\" rpy=\"0 0 0\"/><axis xyz=\"1 0 0\"/>");
+  std::filesystem::copy_file(test::data("robots/ur10_y_axes.yaml"), dir / "ur10_y_axes.yaml",
+                             std::filesystem::copy_options::overwrite_existing);
+  const Diagnostics d = test::expect_input_error([&] { io::load_robot_description(dir / "ur10_y_axes.yaml"); });
+  EXPECT_TRUE(test::has_error(d, 7, 5, "do not stand as a UR arm's")) << d.str();
+  std::filesystem::remove_all(dir);
 }
 
 TEST(RobotErrors, UrAnalyticIkRefusesANonUrArm) {

@@ -49,7 +49,9 @@ Geometry make_geometry(const robot::TriangleMesh& mesh, bool convex) {
     auto faces = std::make_shared<std::vector<int>>();
     faces->reserve(mesh.triangles.size() * 4);
     for (const auto& t : mesh.triangles) faces->insert(faces->end(), {3, static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
-    return std::make_shared<fcl::Convexd>(vertices, static_cast<int>(mesh.triangles.size()), faces);
+    auto hull = std::make_shared<fcl::Convexd>(vertices, static_cast<int>(mesh.triangles.size()), faces);
+    hull->computeLocalAABB();  // the box narrow_collide tests first
+    return hull;
   }
   auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
   std::vector<fcl::Vector3d> vertices(mesh.vertices.begin(), mesh.vertices.end());
@@ -59,6 +61,7 @@ Geometry make_geometry(const robot::TriangleMesh& mesh, bool convex) {
   model->beginModel(static_cast<int>(triangles.size()), static_cast<int>(vertices.size()));
   model->addSubModel(vertices, triangles);
   model->endModel();
+  model->computeLocalAABB();
   return model;
 }
 
@@ -80,14 +83,29 @@ fcl::CollisionRequestd collision_request() {
   return request;
 }
 
-std::optional<detail::Solid> solid(const fcl::CollisionGeometryd& g) {
+// A solid that holds the geometry, centred at `centre` in the geometry's frame: the
+// primitive itself, or for meshes and convex hulls the box of their local bounds.
+struct Bound {
+  detail::Solid solid;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+};
+
+std::optional<Bound> bound(const fcl::CollisionGeometryd& g) {
   switch (g.getNodeType()) {
-    case fcl::GEOM_BOX: return detail::Solid{detail::Solid::Kind::box, static_cast<const fcl::Boxd&>(g).side / 2};
+    case fcl::GEOM_BOX: return Bound{{detail::Solid::Kind::box, static_cast<const fcl::Boxd&>(g).side / 2}};
     case fcl::GEOM_SPHERE:
-      return detail::Solid{detail::Solid::Kind::sphere, Eigen::Vector3d::Constant(static_cast<const fcl::Sphered&>(g).radius)};
+      return Bound{{detail::Solid::Kind::sphere, Eigen::Vector3d::Constant(static_cast<const fcl::Sphered&>(g).radius)}};
     case fcl::GEOM_CYLINDER: {
       const auto& c = static_cast<const fcl::Cylinderd&>(g);
-      return detail::Solid{detail::Solid::Kind::cylinder, Eigen::Vector3d(c.radius, c.radius, c.lz / 2)};
+      return Bound{{detail::Solid::Kind::cylinder, Eigen::Vector3d(c.radius, c.radius, c.lz / 2)}};
+    }
+    case fcl::GEOM_CONVEX:
+    case fcl::BV_OBBRSS: {
+      // GJK on a hull of a few hundred vertices costs several times a box test, and most
+      // pairs the broadphase passes on are apart by more than their boxes.
+      const fcl::AABBd& box = g.aabb_local;
+      if (!(box.min_.array() <= box.max_.array()).all()) return std::nullopt;
+      return Bound{{detail::Solid::Kind::box, (box.max_ - box.min_) / 2}, (box.max_ + box.min_) / 2};
     }
     default: return std::nullopt;
   }
@@ -95,8 +113,13 @@ std::optional<detail::Solid> solid(const fcl::CollisionGeometryd& g) {
 
 // The cheap separation tests first; FCL only for the pairs they cannot decide.
 bool narrow_collide(const Object* a, const Object* b) {
-  const auto sa = solid(*a->collisionGeometry()), sb = solid(*b->collisionGeometry());
-  if (sa && sb && detail::separated(*sa, a->getTransform(), *sb, b->getTransform())) return false;
+  const auto ba = bound(*a->collisionGeometry()), bb = bound(*b->collisionGeometry());
+  if (ba && bb) {
+    Eigen::Isometry3d world_T_a(a->getTransform().matrix()), world_T_b(b->getTransform().matrix());
+    world_T_a.translation() += world_T_a.linear() * ba->centre;
+    world_T_b.translation() += world_T_b.linear() * bb->centre;
+    if (detail::separated(ba->solid, world_T_a, bb->solid, world_T_b)) return false;
+  }
   static const fcl::CollisionRequestd request = collision_request();
   fcl::CollisionResultd result;
   return fcl::collide(a, b, request, result) > 0;

@@ -1,9 +1,12 @@
 #include "cluttertamp/robot/ik.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <random>
 #include <stdexcept>
+
+#include <Eigen/Geometry>
 
 namespace cluttertamp::robot {
 
@@ -149,6 +152,50 @@ IkSolver::Reach IkSolver::reach() const {
 // Universal Robots UR-5/UR-10 arms", 2013, for joints 1, 5 and 6; joints 2 to 4 as a
 // planar 2R arm plus the remaining rotation), on DH parameters read from the model.
 
+namespace {
+
+Eigen::Isometry3d rz(double angle) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return t;
+}
+
+// A fixed transform between two joints whose axes are both z, written as
+// Rz(gamma) Tz(d) Tx(a) Rx(alpha) Tz(e) Rz(delta): DH's link transform with what
+// slides along, or turns about, either axis split off (those become joint offsets and
+// shifts along the axes).
+struct AxisLink {
+  double gamma = 0, d = 0, a = 0, e = 0, delta = 0;
+};
+
+// `link` as an AxisLink with twist `alpha` (0 for parallel axes, +-pi/2 for
+// perpendicular ones); nothing when the axes do not stand so.
+std::optional<AxisLink> split_link(const Eigen::Isometry3d& link, double alpha) {
+  constexpr double kTolerance = 1e-6;
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ(), next_z = link.linear().col(2), p = link.translation();
+  Eigen::Vector3d x;
+  if (alpha == 0.0) {
+    if ((next_z - z).norm() > kTolerance) return std::nullopt;
+    // The common normal's direction is free up to its sign: x itself where it will do,
+    // so that a DH layout written as such reads back unchanged (a < 0 included).
+    x = std::abs(p.y()) < kTolerance ? Eigen::Vector3d::UnitX() : Eigen::Vector3d(p.x(), p.y(), 0).normalized();
+  } else {
+    if (std::abs(next_z.dot(z)) > kTolerance) return std::nullopt;
+    x = (alpha > 0 ? 1.0 : -1.0) * z.cross(next_z).normalized();
+  }
+  AxisLink out;
+  out.gamma = std::atan2(x.y(), x.x());
+  out.d = p.dot(z);
+  out.a = p.dot(x);
+  const Eigen::Isometry3d rest = (rz(out.gamma) * translation(0, 0, out.d) * translation(out.a, 0, 0) * rx(alpha)).inverse() * link;
+  if (rest.translation().head<2>().norm() > kTolerance || std::abs(rest.linear()(2, 2) - 1) > kTolerance) return std::nullopt;
+  out.e = rest.translation().z();
+  out.delta = std::atan2(rest.linear()(1, 0), rest.linear()(0, 0));
+  return out;
+}
+
+}  // namespace
+
 UrAnalyticIk::UrAnalyticIk(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip)
     : IkSolver(std::move(model), base, tip) {
   const auto& joints = model_->joints();
@@ -156,39 +203,88 @@ UrAnalyticIk::UrAnalyticIk(std::shared_ptr<const RobotModel> model, LinkIndex ba
     throw std::invalid_argument("ur_analytic IK needs a chain of 6 movable joints; this one has " +
                                 std::to_string(chain_.size()));
   }
+  for (JointIndex j : chain_) {
+    if (joints[j].type != JointType::revolute) {
+      throw std::invalid_argument("ur_analytic IK: joint '" + joints[j].name + "' must be revolute");
+    }
+  }
+  // Each joint's axis is turned onto z (URDFs put it anywhere: the makers' UR files use
+  // y), either way round: 64 choices of direction, of which the UR layout admits those
+  // where the links split as DH's with twists pi/2, 0, 0, pi/2, -pi/2.
+  for (unsigned directions = 0; directions < 64; ++directions) {
+    if (adopt_layout(directions)) return;
+  }
+  throw std::invalid_argument("ur_analytic IK: the joints of '" + joints[chain_.front()].name + "' to '" +
+                              joints[chain_.back()].name +
+                              "' do not stand as a UR arm's (axes 2 to 4 parallel, 1 and 5 perpendicular to them, "
+                              "6 perpendicular to 5, with offsets only where a UR arm has them)");
+}
+
+bool UrAnalyticIk::adopt_layout(unsigned directions) {
+  const auto& joints = model_->joints();
   // Fixed transforms: before joint 1, between consecutive joints (joint origin plus any
-  // fixed joints in between), and after joint 6.
+  // fixed joints in between, the axes turned onto z), and after joint 6.
   std::vector<Eigen::Isometry3d> between(7, Eigen::Isometry3d::Identity());
   std::size_t slot = 0;
   for (JointIndex j : path_) {
     const Joint& joint = joints[j];
     between[slot] = between[slot] * joint.parent_T_joint;
-    if (joint.type != JointType::fixed) {
-      if (joint.type != JointType::revolute || joint.continuous || !joint.axis.isApprox(Eigen::Vector3d::UnitZ())) {
-        throw std::invalid_argument("ur_analytic IK: joint '" + joint.name + "' must be revolute about its z axis");
-      }
-      ++slot;
-    }
+    if (joint.type == JointType::fixed) continue;
+    signs_[slot] = (directions >> slot) & 1U ? -1.0 : 1.0;
+    Eigen::Isometry3d onto_axis = Eigen::Isometry3d::Identity();
+    onto_axis.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), signs_[slot] * joint.axis.normalized())
+                             .toRotationMatrix();
+    between[slot] = between[slot] * onto_axis;
+    between[++slot] = onto_axis.inverse();
   }
-  base_T_joint1_ = between[0];
-  flange_T_tip_ = between[6];
-  auto expect = [&](int index, const Eigen::Isometry3d& actual, const Eigen::Isometry3d& layout) {
-    if (!near(actual, layout)) {
-      throw std::invalid_argument("ur_analytic IK: the origin of joint '" + joints[chain_[index]].name +
-                                  "' does not follow the UR DH layout");
-    }
-  };
-  const Eigen::Vector3d t1 = between[1].translation(), t2 = between[2].translation(), t3 = between[3].translation(),
-                        t4 = between[4].translation(), t5 = between[5].translation();
-  dh_ = {t1.z(), t2.x(), t3.x(), t4.z(), t5.z(), flange_T_tip_.translation().z()};
-  expect(1, between[1], translation(0, 0, dh_.d1) * rx(kPi / 2));
-  expect(2, between[2], translation(dh_.a2, 0, 0));
-  expect(3, between[3], translation(dh_.a3, 0, 0));
-  expect(4, between[4], translation(0, 0, dh_.d4) * rx(kPi / 2));
-  expect(5, between[5], translation(0, 0, dh_.d5) * rx(-kPi / 2));
-  if (std::abs(dh_.a2) < 1e-6 || std::abs(dh_.a3) < 1e-6) {
-    throw std::invalid_argument("ur_analytic IK: link lengths a2 and a3 must not be zero");
+  const double twist[5] = {kPi / 2, 0, 0, kPi / 2, -kPi / 2};
+  AxisLink link[5];
+  for (int k = 0; k < 5; ++k) {
+    const auto split = split_link(between[k + 1], twist[k]);
+    if (!split) return false;
+    link[k] = *split;
   }
+  constexpr double kTolerance = 1e-6;
+  if (std::abs(link[0].a) > kTolerance || std::abs(link[3].a) > kTolerance || std::abs(link[4].a) > kTolerance) return false;
+  if (std::abs(link[1].a) < kTolerance || std::abs(link[2].a) < kTolerance) return false;
+  // Shifts along an axis commute with its rotation: those along the parallel axes 2 to
+  // 4 all join d4, those along axis 5 join d5, those along axis 6 the flange.
+  dh_ = {link[0].d, link[1].a, link[2].a,
+         link[0].e + link[1].d + link[1].e + link[2].d + link[2].e + link[3].d,
+         link[3].e + link[4].d, 0.0};
+  offsets_[0] = link[0].gamma;
+  for (int k = 1; k < 5; ++k) offsets_[k] = link[k - 1].delta + link[k].gamma;
+  offsets_[5] = link[4].delta;
+  // A shift along axis 1 before it commutes with it too: d1 counts from the foot of the
+  // base's origin on axis 1, as DH's base frame does.
+  const double along_axis1 = between[0].linear().col(2).dot(between[0].translation());
+  dh_.d1 += along_axis1;
+  base_T_joint1_ = between[0] * translation(0, 0, -along_axis1);
+  flange_T_tip_ = translation(0, 0, link[4].e) * between[6];
+  dh_.d6 = flange_T_tip_.translation().z();
+  return reproduces_forward_kinematics();
+}
+
+// The layout found must give the model's own forward kinematics: checked on
+// configurations spread over the joints' ranges (deterministic).
+bool UrAnalyticIk::reproduces_forward_kinematics() const {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> angle(-kPi, kPi);
+  const double alpha[6] = {kPi / 2, 0, 0, kPi / 2, -kPi / 2, 0};
+  const double d[6] = {dh_.d1, 0, 0, dh_.d4, dh_.d5, 0};
+  const double a[6] = {0, dh_.a2, dh_.a3, 0, 0, 0};
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_->variable_count()));
+  for (int trial = 0; trial < 8; ++trial) {
+    Eigen::Isometry3d dh = base_T_joint1_;
+    for (int i = 0; i < 6; ++i) {
+      const double value = trial == 0 ? 0.0 : angle(rng);
+      q[model_->joints()[chain_[i]].variable] = value;
+      dh = dh * dh_transform(signs_[i] * value + offsets_[i], d[i], a[i], alpha[i]);
+    }
+    dh = dh * flange_T_tip_;
+    if (!near(dh, forward(q), 1e-7)) return false;
+  }
+  return true;
 }
 
 std::vector<Eigen::VectorXd> UrAnalyticIk::solve(const Eigen::Isometry3d& base_T_tip,
@@ -219,7 +315,7 @@ std::vector<Eigen::VectorXd> UrAnalyticIk::solve(const Eigen::Isometry3d& base_T
       double theta6;
       if (std::abs(s5) < 1e-10) {
         // Wrist singularity: joints 4 and 6 align; keep the seed's joint 6.
-        theta6 = seed_configuration[model_->joints()[chain_[5]].variable];
+        theta6 = signs_[5] * seed_configuration[model_->joints()[chain_[5]].variable] + offsets_[5];
       } else {
         theta6 = std::atan2((-mi(1, 0) * s1 + mi(1, 1) * c1) / s5, (mi(0, 0) * s1 - mi(0, 1) * c1) / s5);
       }
@@ -240,7 +336,7 @@ std::vector<Eigen::VectorXd> UrAnalyticIk::solve(const Eigen::Isometry3d& base_T
         bool ok = true;
         for (int i = 0; i < 6 && ok; ++i) {
           const Joint& joint = model_->joints()[chain_[i]];
-          const auto value = fit_limits(wrap(angles[i]), joint, seed_configuration[joint.variable]);
+          const auto value = fit_limits(wrap(signs_[i] * (angles[i] - offsets_[i])), joint, seed_configuration[joint.variable]);
           if (value) q[joint.variable] = *value; else ok = false;
         }
         if (ok && !contains_close(*model_, solutions, q, 1e-9)) solutions.push_back(q);

@@ -63,7 +63,9 @@ class CLUTTERTAMP_API IkSolver {
 /// a joint's limits, each solution takes the one nearest the seed.
 class CLUTTERTAMP_API UrAnalyticIk final : public IkSolver {
  public:
-  /// Throws std::invalid_argument, saying which joint breaks the UR layout.
+  /// Reads the UR layout from the model, in whatever frames the URDF puts its joints
+  /// (axes along any direction, zero angles anywhere, origins shifted along the axes).
+  /// Throws std::invalid_argument when the chain is not a UR arm's.
   UrAnalyticIk(std::shared_ptr<const RobotModel> model, LinkIndex base, LinkIndex tip);
 
   std::vector<Eigen::VectorXd> solve(const Eigen::Isometry3d& base_T_tip, const Eigen::VectorXd& seed_configuration,
@@ -76,7 +78,14 @@ class CLUTTERTAMP_API UrAnalyticIk final : public IkSolver {
   const Dh& dh() const { return dh_; }
 
  private:
+  /// Reads the DH layout with joint k's axis taken reversed where bit k of `directions`
+  /// is set; false when the chain does not stand so.
+  bool adopt_layout(unsigned directions);
+  bool reproduces_forward_kinematics() const;
+
   Dh dh_{};
+  double signs_[6] = {1, 1, 1, 1, 1, 1};    ///< DH angle = sign * joint value + offset
+  double offsets_[6] = {0, 0, 0, 0, 0, 0};  ///< rad
   Eigen::Isometry3d base_T_joint1_;  ///< fixed transform before the first joint
   Eigen::Isometry3d flange_T_tip_;   ///< fixed transform after the sixth joint's DH frame
 };
