@@ -153,6 +153,23 @@ TEST_F(Manipulation, RetrievesTheTargetToTheExitPose) {
   expect_collision_free(out, start(), target);
 }
 
+// Far out to the side the arm cannot hold the target at x_s as it was grasped (from
+// the front, the tool pointing along x); an upright cylinder may arrive turned about
+// its axis, and so it does, by the least turn the arm holds free.
+TEST_F(Manipulation, RetrieveTurnsAnUprightTargetWhereTheArmCannotHoldItAsGrasped) {
+  const ObjectIndex target = add("target", 0.9, 0.0);
+  problem_.scene.target = target;
+  problem_.scene.world_T_exit = at(0.0, -1.2, 0.55);
+  const manipulation::ActionOutcome out = manipulation::retrieve(context(), start());
+  ASSERT_TRUE(out.ok) << out.failure->reason;
+  const Eigen::Isometry3d& arrived = out.after.world_T_objects[target];
+  EXPECT_TRUE(arrived.translation().isApprox(problem_.scene.world_T_exit.translation()));
+  EXPECT_NEAR(arrived.linear()(2, 2), 1.0, 1e-9);  // still upright
+  const double turn = std::abs(std::atan2(arrived.linear()(1, 0), arrived.linear()(0, 0)));
+  EXPECT_GT(turn, M_PI / 8) << "arrived unturned";
+  expect_collision_free(out, start(), target);
+}
+
 // Given the target's free way (here bent), the carry follows it: the held target on
 // the way's lines at its lifted height, then at x_s, no motion planned; once an object
 // stands on the way, the carry is planned. Both free.

@@ -434,6 +434,8 @@ TEST(ShelfFit, AShelfMovesOnlyForARobotThatCannotReachIt) {
   EXPECT_EQ(ur10.spec.front, given.front);
   EXPECT_EQ(ur10.spec.floor_height, given.floor_height);
   EXPECT_EQ(ur10.reached, ur10.tried);
+  EXPECT_EQ(ur10.tried, 22);
+  EXPECT_EQ(ur10.spec.exit_distance, given.exit_distance);
   const ShelfFit panda = fit_shelf_to_robot(given, load("panda.yaml"));
   EXPECT_LT(panda.reached_as_given, panda.tried);
   EXPECT_GT(panda.reached, panda.reached_as_given);

@@ -99,6 +99,19 @@ TEST(ShelfGenerator, CabinetSizesFollowThePaper) {
   EXPECT_TRUE(scenes::cabinet_size(spec).isApprox(Eigen::Vector3d(0.7, 1.2, 0.5)));
 }
 
+// x_s stands exit_distance in front of the opening, on the centre line, at the
+// cylinders' mid-height.
+TEST(ShelfGenerator, TheExitStandsInFrontOfTheOpening) {
+  scenes::ShelfSpec spec;
+  for (const double distance : {0.2, 0.1}) {
+    spec.exit_distance = distance;
+    const Scene scene = scenes::generate_shelf_scene(spec, 1);
+    EXPECT_TRUE(scene.world_T_exit.translation().isApprox(
+        Eigen::Vector3d(spec.front - distance, 0, spec.floor_height + (spec.height_min + spec.height_max) / 4), 1e-12))
+        << scene.world_T_exit.translation().transpose();
+  }
+}
+
 // Occlusion shelves drawn as Table I's (the paper's Table II scenes): the camera at the
 // front cannot see the target, which is the hidden object nearest the middle of the back
 // wall; the scene round-trips and the seed decides it.

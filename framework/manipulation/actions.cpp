@@ -408,10 +408,10 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
 namespace {
 
 // A configuration holding the target at `exit` (object pose, world frame) and the pose
-// it arrives in. A mobile base stands behind the tool (BasePlacement); an upright
-// cylinder may arrive turned about its axis — the same solid — so that the base can
-// stand where no table is: of the turns by 45 degree steps whose configuration is free,
-// the one leaving the base nearest to where it stands holding the target.
+// it arrives in; an upright cylinder may arrive turned about its axis (the same solid)
+// by 45 degree steps. A fixed arm takes the least turn it holds free; a mobile base
+// stands behind the tool (BasePlacement), where no table is: of the free turns, the one
+// leaving the base nearest to where it stands holding the target.
 std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> exit_configuration(plugin::PlanningContext& context,
                                                                                  const WorldState& holding,
                                                                                  const plugin::Grasp& grasp,
@@ -422,18 +422,24 @@ std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> exit_configuration(
   collision::CollisionWorld& world = *collision::shared_world(context);
   world.sync(holding);
   auto checker = world.make_context();
+  // An upright cylinder may arrive turned about its axis: the same target to the task,
+  // and an arm that cannot hold it at x_s as it was grasped may hold it turned.
+  const SceneObject& target = context.scene().objects.at(*holding.held);
+  const bool turnable = std::holds_alternative<Cylinder>(target.shape) && std::abs(exit.linear()(2, 2)) > 1 - 1e-6;
   if (!mobile) {
-    // The IK solutions nearest `from` first; one in collision (the arm folded into
-    // itself, say) would make every carry fail at its goal.
-    const Eigen::Isometry3d tool = exit * grasp.gripper_T_object.inverse();
-    for (const Eigen::VectorXd& q : robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, from)) {
-      context.count(counter::collision_checks);
-      if (world.is_valid(q, *checker, {})) return std::pair(q, exit);
+    // The IK solutions nearest `from` first, the least turn first; one in collision (the
+    // arm folded into itself, say) would make every carry fail at its goal.
+    for (const int k : {0, 1, -1, 2, -2, 3, -3, 4}) {
+      if (k != 0 && !turnable) break;
+      const Eigen::Isometry3d arrived = exit * Eigen::AngleAxisd(k * M_PI / 4, Eigen::Vector3d::UnitZ());
+      const Eigen::Isometry3d tool = arrived * grasp.gripper_T_object.inverse();
+      for (const Eigen::VectorXd& q : robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, from)) {
+        context.count(counter::collision_checks);
+        if (world.is_valid(q, *checker, {})) return std::pair(q, arrived);
+      }
     }
     return std::nullopt;
   }
-  const SceneObject& target = context.scene().objects.at(*holding.held);
-  const bool turnable = std::holds_alternative<Cylinder>(target.shape) && std::abs(exit.linear()(2, 2)) > 1 - 1e-6;
   const auto& base = mobile->base_variables();
   std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> best;
   double best_travel = 0.0;

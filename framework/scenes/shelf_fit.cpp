@@ -22,7 +22,8 @@ Eigen::Isometry3d side_grasp(const Eigen::Vector3d& at, double up) {
   return tool;
 }
 
-// The grasp poses a placement is judged by, in the robot's base frame (at the origin).
+// The grasp poses a placement is judged by, in the robot's base frame (at the origin),
+// but the exit's (judged apart, as its distance from the opening is chosen).
 std::vector<Eigen::Isometry3d> test_grasps(const ShelfSpec& spec, const Scene& scene) {
   const Eigen::Vector3d size = cabinet_size(spec);
   const double z = spec.floor_height + 0.5 * (spec.height_min + spec.height_max) / 2;
@@ -30,7 +31,6 @@ std::vector<Eigen::Isometry3d> test_grasps(const ShelfSpec& spec, const Scene& s
   for (const double x : {spec.front + 0.1, spec.front + size.x() / 2, spec.front + size.x() - 0.08}) {
     for (const double y : {-size.y() / 2 + 0.08, 0.0, size.y() / 2 - 0.08}) points.emplace_back(x, y, z);
   }
-  points.push_back(scene.world_T_exit.translation());
   for (const Region& r : scene.regions) {
     points.push_back(r.world_T_region.translation() + Eigen::Vector3d(0, 0, z - spec.floor_height - r.size.z() / 2));
   }
@@ -98,7 +98,7 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
     const collision::CollisionWorld world(scene, robot);
     auto context = world.make_context();
     const std::vector<Eigen::Isometry3d> grasps = test_grasps(candidate, scene);
-    fit.tried = static_cast<int>(grasps.size());
+    fit.tried = static_cast<int>(grasps.size()) + 2;  // and the exit's two, below
     Eigen::VectorXd start = robot->home();
     if (!world.is_valid(start, *context)) {
       const auto clear = clear_start(world, *context, *ik, start);
@@ -108,10 +108,24 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
     }
     const ObjectIndex ignored[] = {0};
     std::uint64_t seed = 0;
-    for (const Eigen::Isometry3d& grasp : grasps) {
+    auto reaches = [&](const Eigen::Isometry3d& grasp) {
       const auto solutions = ik->solve(grasp, start, seed++);
-      fit.reached += std::any_of(solutions.begin(), solutions.end(),
-                                 [&](const Eigen::VectorXd& q) { return world.is_valid(q, *context, ignored); });
+      return std::any_of(solutions.begin(), solutions.end(),
+                         [&](const Eigen::VectorXd& q) { return world.is_valid(q, *context, ignored); });
+    };
+    for (const Eigen::Isometry3d& grasp : grasps) fit.reached += reaches(grasp);
+    // The exit: as far in front of the opening as the arm holds a target there (a short
+    // arm cannot hold it over its own base), both ways up.
+    for (const double distance : {candidate.exit_distance, 0.15, 0.1}) {
+      if (distance > candidate.exit_distance) continue;
+      Eigen::Vector3d exit = scene.world_T_exit.translation();
+      exit.x() = candidate.front - distance;
+      const int held = int{reaches(side_grasp(exit, -1.0))} + int{reaches(side_grasp(exit, 1.0))};
+      if (held > 0) {
+        fit.spec.exit_distance = distance;
+        fit.reached += held;
+        break;
+      }
     }
     return fit;
   };

@@ -58,7 +58,8 @@ void add_buffer_table(Scene& scene, const Eigen::Vector2d& xy, double top) {
 // The cabinet (interior depth x width x height, open side at x0, floor top at z0), a
 // buffer table with its region, the robot base, the exit x_s, a camera above the robot
 // and the workspace; no objects.
-Scene cabinet(double x0, double depth, double width, double height, double z0, double object_height) {
+Scene cabinet(double x0, double depth, double width, double height, double z0, double object_height,
+              double exit_distance = 0.2) {
   const double x1 = x0 + depth;
   constexpr double wall = 0.02;
   Scene scene;
@@ -70,7 +71,7 @@ Scene cabinet(double x0, double depth, double width, double height, double z0, d
   scene.fixed.push_back(board("cabinet_right", {depth, wall, height}, {cx, -width / 2 - wall / 2, z0 + height / 2}));
   // A buffer table to the robot's right, its top level with the cabinet floor.
   add_buffer_table(scene, {0.2, -width / 2 - 0.25}, z0);
-  scene.world_T_exit = at(x0 - 0.2, 0.0, z0 + object_height / 2);
+  scene.world_T_exit = at(x0 - exit_distance, 0.0, z0 + object_height / 2);
   scene.world_T_robot_base = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d camera = at(0.1, 0.0, z0 + height + 0.2);
   camera.linear() = (Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()) *
@@ -98,7 +99,7 @@ Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
   const Eigen::Vector3d size = cabinet_size(spec);
   const double depth = size.x(), width = size.y(), height = size.z();
   const double x0 = spec.front, x1 = spec.front + depth, z0 = spec.floor_height;
-  Scene scene = cabinet(x0, depth, width, height, z0, (spec.height_min + spec.height_max) / 2);
+  Scene scene = cabinet(x0, depth, width, height, z0, (spec.height_min + spec.height_max) / 2, spec.exit_distance);
   scene.name = "shelf" + std::to_string(spec.objects) + "-seed" + std::to_string(seed);
 
   std::mt19937_64 rng(seed);

@@ -34,9 +34,11 @@ struct ShelfFit {
 /// cabinet's interior (where objects may stand): where its home is not, `start` is a
 /// configuration that is (see ShelfFit::start), and a placement where neither is found
 /// counts none. Test grasps: the tool at mid-cylinder height on a 3 x 3 grid of the
-/// interior (front, middle, back x left, centre, right), at the exit pose and over the
-/// buffer table, approaching horizontally from the robot's base, fingers vertical, both
-/// ways up (as the grasp_side sampler makes them). Deterministic.
+/// interior (front, middle, back x left, centre, right) and over the buffer table,
+/// approaching horizontally from the robot's base, fingers vertical, both ways up (as
+/// the grasp_side sampler makes them); and the exit pose, reached either way up, which
+/// moves from `spec.exit_distance` in front of the opening to 0.15 or 0.1 m when the arm
+/// cannot hold a target farther out (`exit_distance` of the result). Deterministic.
 CLUTTERTAMP_API ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::RobotDescription> robot);
 
 }  // namespace cluttertamp::scenes

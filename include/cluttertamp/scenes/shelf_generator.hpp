@@ -25,6 +25,9 @@ struct ShelfSpec {
   /// m between neighbouring cylinders, and to the walls. 0 is the paper's recipe
   /// ("randomly and uniformly placed without any collisions"): neighbours may touch.
   double min_gap = 0.0;
+  /// m in front of the opening where x_s, the exit pose a retrieved target is carried
+  /// to, stands (at the cylinders' mid-height, on the cabinet's centre line).
+  double exit_distance = 0.2;
 };
 
 /// The cabinet size `spec` gives for its object count.
