@@ -43,3 +43,16 @@ if(NOT CLUTTERTAMP_THREE_JS_DIR)
   message(FATAL_ERROR "three.js not found in /usr/share/javascript/three: install libjs-three (scripts/install-deps.sh)")
 endif()
 find_package(Threads REQUIRED)
+# The Python module: pybind11 for Debian's interpreter (/usr/bin/python3, the one apt's
+# python3-numpy and python3-pytest serve; another with -DPython3_EXECUTABLE=...).
+if(CLUTTERTAMP_BUILD_PYTHON)
+  if(NOT Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python3_EXECUTABLE /usr/bin/python3)
+  endif()
+  find_package(Python3 3.9 REQUIRED COMPONENTS Interpreter Development.Module NumPy)
+  find_package(pybind11 2.6 CONFIG)
+  if(NOT pybind11_FOUND)
+    message(FATAL_ERROR "pybind11 not found: install pybind11-dev python3-numpy python3-pytest (scripts/install-deps.sh), "
+                        "or configure with -DCLUTTERTAMP_BUILD_PYTHON=OFF")
+  endif()
+endif()

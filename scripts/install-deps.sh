@@ -13,6 +13,7 @@ packages=(
   libyaml-cpp-dev libgtest-dev libgmock-dev
   nlohmann-json3-dev libcli11-dev
   libcpp-httplib-dev libjs-three
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 for arg in "$@"; do
   case "$arg" in
