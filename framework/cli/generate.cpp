@@ -86,9 +86,9 @@ int generate(const GenerateArgs& args) {
     const scenes::ShelfFit fit = scenes::fit_shelf_to_robot(spec, robot);
     spec = fit.spec;
     if (args.verbosity != Verbosity::quiet) {
-      std::printf("shelf for %s: opening at x = %.2f m, floor at z = %.2f m, exit %.2f m in front of it: %d of %d test grasps "
+      std::printf("shelf for %s: opening at x = %.2f m, floor at z = %.2f m, %.2f m deep, exit %.2f m in front of it: %d of %d test grasps "
                   "reachable (%d where it stood)\n",
-                  robot->name().c_str(), spec.front, spec.floor_height, spec.exit_distance, fit.reached, fit.tried,
+                  robot->name().c_str(), spec.front, spec.floor_height, scenes::cabinet_size(spec).x(), spec.exit_distance, fit.reached, fit.tried,
                   fit.reached_as_given);
     }
     if (fit.start) {

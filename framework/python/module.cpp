@@ -29,6 +29,7 @@
 #include "cluttertamp/search/grounding.hpp"
 #include "cluttertamp/search/planner.hpp"
 #include "cluttertamp/viewer/plan_html.hpp"
+#include "python/streams.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -202,6 +203,7 @@ PYBIND11_MODULE(_cluttertamp, m) {
   namespace ct = cluttertamp;
   m.doc() = "cluttertamp's C++ core; use the package `cluttertamp`, which wraps it";
   translate_input_errors(m);
+  bind_streams(m);
 
   py::class_<LoadedProblem>(m, "LoadedProblem")
       .def_property_readonly("name", [](const LoadedProblem& p) { return p.problem.name; })

@@ -147,6 +147,17 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
       if (rank(fit) > rank(best)) best = fit;
     }
   }
+  // A short arm may reach the back of no cabinet this deep, wherever it stands: shallower
+  // ones at the placement found (5 cm steps, down to 0.4 m), the deepest that reaches
+  // the most.
+  if (best.reached < best.tried) {
+    for (double depth = cabinet_size(best.spec).x() - 0.05; depth >= 0.4 - 1e-9; depth -= 0.05) {
+      ShelfSpec candidate = best.spec;
+      candidate.depth = depth;
+      const ShelfFit fit = judge(candidate);
+      if (fit.reached > best.reached) best = fit;
+    }
+  }
   best.reached_as_given = as_given.reached;
   return best;
 }

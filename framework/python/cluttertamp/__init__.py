@@ -19,6 +19,7 @@ import numpy as np
 
 from ._cluttertamp import InputError, LoadedProblem, Robot  # noqa: F401  (re-exported)
 from . import _cluttertamp
+from . import streams  # noqa: F401  (cluttertamp.streams)
 
 __all__ = [
     "InputError", "Problem", "Robot", "Result", "Step", "Trajectory", "Failure",

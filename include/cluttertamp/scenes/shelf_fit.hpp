@@ -28,7 +28,9 @@ struct ShelfFit {
 
 /// Keeps `spec` when `robot` reaches every test grasp in it, else moves its opening
 /// (`front`, 0.2 to 0.9 m in 5 cm steps) and floor (`floor_height`, 0 to 0.9 m) to the
-/// placement that reaches the most, nearest the given one on a tie. A test grasp counts
+/// placement that reaches the most, nearest the given one on a tie; if that still
+/// leaves some unreached, the cabinet is made shallower there (`depth`, 5 cm steps down
+/// to 0.4 m) while that reaches more. A test grasp counts
 /// when IK finds a configuration for it that touches neither the cabinet, the buffer
 /// table nor the robot itself. The robot must start clear of the furniture and of the
 /// cabinet's interior (where objects may stand): where its home is not, `start` is a
