@@ -50,29 +50,40 @@ const plugin::Registry& registry_for(const std::vector<fs::path>& search_paths) 
 
 // A loaded problem file: what Python holds between loading and planning.
 struct LoadedProblem {
-  Problem problem;
+  std::shared_ptr<const Problem> problem;
 };
 
 LoadedProblem load_problem(const fs::path& file, const std::vector<fs::path>& package_paths) {
   io::set_command_line_package_paths(package_paths);
-  return LoadedProblem{io::load_problem(file)};
+  return LoadedProblem{std::make_shared<const Problem>(io::load_problem(file))};
 }
 
-// Planning with the GIL released: Python threads run meanwhile. The result and drawings
-// as the text plan writes to result.json and drawings.json.
-std::pair<std::string, std::string> plan(const LoadedProblem& loaded, std::optional<std::uint64_t> seed,
-                                         std::optional<double> time_limit, std::optional<std::string> planner,
-                                         const std::vector<fs::path>& plugin_paths) {
-  Problem problem = loaded.problem;
-  if (planner && *planner != problem.planner.name) problem.planner = PluginChoice{*planner, {}, {"planner=", 0, 0}};
+// A finished run: result.json's text at once, drawings.json's (a roadmap can be ten
+// times the rest) only when asked for.
+struct PlanRun {
+  std::shared_ptr<const Problem> problem;
+  run::RunOutcome outcome;
+  std::string result_json() const { return io::result_to_json(*problem, outcome.result, outcome.info); }
+  std::string drawings_json() const { return io::drawings_to_json(outcome.result); }
+};
+
+// Planning with the GIL released: Python threads run meanwhile.
+PlanRun plan(const LoadedProblem& loaded, std::optional<std::uint64_t> seed, std::optional<double> time_limit,
+             std::optional<std::string> planner, const std::vector<fs::path>& plugin_paths) {
+  PlanRun run{loaded.problem, {}};
+  if (planner && *planner != loaded.problem->planner.name) {
+    auto changed = std::make_shared<Problem>(*loaded.problem);
+    changed->planner = PluginChoice{*planner, {}, {"planner=", 0, 0}};
+    run.problem = changed;
+  }
   run::RunOptions options;
   options.seed = seed;
   options.time_limit = time_limit;
   options.plugin_paths = plugin_paths;
   const py::gil_scoped_release unlocked;
-  const plugin::Registry& registry = registry_for(run::plugin_search_paths(problem, options));
-  const run::RunOutcome outcome = run::plan(problem, registry, options);
-  return {io::result_to_json(problem, outcome.result, outcome.info), io::drawings_to_json(outcome.result)};
+  const plugin::Registry& registry = registry_for(run::plugin_search_paths(*run.problem, options));
+  run.outcome = run::plan(*run.problem, registry, options);
+  return run;
 }
 
 // A robot description with numpy in and out: joint vectors as 1-D arrays (rad, m, URDF
@@ -206,29 +217,29 @@ PYBIND11_MODULE(_cluttertamp, m) {
   bind_streams(m);
 
   py::class_<LoadedProblem>(m, "LoadedProblem")
-      .def_property_readonly("name", [](const LoadedProblem& p) { return p.problem.name; })
-      .def_property_readonly("file", [](const LoadedProblem& p) { return p.problem.source_file; })
-      .def_property_readonly("scene_file", [](const LoadedProblem& p) { return p.problem.scene_file; })
-      .def_property_readonly("planner", [](const LoadedProblem& p) { return p.problem.planner.name; })
-      .def_property_readonly("seed", [](const LoadedProblem& p) { return p.problem.seed; })
-      .def_property_readonly("time_limit", [](const LoadedProblem& p) { return p.problem.time_limit; })
+      .def_property_readonly("name", [](const LoadedProblem& p) { return p.problem->name; })
+      .def_property_readonly("file", [](const LoadedProblem& p) { return p.problem->source_file; })
+      .def_property_readonly("scene_file", [](const LoadedProblem& p) { return p.problem->scene_file; })
+      .def_property_readonly("planner", [](const LoadedProblem& p) { return p.problem->planner.name; })
+      .def_property_readonly("seed", [](const LoadedProblem& p) { return p.problem->seed; })
+      .def_property_readonly("time_limit", [](const LoadedProblem& p) { return p.problem->time_limit; })
       .def_property_readonly("objects",
                              [](const LoadedProblem& p) {
                                std::vector<std::string> ids;
-                               for (const ct::SceneObject& o : p.problem.scene.objects) ids.push_back(o.id);
+                               for (const ct::SceneObject& o : p.problem->scene.objects) ids.push_back(o.id);
                                return ids;
                              })
       .def_property_readonly("target",
                              [](const LoadedProblem& p) -> std::optional<std::string> {
-                               if (p.problem.scene.objects.empty()) return std::nullopt;
-                               return p.problem.scene.objects.at(p.problem.scene.target).id;
+                               if (p.problem->scene.objects.empty()) return std::nullopt;
+                               return p.problem->scene.objects.at(p.problem->scene.target).id;
                              })
       .def_property_readonly("robot",
                              [](const LoadedProblem& p) -> std::optional<Robot> {
-                               if (!p.problem.robot.loaded) return std::nullopt;
-                               return Robot{p.problem.robot.loaded};
+                               if (!p.problem->robot.loaded) return std::nullopt;
+                               return Robot{p.problem->robot.loaded};
                              })
-      .def("check_start", [](const LoadedProblem& p) { ct::run::check_start_configuration(p.problem); });
+      .def("check_start", [](const LoadedProblem& p) { ct::run::check_start_configuration(*p.problem); });
 
   py::class_<Robot>(m, "Robot")
       .def_property_readonly("name", [](const Robot& r) { return r.description->name(); })
@@ -243,6 +254,9 @@ PYBIND11_MODULE(_cluttertamp, m) {
   m.def("check_scene", [](const fs::path& file) { return ct::io::load_scene(file).name; }, py::arg("file"));
   m.def("is_problem_file",
         [](const fs::path& file) { return ct::io::detect_file_kind(file) == ct::io::FileKind::problem; }, py::arg("file"));
+  py::class_<PlanRun>(m, "PlanRun")
+      .def("result_json", &PlanRun::result_json)
+      .def("drawings_json", &PlanRun::drawings_json);
   m.def("plan", &plan, py::arg("problem"), py::arg("seed") = py::none(), py::arg("time_limit") = py::none(),
         py::arg("planner") = py::none(), py::arg("plugin_paths") = std::vector<fs::path>{});
   m.def("solve_pddl", &solve_pddl, py::arg("domain"), py::arg("problem"), py::arg("search") = "lama-first",
@@ -254,7 +268,7 @@ PYBIND11_MODULE(_cluttertamp, m) {
       "write_page",
       [](const LoadedProblem& p, const fs::path& file, const std::string& result_json, const std::string& drawings_json,
          const std::string& name) {
-        ct::viewer::write_plan_html(file, p.problem, {result_json, drawings_json, name});
+        ct::viewer::write_plan_html(file, *p.problem, {result_json, drawings_json, name});
       },
       py::arg("problem"), py::arg("file"), py::arg("result_json"), py::arg("drawings_json"), py::arg("name"));
 }

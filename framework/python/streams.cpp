@@ -8,6 +8,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,15 +26,44 @@ namespace py = pybind11;
 namespace cluttertamp::python {
 namespace {
 
-// A Python object flowing through the searches as a stream value. Released under the
-// GIL, whichever thread drops the last reference.
+// References to drop once the GIL is held. A search freed on a background thread (after
+// a time limit, core/free_beside.hpp) must not take the GIL: the interpreter may be
+// finalizing, and a thread taking its GIL then is ended, mid destructor.
+std::mutex& pending_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+std::vector<PyObject*>& pending_references() {
+  static auto* pending = new std::vector<PyObject*>();  // leaked: outlives every thread
+  return *pending;
+}
+
+// Drops `object`'s reference now when this thread holds the GIL, else later.
+void release(py::object& object) {
+  if (!object) return;
+  if (PyGILState_Check()) {
+    object = py::object();
+    return;
+  }
+  const std::lock_guard<std::mutex> lock(pending_mutex());
+  pending_references().push_back(object.release().ptr());
+}
+
+// Drops the references left for later. Precondition: the GIL is held.
+void drop_pending_references() {
+  std::vector<PyObject*> drop;
+  {
+    const std::lock_guard<std::mutex> lock(pending_mutex());
+    drop.swap(pending_references());
+  }
+  for (PyObject* o : drop) Py_DECREF(o);
+}
+
+// A Python object flowing through the searches as a stream value.
 class PythonValue final : public plugin::StreamPayload {
  public:
   explicit PythonValue(py::object object) : object_(std::move(object)) {}
-  ~PythonValue() override {
-    const py::gil_scoped_acquire gil;
-    object_ = py::object();
-  }
+  ~PythonValue() override { release(object_); }
   const py::object& object() const { return object_; }
 
  private:
@@ -61,7 +91,8 @@ struct PythonStream {
 // Python values equal to a problem object's value answer as that object, as PDDLStream
 // makes one object per value.
 struct KnownValues {
-  py::dict names;  // hashable value -> object name
+  py::object names = py::dict();  // hashable value -> object name
+  ~KnownValues() { release(names); }
 };
 
 std::string traceback_of(py::error_already_set& e) {
@@ -84,14 +115,15 @@ class PythonGenerator final : public plugin::StreamGenerator {
       : name_(std::move(name)), stream_(stream), inputs_(std::move(inputs)), fluents_(std::move(fluents)),
         known_(std::move(known)) {}
   ~PythonGenerator() override {
-    const py::gil_scoped_acquire gil;
-    iterator_ = py::object();
-    inputs_ = py::tuple();
-    fluents_ = py::object();
+    release(iterator_);
+    release(inputs_);
+    release(fluents_);
+    release(stream_.callable);
   }
 
   plugin::StreamBatch next(plugin::PlanningContext&) override {
     const py::gil_scoped_acquire gil;
+    drop_pending_references();
     plugin::StreamBatch batch;
     try {
       call(batch);
@@ -162,8 +194,9 @@ class PythonGenerator final : public plugin::StreamGenerator {
     std::vector<plugin::StreamValue> values;
     for (py::handle value : outputs) {
       if (PyObject_Hash(value.ptr()) != -1) {
-        if (known_->names.contains(value)) {
-          values.emplace_back(known_->names[value].cast<std::string>());
+        const py::dict names = known_->names;
+        if (names.contains(value)) {
+          values.emplace_back(names[value].cast<std::string>());
           continue;
         }
       } else {
@@ -187,9 +220,7 @@ class PythonStreamSampler final : public plugin::StreamSampler {
   PythonStreamSampler(std::map<std::string, PythonStream> streams, std::shared_ptr<KnownValues> known)
       : streams_(std::move(streams)), known_(std::move(known)) {}
   ~PythonStreamSampler() override {
-    const py::gil_scoped_acquire gil;
-    streams_.clear();
-    known_.reset();
+    for (auto& [name, stream] : streams_) release(stream.callable);
   }
   std::unique_ptr<plugin::StreamGenerator> instantiate(plugin::PlanningContext&, std::string_view stream,
                                                        const std::vector<plugin::StreamValue>& inputs,
@@ -243,6 +274,7 @@ py::dict solve_python_streams(const std::string& domain_text, const std::string&
                               const std::string& problem_text, const py::dict& values, const py::dict& streams,
                               const std::string& algorithm, const std::string& search, std::uint64_t seed,
                               double time_limit) {
+  drop_pending_references();
   const pddl::Domain domain = pddl::parse_domain(domain_text, domain_name);
   const pddl::Problem problem = pddl::parse_problem(problem_text, "problem", domain);
   const stream::StreamFile stream_file = stream::parse_stream_file(stream_text, stream_name, &domain);
@@ -252,7 +284,7 @@ py::dict solve_python_streams(const std::string& domain_text, const std::string&
   for (const auto& [name, value] : values) {
     const std::string object = name.cast<std::string>();
     task.values[object] = std::make_shared<const PythonValue>(py::reinterpret_borrow<py::object>(value));
-    if (PyObject_Hash(value.ptr()) != -1) known->names[value] = py::str(object);
+    if (PyObject_Hash(value.ptr()) != -1) known->names[value] = py::str(object);  // names is a dict
     else PyErr_Clear();
   }
   std::map<std::string, PythonStream> code;
@@ -290,6 +322,7 @@ py::dict solve_python_streams(const std::string& domain_text, const std::string&
     const py::gil_scoped_release unlocked;  // taken again by each stream call
     solution = stream::solve(task, context, options);
   }
+  drop_pending_references();  // what the search dropped while it ran without the GIL
 
   py::dict out;
   out["solved"] = solution.solved;

@@ -3,6 +3,8 @@ blocks problem of examples/python/blocks_2d solved and replayed, PDDLStream's ca
 kinds, errors located, a raising stream a failure with its traceback."""
 
 import importlib.util
+import subprocess
+import sys
 import os
 
 import pytest
@@ -121,3 +123,20 @@ def test_errors_name_what_is_wrong_and_where():
     assert caught.value.errors[0][0] == "<domain>"
     with pytest.raises(ValueError, match="algorithm"):
         solve(problem, algorithm="sideways")
+
+
+def test_a_search_ended_by_its_time_limit_lets_the_interpreter_exit_cleanly(tmp_path):
+    # The search is freed on a background thread after its time limit; the Python values
+    # it holds are released under the GIL later, never by that thread at exit.
+    script = tmp_path / "ends_at_limit.py"
+    script.write_text(
+        "import importlib.util\n"
+        f"spec = importlib.util.spec_from_file_location('p', {os.path.join(EXAMPLE, 'problem.py')!r})\n"
+        "m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m)\n"
+        "from cluttertamp.streams import from_test, solve\n"
+        "problem = m.blocks_problem()\n"
+        "problem = problem._replace(stream_map={**problem.stream_map, 'test-cfree': from_test(lambda *a: 1 / 0)})\n"
+        "print(solve(problem, time_limit=1).reason)\n")
+    run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, env=dict(os.environ))
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "time limit" in run.stdout

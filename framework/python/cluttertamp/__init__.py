@@ -109,9 +109,10 @@ class Result:
     `problem` is the problem file's path, as in result.json; `planned_problem` the
     Problem it was planned from."""
 
-    def __init__(self, text, drawings_text="", planned_problem=None):
+    def __init__(self, text, drawings_text="", planned_problem=None, run=None):
         self.text = text
-        self.drawings_text = drawings_text
+        self._drawings_text = drawings_text
+        self._run = run
         self.planned_problem = planned_problem
         self.json = json.loads(text)
         for key, value in self.json.items():
@@ -119,6 +120,13 @@ class Result:
                 setattr(self, key, value)
         self.steps = [Step(s) for s in self.json.get("plan", [])]
         self.failures = [Failure(f) for f in self.json.get("failures", [])]
+
+    @property
+    def drawings_text(self):
+        """drawings.json's text (the planner's roadmaps and graphs), made when first asked for."""
+        if self._drawings_text is None:
+            self._drawings_text = self._run.drawings_json() if self._run is not None else ""
+        return self._drawings_text
 
     def write(self, directory):
         """Writes result.json (and drawings.json when the planner drew anything) into
@@ -160,8 +168,8 @@ def plan(problem, seed=None, time_limit=None, planner=None, plugin_paths=(), pac
     (a missing plugin, a robot that starts in collision) raises InputError."""
     if not isinstance(problem, LoadedProblem):
         problem = load_problem(problem, package_paths)
-    text, drawings = _cluttertamp.plan(problem, seed, time_limit, planner, [os.fspath(p) for p in plugin_paths])
-    return Result(text, drawings, problem)
+    run = _cluttertamp.plan(problem, seed, time_limit, planner, [os.fspath(p) for p in plugin_paths])
+    return Result(run.result_json(), None, problem, run)
 
 
 def solve_pddl(domain, problem, search="lama-first", time_limit=60.0, max_expansions=None):
