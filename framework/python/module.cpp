@@ -187,7 +187,8 @@ py::dict validate_pddl_plan(const fs::path& domain_file, const fs::path& problem
 // InputError as the Python exception cluttertamp.InputError(ValueError): its message
 // every error with its location, `errors` the (file, line, column, message) tuples.
 void translate_input_errors(py::module_& m) {
-  static py::exception<InputError> exception(m, "InputError", PyExc_ValueError);
+  // Leaked: its destructor would drop a reference after the interpreter is gone.
+  static auto& exception = *new py::exception<InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

@@ -38,10 +38,26 @@ std::vector<PyObject*>& pending_references() {
   return *pending;
 }
 
+// Whether this thread holds the GIL by our own doing (PyGILState_Check answers 1 on
+// any thread once finalization has begun): set where we hold it, cleared where we
+// release it.
+thread_local bool holding_gil = false;
+
+class HoldingGil {
+ public:
+  explicit HoldingGil(bool held) : before_(holding_gil) { holding_gil = held; }
+  ~HoldingGil() { holding_gil = before_; }
+  HoldingGil(const HoldingGil&) = delete;
+  HoldingGil& operator=(const HoldingGil&) = delete;
+
+ private:
+  bool before_;
+};
+
 // Drops `object`'s reference now when this thread holds the GIL, else later.
 void release(py::object& object) {
   if (!object) return;
-  if (PyGILState_Check()) {
+  if (holding_gil) {
     object = py::object();
     return;
   }
@@ -99,10 +115,13 @@ std::string traceback_of(py::error_already_set& e) {
   std::string text = e.what();
   try {
     py::object format = py::module_::import("traceback").attr("format_exception");
-    py::list lines = format(e.type(), e.value(), e.trace());
+    // An error raised in C (a wrong number of arguments, say) has no traceback.
+    py::object trace = e.trace() ? py::reinterpret_borrow<py::object>(e.trace()) : py::none();
+    py::list lines = format(e.type(), e.value(), trace);
     text.clear();
     for (py::handle line : lines) text += line.cast<std::string>();
-  } catch (const py::error_already_set&) {
+  } catch (...) {  // keep what() when even the traceback cannot be written
+    PyErr_Clear();
   }
   while (!text.empty() && text.back() == '\n') text.pop_back();
   return text;
@@ -123,14 +142,20 @@ class PythonGenerator final : public plugin::StreamGenerator {
 
   plugin::StreamBatch next(plugin::PlanningContext&) override {
     const py::gil_scoped_acquire gil;
+    const HoldingGil held(true);
     drop_pending_references();
     plugin::StreamBatch batch;
+    auto failed = [&](const std::string& why) {
+      batch.outputs.clear();
+      batch.exhausted = true;
+      batch.failure = Failure{"stream " + name_, why, {}};
+    };
     try {
       call(batch);
     } catch (py::error_already_set& e) {
-      batch.outputs.clear();
-      batch.exhausted = true;
-      batch.failure = Failure{"stream " + name_, "the Python stream raised:\n" + traceback_of(e), {}};
+      failed("the Python stream raised:\n" + traceback_of(e));
+    } catch (const std::exception& e) {  // what it returned is not what the stream declares
+      failed(e.what());
     }
     return batch;
   }
@@ -173,7 +198,8 @@ class PythonGenerator final : public plugin::StreamGenerator {
         return;
       case CallKind::value: {
         batch.exhausted = true;
-        const py::object produced = invoke();
+        py::object produced = invoke();
+        if (py::isinstance<py::tuple>(produced) && py::len(produced) == 1) produced = produced[py::int_(0)];  // from_fn's (x,)
         if (!PyNumber_Check(produced.ptr()) || PyBool_Check(produced.ptr())) {
           throw py::type_error("function '" + name_ + "' returned " + py::repr(produced).cast<std::string>() +
                                ", not a number");
@@ -226,6 +252,7 @@ class PythonStreamSampler final : public plugin::StreamSampler {
                                                        const std::vector<plugin::StreamValue>& inputs,
                                                        const std::vector<plugin::StreamFact>& fluents) override {
     const py::gil_scoped_acquire gil;
+    const HoldingGil held(true);
     const PythonStream& code = streams_.at(std::string(stream));
     py::tuple args(inputs.size());
     for (std::size_t i = 0; i < inputs.size(); ++i) args[i] = to_python(inputs[i]);
@@ -274,7 +301,11 @@ py::dict solve_python_streams(const std::string& domain_text, const std::string&
                               const std::string& problem_text, const py::dict& values, const py::dict& streams,
                               const std::string& algorithm, const std::string& search, std::uint64_t seed,
                               double time_limit) {
-  drop_pending_references();
+  const HoldingGil held(true);
+  struct DropPending {  // also when the search throws
+    DropPending() { drop_pending_references(); }
+    ~DropPending() { drop_pending_references(); }
+  } drop_pending;
   const pddl::Domain domain = pddl::parse_domain(domain_text, domain_name);
   const pddl::Problem problem = pddl::parse_problem(problem_text, "problem", domain);
   const stream::StreamFile stream_file = stream::parse_stream_file(stream_text, stream_name, &domain);
@@ -297,7 +328,9 @@ py::dict solve_python_streams(const std::string& domain_text, const std::string&
     }
     const py::tuple pair = entry.cast<py::tuple>();
     const std::string kind = pair[0].cast<std::string>();
-    code[stream] = PythonStream{kind == "auto" ? plain_call_kind(*decl) : call_kind(kind, stream), pair[1]};
+    // A :function's value is a number however it is wrapped.
+    const bool plain = kind == "auto" || decl->kind == stream::StreamDecl::Kind::function;
+    code[stream] = PythonStream{plain ? plain_call_kind(*decl) : call_kind(kind, stream), pair[1]};
   }
   PythonStreamSampler sampler(std::move(code), known);
   Diagnostics unbound;
@@ -320,6 +353,7 @@ py::dict solve_python_streams(const std::string& domain_text, const std::string&
   stream::StreamSolution solution;
   {
     const py::gil_scoped_release unlocked;  // taken again by each stream call
+    const HoldingGil released(false);
     solution = stream::solve(task, context, options);
   }
   drop_pending_references();  // what the search dropped while it ran without the GIL

@@ -86,10 +86,12 @@ std::optional<std::string> out_of_reach(const Problem& problem) {
 
 }  // namespace
 
-void check_start_configuration(const Problem& problem) {
+namespace {
+
+// check_start_configuration in `world`, the problem's scene and robot as loaded.
+void check_start_in(const Problem& problem, const collision::CollisionWorld& world) {
   if (!problem.robot.loaded || !std::holds_alternative<RetrievalTask>(problem.task)) return;
   const Eigen::VectorXd q = robot::initial_configuration(problem.robot);
-  const collision::CollisionWorld world(problem.scene, problem.robot.loaded);
   auto context = world.make_context();
   const collision::CollisionReport contacts = world.check(q, *context);
   if (contacts.valid()) return;
@@ -115,7 +117,15 @@ void check_start_configuration(const Problem& problem) {
     errors.error(problem.robot.where, start + " is in self collision: '" + model.links()[a].name + "' touches '" +
                                           model.links()[b].name + "'");
   }
+  if (errors.empty()) errors.error(problem.robot.where, start + " is in collision");  // a contact none of the above names
   errors.throw_if_any();
+}
+
+}  // namespace
+
+void check_start_configuration(const Problem& problem) {
+  if (!problem.robot.loaded || !std::holds_alternative<RetrievalTask>(problem.task)) return;
+  check_start_in(problem, collision::CollisionWorld(problem.scene, problem.robot.loaded));
 }
 
 RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const RunOptions& options) {
@@ -130,11 +140,12 @@ RunOutcome plan(const Problem& problem, const plugin::Registry& registry, const 
   const plugin::Samplers& samplers = plugins.samplers;
   const auto& planner = plugins.planner;
 
-  check_start_configuration(problem);
-
   std::map<std::string, std::uint64_t> counters;
   std::unique_ptr<collision::SharedWorld> world;
-  if (problem.robot.loaded) world = std::make_unique<collision::SharedWorld>(problem.scene, problem.robot.loaded);
+  if (problem.robot.loaded) {
+    world = std::make_unique<collision::SharedWorld>(problem.scene, problem.robot.loaded);
+    check_start_in(problem, world->world());  // the geometry built once, for both
+  }
   plugin::PlanningContext context{problem, plugin::Deadline::after(outcome.info.time_limit), outcome.info.seed,
                                   counters, samplers, world.get()};
   std::map<std::string, PhaseTotals> phases;

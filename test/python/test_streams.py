@@ -140,3 +140,25 @@ def test_a_search_ended_by_its_time_limit_lets_the_interpreter_exit_cleanly(tmp_
     run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, env=dict(os.environ))
     assert run.returncode == 0, run.stdout + run.stderr
     assert "time limit" in run.stdout
+
+
+def test_a_stream_answering_the_wrong_shape_is_a_failure_not_an_error():
+    blocks = example()
+    problem = blocks.blocks_problem()
+    wrong = problem._replace(stream_map={**problem.stream_map, "sample-pose": from_gen_fn(lambda b, r: iter([0.5]))})
+    solution = solve(wrong, time_limit=5)
+    assert not solution.solved
+    assert any(stage == "stream sample-pose" and "not a tuple of outputs" in reason for stage, reason in solution.failures)
+    arity = problem._replace(stream_map={**problem.stream_map, "test-cfree": from_test(lambda b: True)})
+    solution = solve(arity, time_limit=5)
+    assert any(stage == "stream test-cfree" and "TypeError" in reason for stage, reason in solution.failures)
+
+
+def test_a_function_wrapped_with_from_fn_gives_its_number():
+    domain = """(define (domain costs) (:requirements :strips)
+      (:predicates (Number ?n) (Done ?n)) (:functions (Cost ?n))
+      (:action finish :parameters (?n) :precondition (Number ?n) :effect (and (Done ?n) (increase (total-cost) (Cost ?n)))))"""
+    streams = "(define (stream costs) (:function (Cost ?n) (Number ?n)))"
+    problem = PDDLProblem(domain, {}, streams, {"Cost": from_fn(lambda n: (2.5 * n,))}, [("Number", 2)], ("Done", 2))
+    solution = solve(problem)
+    assert solution.solved and solution.cost == 5.0

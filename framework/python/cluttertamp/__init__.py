@@ -40,8 +40,10 @@ def load_problem(file, package_paths=()):
 
 def load_robot(file, package_paths=()):
     """A robot description file (URDF plus semantics) with forward and inverse kinematics:
-    `tool_pose(q)` and `link_poses(q)` give 4 x 4 poses in the robot's base frame,
-    `ik(pose, seed=None, random_seed=0)` every solution found, nearest the seed first."""
+    `tool_pose(q)` the tool's 4 x 4 pose in the frame of the arm's base link (the IK
+    chain's base), `link_poses(q)` every link's in the frame of the URDF's root link (the
+    same for a fixed arm whose base link is the root), `ik(pose, seed=None, random_seed=0)`
+    the solutions for a tool pose in the base link's frame."""
     return _cluttertamp.load_robot(os.fspath(file), [os.fspath(p) for p in package_paths])
 
 
@@ -63,7 +65,8 @@ class Trajectory:
     def __init__(self, data):
         self.joint_names = list(data.get("joint_names", []))
         self.times = np.asarray(data.get("times", []), dtype=float)
-        self.positions = np.asarray(data.get("positions", []), dtype=float).reshape(len(self.times), -1)
+        self.positions = np.asarray(data.get("positions", []), dtype=float).reshape(len(self.times),
+                                                                                      len(self.joint_names))
         self.objects = {k: np.asarray(v, dtype=float) for k, v in data.get("objects", {}).items()}
 
     def __repr__(self):

@@ -143,9 +143,7 @@ def _atom(fact, objects):
 def _formula(goal, objects):
     if isinstance(goal, (tuple, list)) and goal and isinstance(goal[0], str):
         head = goal[0].lower()
-        if head in ("and", "or"):
-            return f"({head} " + " ".join(_formula(g, objects) for g in goal[1:]) + ")"
-        if head in ("not", "imply"):
+        if head in ("and", "or", "not", "imply"):
             return f"({head} " + " ".join(_formula(g, objects) for g in goal[1:]) + ")"
         return _atom(goal, objects)
     if isinstance(goal, (tuple, list)):  # a list of facts: their conjunction
@@ -169,8 +167,11 @@ def solve(problem, algorithm="adaptive", search="lazy-gbfs-ff", seed=0, time_lim
     init = " ".join(_atom(fact, objects) for fact in problem.init)
     goal = _formula(problem.goal, objects)
     declared = " ".join(n for n in objects.values if n not in objects.constants)
+    # Action costs count as PDDLStream counts them (unit_costs=False): the domain's
+    # (total-cost), minimized.
+    metric = "\n  (:metric minimize (total-cost))" if "total-cost" in domain_text.lower() else ""
     problem_text = (f"(define (problem python) (:domain {match.group(1)})\n  (:objects {declared})\n"
-                    f"  (:init {init})\n  (:goal {goal}))\n")
+                    f"  (:init {init})\n  (:goal {goal}){metric})\n")
     stream_map = {}
     for name, entry in problem.stream_map.items():
         if isinstance(entry, StreamFn):

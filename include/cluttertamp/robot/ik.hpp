@@ -57,9 +57,9 @@ class CLUTTERTAMP_API IkSolver {
 };
 
 /// Closed-form IK of the UR family (UR3/5/10/16, e-series): up to 8 solutions per
-/// pose. The chain must be six revolute joints whose frames follow the standard DH
-/// layout of a UR arm (alpha = pi/2, 0, 0, pi/2, -pi/2, 0), with any fixed transform
-/// after the sixth joint (flange, gripper, TCP). Of the angles 2 pi apart that respect
+/// pose. The chain must be six revolute joints standing as a UR arm's (the DH twists
+/// pi/2, 0, 0, pi/2, -pi/2, 0 once each axis is turned onto z), in any frames, with any
+/// fixed transform after the sixth joint (flange, gripper, TCP). Of the angles 2 pi apart that respect
 /// a joint's limits, each solution takes the one nearest the seed.
 class CLUTTERTAMP_API UrAnalyticIk final : public IkSolver {
  public:
