@@ -162,9 +162,7 @@ std::vector<Scene> generated(int objects, const BenchArgs& args, std::shared_ptr
     spec = fit.spec;
     if (fit.start) robot = std::make_shared<const robot::RobotDescription>(robot->with_home(*fit.start));
     if (args.verbosity != Verbosity::quiet) {
-      std::printf("shelf%d for %s: opening at x = %.2f m, floor at z = %.2f m, %.2f m deep, exit %.2f m in front of it: %d of %d test "
-                  "grasps reachable%s\n",
-                  objects, robot->name().c_str(), spec.front, spec.floor_height, scenes::cabinet_size(spec).x(), spec.exit_distance, fit.reached, fit.tried,
+      std::printf("shelf%d for %s: %s%s\n", objects, robot->name().c_str(), scenes::describe_placement(fit).c_str(),
                   fit.start ? "; the home reaches into the cabinet, so the runs start with the tool drawn back" : "");
     }
   }

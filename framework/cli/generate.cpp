@@ -86,9 +86,7 @@ int generate(const GenerateArgs& args) {
     const scenes::ShelfFit fit = scenes::fit_shelf_to_robot(spec, robot);
     spec = fit.spec;
     if (args.verbosity != Verbosity::quiet) {
-      std::printf("shelf for %s: opening at x = %.2f m, floor at z = %.2f m, %.2f m deep, exit %.2f m in front of it: %d of %d test grasps "
-                  "reachable (%d where it stood)\n",
-                  robot->name().c_str(), spec.front, spec.floor_height, scenes::cabinet_size(spec).x(), spec.exit_distance, fit.reached, fit.tried,
+      std::printf("shelf for %s: %s (%d where it stood)\n", robot->name().c_str(), scenes::describe_placement(fit).c_str(),
                   fit.reached_as_given);
     }
     if (fit.start) {

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <tuple>
+#include <vector>
 
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/robot/ik.hpp"
@@ -66,6 +68,15 @@ std::optional<std::pair<Eigen::VectorXd, double>> clear_start(const collision::C
 
 }  // namespace
 
+std::string describe_placement(const ShelfFit& fit) {
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "opening at x = %.2f m, floor at z = %.2f m, %.2f m deep, exit %.2f m in front of it: %d of %d test grasps "
+                "reachable",
+                fit.spec.front, fit.spec.floor_height, cabinet_size(fit.spec).x(), fit.spec.exit_distance, fit.reached, fit.tried);
+  return text;
+}
+
 ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::RobotDescription> robot) {
   // A closed form answers at once; a numeric solver gets fewer restarts than planning
   // does (a few hundred placements are tried, most poses out of reach).
@@ -116,8 +127,11 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
     for (const Eigen::Isometry3d& grasp : grasps) fit.reached += reaches(grasp);
     // The exit: as far in front of the opening as the arm holds a target there (a short
     // arm cannot hold it over its own base), both ways up.
-    for (const double distance : {candidate.exit_distance, 0.15, 0.1}) {
-      if (distance > candidate.exit_distance) continue;
+    std::vector<double> distances{candidate.exit_distance};
+    for (const double nearer : {0.15, 0.1}) {
+      if (nearer < candidate.exit_distance) distances.push_back(nearer);
+    }
+    for (const double distance : distances) {
       Eigen::Vector3d exit = scene.world_T_exit.translation();
       exit.x() = candidate.front - distance;
       const int held = int{reaches(side_grasp(exit, -1.0))} + int{reaches(side_grasp(exit, 1.0))};

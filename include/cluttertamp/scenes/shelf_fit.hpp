@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -41,6 +42,10 @@ struct ShelfFit {
 /// the grasp_side sampler makes them); and the exit pose, reached either way up, which
 /// moves from `spec.exit_distance` in front of the opening to 0.15 or 0.1 m when the arm
 /// cannot hold a target farther out (`exit_distance` of the result). Deterministic.
+/// "opening at x = 0.25 m, floor at z = 0.50 m, 0.55 m deep, exit 0.20 m in front of
+/// it: 15 of 22 test grasps reachable": where the fit put the shelf, in words.
+CLUTTERTAMP_API std::string describe_placement(const ShelfFit& fit);
+
 CLUTTERTAMP_API ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::RobotDescription> robot);
 
 }  // namespace cluttertamp::scenes
