@@ -234,5 +234,72 @@ TEST(Registry, SamplersHandOutEachKindAsItsInterface) {
   EXPECT_EQ(samplers.get<plugin::TaskPlanner>(), nullptr);
 }
 
+// A grasp sampler made in the process, which reads one parameter.
+class StandIn final : public plugin::GraspSampler {
+ public:
+  void configure(const Parameters& p) override { width = p.get_double("width", 0.1, "m", Range::above(0)); }
+  plugin::GraspAnswer sample(plugin::PlanningContext&, const plugin::GraspQuery&) override { return {}; }
+  double width = 0.0;
+};
+
+// Plugins provided in the process (Python samplers) are found before a library's of the
+// same kind and name, by registries made before and after; withdrawn, the library's is
+// found again.
+TEST(Registry, InProcessPluginsAreFoundFirstAndCanBeWithdrawn) {
+  const Registry registry({plugin_dir("good")});
+  int made = 0;
+  plugin::provide_plugin({"grasp_sampler", "test_grasp", "stand-in", "2.0", "test:StandIn", [&made] {
+                            ++made;
+                            return std::make_shared<StandIn>();
+                          }});
+  const plugin::PluginDescriptor* found = registry.find("grasp_sampler", "test_grasp");
+  ASSERT_NE(found, nullptr);
+  EXPECT_EQ(found->library, "test:StandIn");
+  EXPECT_EQ(found->version, "2.0");
+  Parameters wide;
+  wide.set("width", 0.25);
+  const auto object = registry.create<plugin::GraspSampler>("test_grasp", wide);
+  ASSERT_NE(dynamic_cast<StandIn*>(object.get()), nullptr);
+  EXPECT_EQ(dynamic_cast<StandIn*>(object.get())->width, 0.25);
+  EXPECT_EQ(made, 1);
+  EXPECT_NE(registry.describe_search().find("grasp_sampler 'test_grasp' (test:StandIn)"), std::string::npos);
+  const Registry later({plugin_dir("good")});
+  EXPECT_EQ(later.find("grasp_sampler", "test_grasp")->library, "test:StandIn");
+  const auto listed = later.plugins();
+  EXPECT_EQ(listed.front().library, "test:StandIn");
+  // Its parameters are checked as a library plugin's: unknown keys and bad values.
+  Parameters bad;
+  bad.set("width", -1.0, {"p.yaml", 4, 7});
+  bad.set("colour", std::string("red"), {"p.yaml", 5, 7});
+  const Diagnostics d = test::expect_input_error([&] { registry.create<plugin::GraspSampler>("test_grasp", bad); });
+  EXPECT_TRUE(test::has_error(d, 4, 7, "width"));
+  EXPECT_TRUE(test::has_error(d, 5, 7, "unknown parameter 'colour'"));
+
+  EXPECT_TRUE(plugin::withdraw_plugin("grasp_sampler", "test_grasp"));
+  EXPECT_FALSE(plugin::withdraw_plugin("grasp_sampler", "test_grasp"));
+  EXPECT_EQ(found->library, "test:StandIn");  // a descriptor handed out stays valid
+  EXPECT_EQ(registry.find("grasp_sampler", "test_grasp")->library.filename(), "libtest_good_plugins.so");
+  EXPECT_EQ(dynamic_cast<StandIn*>(registry.create<plugin::GraspSampler>("test_grasp").get()), nullptr);
+}
+
+TEST(Registry, InProcessPluginsNeedIdentifiersAndAFactory) {
+  auto factory = [] { return std::make_shared<StandIn>(); };
+  EXPECT_THROW(plugin::provide_plugin({"grasp sampler", "x", "", "", "", factory}), std::invalid_argument);
+  EXPECT_THROW(plugin::provide_plugin({"grasp_sampler", "front-grasps", "", "", "", factory}), std::invalid_argument);
+  EXPECT_THROW(plugin::provide_plugin({"grasp_sampler", "x", "", "", "", nullptr}), std::invalid_argument);
+  // A factory that fails is a runtime error naming the plugin.
+  plugin::provide_plugin({"grasp_sampler", "failing", "", "", "test:Failing",
+                          []() -> std::shared_ptr<plugin::Plugin> { throw std::runtime_error("no memory today"); }});
+  const Registry registry({});
+  try {
+    registry.create<plugin::GraspSampler>("failing");
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("grasp_sampler 'failing' (test:Failing) threw: no memory today"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(plugin::withdraw_plugin("grasp_sampler", "failing"));
+}
+
 }  // namespace
 }  // namespace cluttertamp

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <cctype>
 #include <mutex>
@@ -42,6 +43,21 @@ std::vector<fs::path> sorted_files(const fs::path& dir) {
   return files;
 }
 
+// Calls a plugin's factory; its failures as std::runtime_error naming `who`.
+template <class Factory>
+std::shared_ptr<Plugin> create_with(const std::string& who, Factory&& factory) {
+  std::shared_ptr<Plugin> object;
+  try {
+    object = factory();
+  } catch (const std::exception& e) {
+    throw std::runtime_error("the factory of " + who + " threw: " + e.what());
+  } catch (...) {
+    throw std::runtime_error("the factory of " + who + " threw a non-standard exception");
+  }
+  if (!object) throw std::runtime_error("the factory of " + who + " returned no object");
+  return object;
+}
+
 }  // namespace
 
 // Libraries are never unloaded: code of a plugin (a destructor, an exception's
@@ -51,6 +67,84 @@ std::mutex g_libraries_mutex;
 std::vector<std::shared_ptr<Library>>& loaded_libraries() {
   static auto* libraries = new std::vector<std::shared_ptr<Library>>();  // never destroyed
   return *libraries;
+}
+
+namespace {
+
+// The in-process plugins (provide_plugin), newest registration last. Entries replaced
+// or withdrawn move to `retired`: a descriptor handed out by find() must stay valid.
+struct Provided {
+  PluginDescriptor descriptor;
+  std::function<std::shared_ptr<Plugin>()> create;
+};
+struct ProvidedTable {
+  std::mutex mutex;
+  std::vector<std::shared_ptr<const Provided>> current;
+  std::vector<std::shared_ptr<const Provided>> retired;
+};
+ProvidedTable& provided_table() {
+  static auto* table = new ProvidedTable();  // never destroyed: factories may hold foreign objects
+  return *table;
+}
+
+std::shared_ptr<const Provided> find_provided(std::string_view kind, std::string_view name) {
+  ProvidedTable& table = provided_table();
+  const std::lock_guard<std::mutex> lock(table.mutex);
+  for (const auto& p : table.current) {
+    if (p->descriptor.kind == kind && p->descriptor.name == name) return p;
+  }
+  return nullptr;
+}
+
+std::vector<std::shared_ptr<const Provided>> all_provided() {
+  ProvidedTable& table = provided_table();
+  const std::lock_guard<std::mutex> lock(table.mutex);
+  return table.current;
+}
+
+bool is_identifier(std::string_view name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name.front()))) return false;
+  return std::all_of(name.begin(), name.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+}  // namespace
+
+void provide_plugin(InProcessPlugin plugin) {
+  if (!detail::valid_kind_name(plugin.kind)) {
+    throw std::invalid_argument("plugin kind '" + plugin.kind +
+                                "' must be a C identifier without '__' that does not end in '_'");
+  }
+  if (!is_identifier(plugin.name)) {
+    throw std::invalid_argument("plugin name '" + plugin.name + "' must be a C identifier (letters, digits, '_')");
+  }
+  if (!plugin.create) throw std::invalid_argument(plugin.kind + " '" + plugin.name + "' has no factory");
+  auto entry = std::make_shared<Provided>();
+  entry->descriptor = {plugin.kind, plugin.name, plugin.description, plugin.version, kAbiVersion,
+                       plugin.origin.empty() ? fs::path("in-process") : fs::path(plugin.origin)};
+  entry->create = std::move(plugin.create);
+  ProvidedTable& table = provided_table();
+  const std::lock_guard<std::mutex> lock(table.mutex);
+  for (auto& p : table.current) {
+    if (p->descriptor.kind == entry->descriptor.kind && p->descriptor.name == entry->descriptor.name) {
+      table.retired.push_back(std::move(p));
+      p = std::move(entry);
+      return;
+    }
+  }
+  table.current.push_back(std::move(entry));
+}
+
+bool withdraw_plugin(std::string_view kind, std::string_view name) {
+  ProvidedTable& table = provided_table();
+  const std::lock_guard<std::mutex> lock(table.mutex);
+  const auto it = std::find_if(table.current.begin(), table.current.end(), [&](const auto& p) {
+    return p->descriptor.kind == kind && p->descriptor.name == name;
+  });
+  if (it == table.current.end()) return false;
+  table.retired.push_back(std::move(*it));
+  table.current.erase(it);
+  return true;
 }
 
 struct Registry::Impl {
@@ -222,9 +316,12 @@ std::vector<fs::path> Registry::default_search_paths(const std::vector<fs::path>
 const std::vector<SearchedDirectory>& Registry::searched() const { return impl_->searched; }
 
 std::vector<PluginDescriptor> Registry::plugins() const {
+  std::vector<PluginDescriptor> out;
+  for (const auto& p : all_provided()) out.push_back(p->descriptor);
   std::lock_guard<std::mutex> lock(impl_->mutex);
   for (Impl::Candidate& c : impl_->candidates) impl_->load(c);
-  return impl_->descriptors;
+  out.insert(out.end(), impl_->descriptors.begin(), impl_->descriptors.end());
+  return out;
 }
 
 std::vector<LoadProblem> Registry::problems() const {
@@ -233,6 +330,7 @@ std::vector<LoadProblem> Registry::problems() const {
 }
 
 const PluginDescriptor* Registry::find(std::string_view kind, std::string_view name) const {
+  if (const auto provided = find_provided(kind, name)) return &provided->descriptor;
   std::lock_guard<std::mutex> lock(impl_->mutex);
   for (Impl::Candidate& c : impl_->candidates) {
     if (c.kind == kind && c.name == name) return impl_->load(c) ? &c.descriptor : nullptr;
@@ -244,6 +342,7 @@ std::vector<std::string> Registry::kinds() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   std::set<std::string> kinds;
   for (const Impl::Candidate& c : impl_->candidates) kinds.insert(c.kind);
+  for (const auto& p : all_provided()) kinds.insert(p->descriptor.kind);
   return {kinds.begin(), kinds.end()};
 }
 
@@ -256,6 +355,13 @@ std::string Registry::describe_search() const {
     out << "  " << dir.path.string() << "  ("
         << (dir.exists ? std::to_string(dir.libraries) + " shared libraries" : std::string("does not exist"))
         << ")\n";
+  }
+  const auto provided = all_provided();
+  if (!provided.empty()) {
+    out << "provided in this process (found first):\n";
+    for (const auto& p : provided) {
+      out << "  " << p->descriptor.kind << " '" << p->descriptor.name << "' (" << p->descriptor.library.string() << ")\n";
+    }
   }
   out << "plugins found:\n";
   if (impl_->candidates.empty()) out << "  (none)\n";
@@ -272,6 +378,10 @@ std::string Registry::describe_search() const {
 
 std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view name, const SourceLocation& where,
                                        std::string& who) const {
+  if (const auto provided = find_provided(kind, name)) {
+    who = std::string(kind) + " '" + std::string(name) + "' (" + provided->descriptor.library.string() + ")";
+    return create_with(who, [&] { return provided->create(); });
+  }
   const PluginDescriptor* descriptor = find(kind, name);
   const PluginEntry* entry = nullptr;
   {
@@ -294,16 +404,7 @@ std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view n
                                 kinds_line + "\n" + text);
   }
   who = std::string(kind) + " '" + std::string(name) + "' (" + descriptor->library.filename().string() + ")";
-  std::shared_ptr<Plugin> object;
-  try {
-    object.reset(entry->create());
-  } catch (const std::exception& e) {
-    throw std::runtime_error("the factory of " + who + " threw: " + e.what());
-  } catch (...) {
-    throw std::runtime_error("the factory of " + who + " threw a non-standard exception");
-  }
-  if (!object) throw std::runtime_error("the factory of " + who + " returned no object");
-  return object;
+  return create_with(who, [&] { return std::shared_ptr<Plugin>(entry->create()); });
 }
 
 void Registry::not_of_kind(std::string_view kind, std::string_view name) {

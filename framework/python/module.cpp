@@ -26,9 +26,12 @@
 #include "cluttertamp/robot/ik.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/run/runner.hpp"
+#include "cluttertamp/scenes/shelf_generator.hpp"
 #include "cluttertamp/search/grounding.hpp"
 #include "cluttertamp/search/planner.hpp"
 #include "cluttertamp/viewer/plan_html.hpp"
+#include "python/gil.hpp"
+#include "python/samplers.hpp"
 #include "python/streams.hpp"
 
 namespace py = pybind11;
@@ -80,9 +83,13 @@ PlanRun plan(const LoadedProblem& loaded, std::optional<std::uint64_t> seed, std
   options.seed = seed;
   options.time_limit = time_limit;
   options.plugin_paths = plugin_paths;
-  const py::gil_scoped_release unlocked;
-  const plugin::Registry& registry = registry_for(run::plugin_search_paths(*run.problem, options));
-  run.outcome = run::plan(*run.problem, registry, options);
+  {
+    const py::gil_scoped_release unlocked;  // Python samplers take it again for each call
+    const HoldingGil released(false);
+    const plugin::Registry& registry = registry_for(run::plugin_search_paths(*run.problem, options));
+    run.outcome = run::plan(*run.problem, registry, options);
+  }
+  drop_pending_references();  // Python samplers the run let go of without the GIL
   return run;
 }
 
@@ -216,6 +223,7 @@ PYBIND11_MODULE(_cluttertamp, m) {
   m.doc() = "cluttertamp's C++ core; use the package `cluttertamp`, which wraps it";
   translate_input_errors(m);
   bind_streams(m);
+  bind_samplers(m);
 
   py::class_<LoadedProblem>(m, "LoadedProblem")
       .def_property_readonly("name", [](const LoadedProblem& p) { return p.problem->name; })
@@ -240,7 +248,17 @@ PYBIND11_MODULE(_cluttertamp, m) {
                                if (!p.problem->robot.loaded) return std::nullopt;
                                return Robot{p.problem->robot.loaded};
                              })
-      .def("check_start", [](const LoadedProblem& p) { ct::run::check_start_configuration(*p.problem); });
+      .def("check_start", [](const LoadedProblem& p) { ct::run::check_start_configuration(*p.problem); })
+      .def(
+          "world",
+          [](const LoadedProblem& p, std::optional<Eigen::VectorXd> configuration) {
+            ct::WorldState state = ct::WorldState::initial(p.problem->scene);
+            if (p.problem->robot.loaded) {
+              state.robot_configuration = configuration.value_or(ct::robot::initial_configuration(p.problem->robot));
+            }
+            return world_of(p.problem, state);
+          },
+          py::arg("configuration") = py::none());
 
   py::class_<Robot>(m, "Robot")
       .def_property_readonly("name", [](const Robot& r) { return r.description->name(); })
@@ -252,6 +270,28 @@ PYBIND11_MODULE(_cluttertamp, m) {
 
   m.def("load_problem", &load_problem, py::arg("file"), py::arg("package_paths") = std::vector<fs::path>{});
   m.def("load_robot", &load_robot, py::arg("file"), py::arg("package_paths") = std::vector<fs::path>{});
+  m.def(
+      "generate_shelf",
+      [](const fs::path& file, int objects, std::uint64_t seed, double min_gap, double width, double depth,
+         double exit_distance) {
+        if (objects < 1) throw py::value_error("a shelf holds at least one object, not " + std::to_string(objects));
+        ct::scenes::ShelfSpec spec;
+        spec.objects = objects;
+        spec.min_gap = min_gap;
+        spec.width = width;
+        spec.depth = depth;
+        spec.exit_distance = exit_distance;
+        ct::Scene scene;
+        try {
+          scene = ct::scenes::generate_shelf_scene(spec, seed);
+        } catch (const std::runtime_error& e) {
+          throw py::value_error(e.what());
+        }
+        ct::io::write_scene(file, scene);
+        return scene.objects.at(scene.target).id;
+      },
+      py::arg("file"), py::arg("objects") = 12, py::arg("seed") = 0, py::arg("min_gap") = 0.0, py::arg("width") = 0.0,
+      py::arg("depth") = 0.0, py::arg("exit_distance") = 0.2);
   m.def("check_scene", [](const fs::path& file) { return ct::io::load_scene(file).name; }, py::arg("file"));
   m.def("is_problem_file",
         [](const fs::path& file) { return ct::io::detect_file_kind(file) == ct::io::FileKind::problem; }, py::arg("file"));

@@ -3,6 +3,8 @@
 // a Python exception becomes the stream's failure, with its traceback, not a crash.
 #include "python/streams.hpp"
 
+#include "python/gil.hpp"
+
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
@@ -25,55 +27,6 @@ namespace py = pybind11;
 
 namespace cluttertamp::python {
 namespace {
-
-// References to drop once the GIL is held. A search freed on a background thread (after
-// a time limit, core/free_beside.hpp) must not take the GIL: the interpreter may be
-// finalizing, and a thread taking its GIL then is ended, mid destructor.
-std::mutex& pending_mutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-std::vector<PyObject*>& pending_references() {
-  static auto* pending = new std::vector<PyObject*>();  // leaked: outlives every thread
-  return *pending;
-}
-
-// Whether this thread holds the GIL by our own doing (PyGILState_Check answers 1 on
-// any thread once finalization has begun): set where we hold it, cleared where we
-// release it.
-thread_local bool holding_gil = false;
-
-class HoldingGil {
- public:
-  explicit HoldingGil(bool held) : before_(holding_gil) { holding_gil = held; }
-  ~HoldingGil() { holding_gil = before_; }
-  HoldingGil(const HoldingGil&) = delete;
-  HoldingGil& operator=(const HoldingGil&) = delete;
-
- private:
-  bool before_;
-};
-
-// Drops `object`'s reference now when this thread holds the GIL, else later.
-void release(py::object& object) {
-  if (!object) return;
-  if (holding_gil) {
-    object = py::object();
-    return;
-  }
-  const std::lock_guard<std::mutex> lock(pending_mutex());
-  pending_references().push_back(object.release().ptr());
-}
-
-// Drops the references left for later. Precondition: the GIL is held.
-void drop_pending_references() {
-  std::vector<PyObject*> drop;
-  {
-    const std::lock_guard<std::mutex> lock(pending_mutex());
-    drop.swap(pending_references());
-  }
-  for (PyObject* o : drop) Py_DECREF(o);
-}
 
 // A Python object flowing through the searches as a stream value.
 class PythonValue final : public plugin::StreamPayload {
@@ -110,22 +63,6 @@ struct KnownValues {
   py::object names = py::dict();  // hashable value -> object name
   ~KnownValues() { release(names); }
 };
-
-std::string traceback_of(py::error_already_set& e) {
-  std::string text = e.what();
-  try {
-    py::object format = py::module_::import("traceback").attr("format_exception");
-    // An error raised in C (a wrong number of arguments, say) has no traceback.
-    py::object trace = e.trace() ? py::reinterpret_borrow<py::object>(e.trace()) : py::none();
-    py::list lines = format(e.type(), e.value(), trace);
-    text.clear();
-    for (py::handle line : lines) text += line.cast<std::string>();
-  } catch (...) {  // keep what() when even the traceback cannot be written
-    PyErr_Clear();
-  }
-  while (!text.empty() && text.back() == '\n') text.pop_back();
-  return text;
-}
 
 class PythonGenerator final : public plugin::StreamGenerator {
  public:

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "cluttertamp/collision/shared_world.hpp"
-#include "cluttertamp/manipulation/base_placement.hpp"
+#include "cluttertamp/manipulation/grasp_check.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/grasp_sampler.hpp"
 
@@ -24,8 +24,6 @@ using plugin::GraspAnswer;
 using plugin::GraspMotion;
 
 constexpr double kPi = M_PI;
-// rad between the checks of a usable grasp's approach and lift: pick's dense check.
-constexpr double kDenseResolution = 0.01;
 // Degrees between the directions of the wide pass at the least.
 constexpr double kWideStep = 10.0;
 
@@ -77,9 +75,9 @@ class SideGrasps final : public plugin::GraspSampler {
       answer.failure = Failure{"grasp", "'" + object.id + "' is wider than the gripper's stroke", {}};
       return answer;
     }
-    const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
     const Eigen::VectorXd seed = query.state.robot_configuration.size() ? query.state.robot_configuration : robot.home();
-    const auto mobile = base_distance_ > 0 ? manipulation::BasePlacement::of(robot) : std::nullopt;
+    const manipulation::GraspChecker checker(context, *world, query.object, seed,
+                                             {steps_, resolution_, base_distance_});
     std::mt19937_64 rng(context.seed ^ (0x9e3779b97f4a7c15ull * (query.object + 1)));
 
     bool previous_unreachable = true;
@@ -89,15 +87,15 @@ class SideGrasps final : public plugin::GraspSampler {
         // The wrist turned over (tool x up) is tried only where the upright one is out of reach.
         if (c.flipped && !previous_unreachable) continue;
         context.count(counter::samples);
-        Grasp grasp = make_grasp(c, *half_width, object_height(object), world_T_object, gripper);
+        Grasp grasp = make_grasp(c, object_height(object), object, world_T_object, gripper);
         const std::size_t blocked_before = answer.blocked.size();
-        evaluate(context, *world, robot, mobile, base_T_world, seed, query.object, grasp, answer);
+        checker.check(grasp, answer);
         if (answer.blocked.size() > blocked_before && answer.blocked.back().freeable && tight_clearance_ < clearance_) {
           // Objects may stand closer than the fingers' usual clearance (the paper's shelves
           // keep no gap): the same grasp with the fingers opened just enough.
           grasp.finger_open = std::min(gripper.stroke / 2, *half_width + tight_clearance_);
           GraspAnswer tight;
-          evaluate(context, *world, robot, mobile, base_T_world, seed, query.object, grasp, tight);
+          checker.check(grasp, tight);
           if (!tight.usable.empty()) {
             answer.blocked.pop_back();
             answer.usable.push_back(std::move(tight.usable.front()));
@@ -116,16 +114,7 @@ class SideGrasps final : public plugin::GraspSampler {
     // grasps from the front: from further round, across the line between them, they
     // may come free (the paper's shelves keep no gap between objects).
     if (answer.usable.empty()) try_candidates(wide_candidates(object, world_T_object, context.scene().world_T_robot_base));
-    if (answer.usable.empty()) {
-      const BlockedGrasp* best = answer.least_blocked();
-      Failure failure{"grasp", "no usable grasp of '" + object.id + "'", {}};
-      if (best) {
-        failure.blocking_objects = best->blocking_objects;
-        failure.reason += "; the least blocked grasp is blocked by " + std::to_string(best->blocking_objects.size()) +
-                          " object(s) (" + best->reason + ")";
-      }
-      answer.failure = failure;
-    }
+    if (answer.usable.empty()) answer.failure = manipulation::GraspChecker::no_usable_grasp(object.id, answer);
     return answer;
   }
 
@@ -217,7 +206,7 @@ class SideGrasps final : public plugin::GraspSampler {
     return out;
   }
 
-  Grasp make_grasp(const Candidate& c, double half_width, double height, const Eigen::Isometry3d& world_T_object,
+  Grasp make_grasp(const Candidate& c, double height, const SceneObject& object, const Eigen::Isometry3d& world_T_object,
                    const robot::GripperParameters& gripper) const {
     const Eigen::Vector3d approach(std::cos(c.yaw), std::sin(c.yaw), 0.0);
     const Eigen::Vector3d x = c.flipped ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d(-Eigen::Vector3d::UnitZ());
@@ -227,136 +216,7 @@ class SideGrasps final : public plugin::GraspSampler {
     tool.linear().col(2) = approach;
     tool.translation() = world_T_object.translation();
     tool.translation().z() += (c.height - 0.5) * height;
-    Grasp g;
-    g.world_T_gripper = tool;
-    g.world_T_pregrasp = tool;
-    g.world_T_pregrasp.translation() -= approach_ * approach;
-    g.world_T_lift = tool;
-    g.world_T_lift.translation().z() += lift_;
-    g.gripper_T_object = tool.inverse() * world_T_object;
-    g.finger_open = std::min(gripper.stroke / 2, half_width + clearance_);
-    g.finger_closed = half_width;
-    return g;
-  }
-
-  // One IK solution through the grasp, and how the pre-grasp and lift near it are solved.
-  struct Branch {
-    Eigen::VectorXd q_grasp;
-    const manipulation::BasePlacement* placed;  // the base placed, the arm solved alone; null: the whole robot
-  };
-
-  // The IK solutions through the grasp that are checked. A mobile base first stands
-  // behind the grasp with the arm solved alone (Tian et al., Section V-B): IK of the
-  // whole robot from where it is leaves the base wherever its steps end, often in the
-  // table. Then the whole robot from where it stands: the near side is often better
-  // reached from there, and a fixed base has only this.
-  std::vector<Branch> ik_branches(const plugin::WorldView& world, const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile,
-                                  const Eigen::Isometry3d& base_T_world, const Eigen::VectorXd& open_seed,
-                                  const Grasp& grasp) const {
-    std::vector<Branch> branches;
-    if (mobile) {
-      // Placing the base looks at fixed and self contacts: the world behind the view.
-      for (Eigen::VectorXd& q : mobile->solve(collision::synced_world(world), collision::view_checker(world),
-                                              grasp.world_T_gripper, open_seed, base_distance_, 1)) {
-        branches.push_back({std::move(q), &*mobile});
-      }
-    }
-    auto whole = robot.ik().solve(base_T_world * grasp.world_T_gripper, open_seed);
-    for (std::size_t i = 0; i < whole.size() && i < 2; ++i) branches.push_back({std::move(whole[i]), nullptr});
-    return branches;
-  }
-
-  // Per IK branch, the pre-grasp and lift nearest to it; checks the approach (fingers
-  // open, the object itself ignored), the grasp and the lift (object held). Files the
-  // grasp as usable or blocked, with the objects in the way.
-  void evaluate(plugin::PlanningContext& context, const plugin::WorldView& world, const robot::RobotDescription& robot, const std::optional<manipulation::BasePlacement>& mobile,
-                const Eigen::Isometry3d& base_T_world, const Eigen::VectorXd& seed, ObjectIndex object, Grasp& grasp,
-                GraspAnswer& answer) const {
-    const auto finger = robot.finger_variable();
-    Eigen::VectorXd open_seed = seed;
-    if (finger) open_seed[*finger] = grasp.finger_open;
-    const std::vector<Branch> branches = ik_branches(world, robot, mobile, base_T_world, open_seed, grasp);
-    for (const Branch& b : branches) grasp.ik_solutions.push_back(b.q_grasp);
-    if (grasp.ik_solutions.empty()) {
-      answer.blocked.push_back({grasp, {}, "unreachable: no IK solution", false});
-      return;
-    }
-    // The best failed branch: freeable first, then fewest blocking objects.
-    collision::ObjectSet blocking;
-    bool freeable = false, any_branch = false;
-    std::string why = "unreachable: the approach or lift leaves the workspace";
-    const ObjectIndex ignore_target[] = {object};
-    for (const Branch& branch : branches) {
-      const Eigen::VectorXd& q_grasp = branch.q_grasp;
-      auto near = [&](const Eigen::Isometry3d& world_T_tool) {
-        return branch.placed ? branch.placed->solve_arm(context.scene().world_T_robot_base, world_T_tool, q_grasp)
-                             : robot.ik().solve(base_T_world * world_T_tool, q_grasp);
-      };
-      const auto pre = near(grasp.world_T_pregrasp);
-      const auto lift = near(grasp.world_T_lift);
-      if (pre.empty() || lift.empty() || (pre[0] - q_grasp).cwiseAbs().maxCoeff() > 0.8 ||
-          (lift[0] - q_grasp).cwiseAbs().maxCoeff() > 0.8) {
-        continue;  // not one continuous branch
-      }
-      GraspMotion motion{pre[0], q_grasp, lift[0]};
-      if (finger) motion.lift[*finger] = grasp.finger_closed;
-      collision::ObjectSet objects;
-      bool hits_fixed = false, self = false;
-      std::string fixed_contacts;  // which link met which fixed body, first time seen
-      auto check = [&](const plugin::WorldView& at, const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) {
-        context.count(counter::collision_checks);
-        const plugin::Contacts r = at.contacts(q, ignored);
-        objects.insert(objects.end(), r.objects.begin(), r.objects.end());
-        if (r.fixed && !hits_fixed) fixed_contacts = at.describe_fixed_contacts(q);
-        hits_fixed = hits_fixed || r.fixed;
-        self = self || r.self;
-      };
-      // Straight joint-space segments, checked every `resolution_` radians; a blocked
-      // segment reports the objects at a few of its colliding steps.
-      auto segment = [&](const plugin::WorldView& at, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
-                         std::span<const ObjectIndex> ignored, double resolution) {
-        const int n = std::max<int>(static_cast<int>(steps_),
-                                    static_cast<int>(std::ceil((b - a).cwiseAbs().maxCoeff() / resolution)));
-        int blocked_at = -1;
-        for (int s = 0; s <= n && blocked_at < 0; ++s) {
-          context.count(counter::collision_checks);
-          if (!at.is_valid(a + (b - a) * (double(s) / n), ignored)) blocked_at = s;
-        }
-        if (blocked_at < 0) return;
-        // What is in the way: the full collision sets where it was met (so that a blocked
-        // segment never reads as free), at both ends and in the middle.
-        check(at, a + (b - a) * (double(blocked_at) / n), ignored);
-        for (int r = 0; r <= 2; ++r) check(at, a + (b - a) * (r / 2.0), ignored);
-      };
-      Eigen::VectorXd closed = motion.grasp;
-      if (finger) closed[*finger] = grasp.finger_closed;
-      auto both = [&](double resolution) {
-        segment(world, motion.pregrasp, motion.grasp, ignore_target, resolution);
-        segment(*world.holding(object, grasp.gripper_T_object), closed, motion.lift, {}, resolution);
-      };
-      both(resolution_);
-      // A grasp free at the coarse resolution is checked as densely as pick checks it
-      // (kDenseResolution): else it would be offered as usable and then fail there, with
-      // nothing to blame, while a truly free grasp was never sampled.
-      if (objects.empty() && !hits_fixed && !self && resolution_ > kDenseResolution) both(kDenseResolution);
-      std::sort(objects.begin(), objects.end());
-      objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
-      if (objects.empty() && !hits_fixed && !self) {
-        grasp.motions.push_back(motion);
-        answer.usable.push_back(grasp);
-        return;
-      }
-      const bool branch_freeable = !hits_fixed && !self;
-      if (!any_branch || (branch_freeable && (!freeable || objects.size() < blocking.size()))) {
-        blocking = objects;
-        freeable = branch_freeable;
-        why = hits_fixed ? "fixed geometry is in the way: " + fixed_contacts
-              : self     ? "the arm would hit itself"
-                         : "movable objects are in the way";
-      }
-      any_branch = true;
-    }
-    answer.blocked.push_back({grasp, blocking, why, freeable});
+    return manipulation::grasp_at(object, world_T_object, tool, gripper.stroke, approach_, lift_, clearance_);
   }
 
   std::int64_t directions_ = 7;

@@ -6,8 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "cluttertamp/collision/shared_world.hpp"
-#include "cluttertamp/manipulation/base_placement.hpp"
+#include "cluttertamp/manipulation/placement_check.hpp"
 #include "cluttertamp/plugin/export.hpp"
 #include "cluttertamp/plugin/placement_sampler.hpp"
 
@@ -40,15 +39,14 @@ class RegionPlacements final : public plugin::PlacementSampler {
       return answer;
     }
     const robot::RobotDescription& robot = context.robot();
-    // A mobile base stands behind the tool (IK of the whole robot can leave it in a table).
-    const auto mobile = manipulation::BasePlacement::of(robot);
+    const Eigen::VectorXd seed = query.state.robot_configuration.size() ? query.state.robot_configuration : robot.home();
+    const manipulation::PlacementChecker checker(context, *world, query.object, seed);
     std::mt19937_64 rng(context.seed ^ (0xc2b2ae3d27d4eb4full * (query.object + 1)));
     std::uniform_real_distribution<double> unit(-0.5, 0.5), turn(-M_PI, M_PI);
     const double half_height = std::get_if<Cylinder>(&object.shape) ? std::get<Cylinder>(object.shape).height / 2
                                : std::get_if<Box>(&object.shape) ? std::get<Box>(object.shape).size.z() / 2
                                                                  : std::get<Sphere>(object.shape).radius;
     std::size_t blocked = 0, unreachable = 0, outside = 0;
-    const ObjectIndex self[] = {query.object};
     for (std::int64_t attempt = 0; attempt < attempts_ && answer.world_T_object.size() < query.max_placements; ++attempt) {
       if (context.deadline.expired()) break;
       context.count(counter::samples);
@@ -64,22 +62,15 @@ class RegionPlacements final : public plugin::PlacementSampler {
         ++outside;
         continue;
       }
-      // Lifted 1 mm off its support: it must then touch nothing at all.
-      Eigen::Isometry3d lifted = pose;
-      lifted.translation().z() += 1e-3;
-      const plugin::Contacts contacts = world->shape_contacts(object.shape, lifted, self);
-      if (!contacts.valid()) {
-        ++blocked;
-        continue;
-      }
-      const Eigen::Isometry3d grip = query.gripper_T_object ? *query.gripper_T_object : facing_grip(scene, pose);
-      const auto configuration = reachable(context, *world, robot, mobile, pose, grip, query);
-      if (!configuration) {
-        ++unreachable;
+      const Eigen::Isometry3d grip =
+          query.gripper_T_object ? *query.gripper_T_object : manipulation::PlacementChecker::facing_grip(scene, pose);
+      const manipulation::PlacementCheck checked = checker.check(pose, grip);
+      if (checked.verdict != manipulation::PlacementCheck::Verdict::ok) {
+        ++(checked.verdict == manipulation::PlacementCheck::Verdict::touches ? blocked : unreachable);
         continue;
       }
       answer.world_T_object.push_back(pose);
-      answer.configurations.push_back(*configuration);
+      answer.configurations.push_back(checked.configuration);
     }
     if (answer.world_T_object.empty()) {
       answer.failure = Failure{"placement", "no placement of '" + object.id + "' in '" + region->id + "': " +
@@ -92,38 +83,6 @@ class RegionPlacements final : public plugin::PlacementSampler {
   }
 
  private:
-  // A side grip facing the robot, at the object's centre: the tool frame in the object's frame.
-  static Eigen::Isometry3d facing_grip(const Scene& scene, const Eigen::Isometry3d& world_T_object) {
-    const Eigen::Vector2d d = (world_T_object.translation() - scene.world_T_robot_base.translation()).head<2>().normalized();
-    Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();
-    const Eigen::Vector3d approach(d.x(), d.y(), 0.0), x(0, 0, -1);
-    tool.linear().col(0) = x;
-    tool.linear().col(1) = approach.cross(x);
-    tool.linear().col(2) = approach;
-    tool.translation() = world_T_object.translation();
-    return tool.inverse() * world_T_object;
-  }
-
-  std::optional<Eigen::VectorXd> reachable(plugin::PlanningContext& context, const plugin::WorldView& world,
-                                           const robot::RobotDescription& robot,
-                                           const std::optional<manipulation::BasePlacement>& mobile,
-                                           const Eigen::Isometry3d& world_T_object, const Eigen::Isometry3d& gripper_T_object,
-                                           const plugin::PlacementQuery& query) const {
-    const Eigen::Isometry3d world_T_tool = world_T_object * gripper_T_object.inverse();
-    const Eigen::VectorXd seed = query.state.robot_configuration.size() ? query.state.robot_configuration : robot.home();
-    // A mobile base is placed against fixed and self contacts: the world behind the view.
-    const auto solutions = manipulation::reach(robot, mobile, collision::synced_world(world),
-                                               collision::view_checker(world), world_T_tool, seed);
-    if (solutions.empty()) return std::nullopt;
-    const std::unique_ptr<plugin::WorldView> holding = world.holding(query.object, gripper_T_object);
-    std::optional<Eigen::VectorXd> found;
-    for (std::size_t i = 0; i < std::min<std::size_t>(solutions.size(), 2) && !found; ++i) {
-      context.count(counter::collision_checks);
-      if (holding->is_valid(solutions[i])) found = solutions[i];
-    }
-    return found;
-  }
-
   std::int64_t attempts_ = 200;
   double margin_ = 0.01;
 };

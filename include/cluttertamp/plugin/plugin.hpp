@@ -13,10 +13,10 @@ namespace cluttertamp::plugin {
 /// `plugin_abi` fails when the SDK's fingerprint changes without it (cmake/plugin_abi.txt
 /// records both). The registry refuses plugins built against another value. 18: plugin
 /// kinds are open (named by strings, declared by CLUTTERTAMP_PLUGIN_KIND), Samplers is a
-/// map by kind.
+/// map by kind. 19: in-process plugins (provide_plugin: samplers written in Python).
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>__<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 18
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 19
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -23,6 +24,33 @@ struct PluginDescriptor {
   std::uint32_t abi_version = 0;
   std::filesystem::path library;
 };
+
+/// A plugin made by a factory of this process rather than found in a library: a sampler
+/// written in Python, an application's own planner, a test's stand-in.
+struct InProcessPlugin {
+  std::string kind;  ///< KindOf<Interface>::name of the interface its objects implement
+  std::string name;  ///< a C identifier, unique per kind among in-process plugins
+  std::string description;
+  std::string version;
+  /// Where it comes from, shown where a library's file name would be (e.g.
+  /// "python:my_samplers.TopGrasps"); also its PluginDescriptor::library.
+  std::string origin;
+  /// Makes a new object of the kind's interface. Called with no lock held; may throw.
+  std::function<std::shared_ptr<Plugin>()> create;
+};
+
+/// Makes `plugin` known to every Registry of this process, those that exist and those
+/// made later. It is found before any library's plugin of the same kind and name (which
+/// is then shadowed). Providing the same kind and name again replaces it for the objects
+/// created afterwards. Throws std::invalid_argument when the kind or name is not a C
+/// identifier (the kind as CLUTTERTAMP_PLUGIN_KIND asks) or there is no factory.
+/// Thread-safe. The factory is kept until the process ends (a descriptor handed out
+/// stays valid), also after it is replaced or withdrawn.
+CLUTTERTAMP_API void provide_plugin(InProcessPlugin plugin);
+
+/// Forgets the in-process plugin of `kind` and `name` for the objects created
+/// afterwards; false when there was none. Thread-safe.
+CLUTTERTAMP_API bool withdraw_plugin(std::string_view kind, std::string_view name);
 
 /// A library or entry the registry could not use, and why (not a shared library,
 /// unresolved symbols, another plugin ABI, a name already taken, ...).
@@ -66,15 +94,16 @@ class CLUTTERTAMP_API Registry {
 
   /// The directories examined, in order (fixed at construction).
   const std::vector<SearchedDirectory>& searched() const;
-  /// Loads every library found and returns the plugins that loaded (a copy: other
-  /// threads may load libraries meanwhile).
+  /// The in-process plugins, then every library's that loaded (loading them all): a
+  /// copy, other threads may load libraries or provide plugins meanwhile.
   std::vector<PluginDescriptor> plugins() const;
   /// Libraries and entries not used so far, and why (a copy of a list that grows as
   /// libraries are loaded).
   std::vector<LoadProblem> problems() const;
 
-  /// Loads the plugin's library if needed; null when no usable plugin of that kind
-  /// and name exists. The descriptor lives as long as the registry.
+  /// The in-process plugin of that kind and name (provide_plugin) if there is one, else
+  /// the library's, loading it if needed; null when no usable plugin of that kind and
+  /// name exists. The descriptor lives as long as the registry.
   const PluginDescriptor* find(std::string_view kind, std::string_view name) const;
   /// The kinds of the plugins found (loaded or not), in name order.
   std::vector<std::string> kinds() const;
