@@ -729,6 +729,7 @@ void bind_samplers(py::module_& m) {
       });
 
   py::class_<plugin::Grasp>(m, "Grasp")
+      .def(py::init<>())
       .def_property(
           "world_T_gripper", [](const plugin::Grasp& g) { return Eigen::Matrix4d(g.world_T_gripper.matrix()); },
           [](plugin::Grasp& g, const Eigen::Matrix4d& m) { g.world_T_gripper = isometry_from(m, "world_T_gripper"); })

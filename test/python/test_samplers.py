@@ -362,3 +362,31 @@ def test_the_plotting_example_draws_removals_against_objects(tmp_path):
     rows = [line.split() for line in out.splitlines() if line.split() and line.split()[0] in ("6", "10")]
     assert len(rows) == 4 and all(r[2] == "True" for r in rows)
     assert plot.read_text().lstrip().startswith("<?xml") and "objects on the shelf" in plot.read_text()
+
+
+def test_grasps_round_trip_and_refuse_what_is_not_rigid(tmp_path):
+    grasp = cluttertamp.Grasp()
+    assert np.array_equal(grasp.world_T_gripper, np.eye(4))
+    pose = side_tool(np.array([0.9, 0.1, 0.5]), 0.3, 0.02)
+    for field in ("world_T_gripper", "world_T_pregrasp", "world_T_lift", "gripper_T_object"):
+        setattr(grasp, field, pose)
+        assert np.allclose(getattr(grasp, field), pose, atol=1e-15)
+        with pytest.raises(ValueError, match="not a rigid transform"):
+            setattr(grasp, field, pose * 1.5)
+    grasp.finger_open, grasp.finger_closed = 0.05, 0.04
+    assert (grasp.finger_open, grasp.finger_closed) == (0.05, 0.04)
+
+    class Handmade(FrontGrasps):
+        def sample(self, query):
+            for pose in super().sample(query):  # the Grasp query.grasp makes, copied field by field
+                made = query.grasp(pose)
+                own = cluttertamp.Grasp()
+                for field in ("world_T_gripper", "world_T_pregrasp", "world_T_lift", "gripper_T_object",
+                              "finger_open", "finger_closed"):
+                    setattr(own, field, getattr(made, field))
+                yield own
+
+    cluttertamp.register_sampler("front_grasps", Handmade)
+    handmade = cluttertamp.plan(problem_file(tmp_path))
+    cluttertamp.register_sampler("front_grasps", FrontGrasps)
+    assert handmade.json["plan"] == cluttertamp.plan(problem_file(tmp_path)).json["plan"]

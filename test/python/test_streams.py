@@ -162,3 +162,30 @@ def test_a_function_wrapped_with_from_fn_gives_its_number():
     problem = PDDLProblem(domain, {}, streams, {"Cost": from_fn(lambda n: (2.5 * n,))}, [("Number", 2)], ("Done", 2))
     solution = solve(problem)
     assert solution.solved and solution.cost == 5.0
+
+
+def test_a_stream_with_fluents_gets_the_state_it_is_evaluated_in():
+    domain = """(define (domain fluents) (:requirements :strips)
+      (:predicates (Block ?b) (Pose ?p) (AtPose ?b ?p) (Free ?b ?p) (Moved ?b))
+      (:action move :parameters (?b ?from ?to) :precondition (and (AtPose ?b ?from) (Free ?b ?to))
+        :effect (and (AtPose ?b ?to) (not (AtPose ?b ?from)) (Moved ?b))))"""
+    streams = """(define (stream fluents)
+      (:stream free-pose :inputs (?b) :domain (Block ?b) :fluents (AtPose) :outputs (?p)
+        :certified (and (Pose ?p) (Free ?b ?p))))"""
+    seen = []
+
+    def free_pose(block, fluents=()):
+        facts = [tuple(f) for f in fluents]
+        seen.append(facts)
+        occupied = {f[2] for f in facts if f[0].lower() == "atpose"}
+        yield (next(p for p in range(10) if p not in occupied),)
+
+    init = [("Block", "a"), ("Block", "c"), ("Pose", 0), ("Pose", 1), ("AtPose", "a", 0), ("AtPose", "c", 1)]
+    problem = PDDLProblem(domain, {}, streams, {"free-pose": from_gen_fn(free_pose)}, init, ("Moved", "a"))
+    solution = solve(problem, algorithm="adaptive")
+    assert solution.solved, solution.reason
+    assert solution.plan == [("move", ("a", 0, 2))]
+    assert seen and all(sorted((f[0].lower(),) + f[1:] for f in facts) == [("atpose", "a", 0), ("atpose", "c", 1)]
+                        for facts in seen), seen
+    with pytest.raises(cluttertamp.InputError, match="fluents"):
+        solve(problem, algorithm="incremental")
