@@ -10,7 +10,7 @@ find_package(urdfdom REQUIRED)
 # Robot meshes: assimp reads STL, COLLADA and OBJ; qhull makes their convex hulls.
 find_package(assimp 5 REQUIRED)
 find_package(Qhull REQUIRED)
-# MoveIt's SRDF files: TinyXML (what urdfdom reads URDF with; no CMake config).
+# URDF checks and MoveIt's SRDF files: TinyXML (what urdfdom reads URDF with; no CMake config).
 find_path(CLUTTERTAMP_TINYXML_INCLUDE tinyxml.h)
 find_library(CLUTTERTAMP_TINYXML_LIBRARY tinyxml)
 if(NOT CLUTTERTAMP_TINYXML_INCLUDE OR NOT CLUTTERTAMP_TINYXML_LIBRARY)

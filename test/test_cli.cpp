@@ -206,6 +206,26 @@ TEST_F(Cli, BadNumbersOnTheCommandLineAreBadInput) {
   }
 }
 
+// NaN passed CLI11's PositiveNumber and Range, and "-1" read as 2^64 - 1 expansions.
+TEST_F(Cli, NanAndNegativeCountsAreBadInputEverywhere) {
+  const std::string pddl = "pddl " + test::data("pddl/blocks/domain.pddl").string() + " " +
+                           test::data("pddl/blocks/p4-1.pddl").string() + " ";
+  for (const char* option : {"--time-limit nan", "--weight nan", "--weight inf", "--max-expansions -1",
+                             "--max-expansions 1.5"}) {
+    const CliRun r = run(pddl + option);
+    EXPECT_EQ(r.exit_code, 2) << option << "\n" << r.output;
+  }
+  EXPECT_EQ(run(pddl + "--max-expansions 100000 --weight 2").exit_code, 0);
+  const std::string scene = (fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/default.yaml").string();
+  for (const std::string& command :
+       {std::string("bench push --time-limit nan"), std::string("generate --output x.yaml --width nan"),
+        std::string("generate --output x.yaml --min-gap nan"), std::string("compare --time-limit nan"),
+        "observe " + scene + " --min-visible nan"}) {
+    const CliRun r = run(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+  }
+}
+
 TEST_F(Cli, UnwritableOutputIsBadInput) {
   const fs::path file = dir_ / "a_file";
   std::ofstream(file) << "x";
@@ -567,6 +587,30 @@ TEST_F(Cli, SelfCollisionsCountsPairsAndSkipsDisabledOnes) {
   EXPECT_EQ(r.output.find("left_finger           right_finger"), std::string::npos) << r.output;  // disabled
   EXPECT_NE(r.output.find("never touched"), std::string::npos);
   EXPECT_EQ(run("self-collisions " + (dir_ / "missing.yaml").string()).exit_code, 2);
+}
+
+// A URDF nested 50,000 deep used to end self-collisions with SIGSEGV; a device as the
+// URDF was read without end. Both are bad input, located.
+TEST_F(Cli, HostileUrdfsAreBadInputNotCrashes) {
+  {
+    std::ofstream urdf(dir_ / "deep.urdf");
+    urdf << "<robot name=\"deep\"><link name=\"base\"/>";
+    for (int i = 0; i < 50000; ++i) urdf << "<gazebo>";
+    for (int i = 0; i < 50000; ++i) urdf << "</gazebo>";
+    urdf << "</robot>\n";
+  }
+  for (const char* urdf : {"deep.urdf", "/dev/zero"}) {
+    const std::string ur10 = test::read_text(fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/ur10_ag95.yaml");
+    std::ofstream(dir_ / "r.yaml") << test::replaced(ur10, "urdf: ur10_ag95.urdf",
+                                                     "urdf: " + (std::string(urdf) == "/dev/zero" ? std::string(urdf)
+                                                                                                   : (dir_ / urdf).string()));
+    const CliRun r = run("self-collisions " + (dir_ / "r.yaml").string() + " --samples 100");
+    EXPECT_EQ(r.exit_code, 2) << urdf << ": " << r.output;
+    EXPECT_NE(r.output.find(std::string(urdf) == "/dev/zero" ? "/dev/zero: error: the URDF is not a regular file"
+                                                              : "deep.urdf:1:"),
+              std::string::npos)
+        << r.output;
+  }
 }
 
 TEST_F(Cli, GenerateAndBenchRetrievalRejectBadArguments) {

@@ -126,6 +126,22 @@ TEST(PddlParser, ProblemErrors) {
                               1, 65, "initial facts cannot contain variables"));
   EXPECT_TRUE(test::has_error(problem_errors("(define (problem p) (:domain d) (:objects a - block) (:init))"), 1, 1,
                               "the problem has no (:goal ...)"));
+  EXPECT_TRUE(test::has_error(problem_errors("(define (problem p) (:domain d) (:objects a - block) (:goal (held a)))"), 1,
+                              1, "the problem has no (:init ...)"));
+}
+
+// A symbolic link loop used to read as "no such file", an unreadable file as an empty one.
+TEST(PddlParser, FilesThatCannotBeReadSayWhy) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cluttertamp_pddl_files";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::create_symlink(dir / "b.pddl", dir / "a.pddl");
+  std::filesystem::create_symlink(dir / "a.pddl", dir / "b.pddl");
+  EXPECT_TRUE(test::has_error(test::expect_input_error([&] { load_domain(dir / "a.pddl"); }), 0, 0,
+                              "cannot be examined: Too many levels of symbolic links"));
+  EXPECT_TRUE(test::has_error(test::expect_input_error([&] { load_domain(dir); }), 0, 0, "not a regular file"));
+  EXPECT_TRUE(test::has_error(test::expect_input_error([&] { load_domain(dir / "none.pddl"); }), 0, 0, "no such file"));
+  std::filesystem::remove_all(dir);
 }
 
 TEST(PddlParser, PaperSchemasAsPrintedAreRefusedNamingTheTypos) {

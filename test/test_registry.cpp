@@ -1,6 +1,8 @@
 #include <dlfcn.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -116,8 +118,21 @@ TEST(Registry, RefusesBrokenLibraries) {
   const Registry registry({plugin_dir("broken")});
   EXPECT_TRUE(registry.plugins().empty());
   EXPECT_TRUE(mentions(registry.problems(), "libtest_broken.so", "cluttertamp_symbol_that_does_not_exist"));
-  EXPECT_TRUE(mentions(registry.problems(), "libnot_elf.so", "not a loadable shared library"));
+  EXPECT_TRUE(mentions(registry.problems(), "libnot_elf.so", "not a loadable shared library: not an ELF file"));
   EXPECT_THROW(registry.create<plugin::GraspSampler>("broken_grasp"), InputError);
+}
+
+// A truncated library used to be refused with "basic_ios::clear: iostream error".
+TEST(Registry, ATruncatedLibraryIsCalledTruncated) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cluttertamp_truncated_plugin";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string whole = test::read_text(plugin_dir("good") / "libtest_good_plugins.so");
+  std::ofstream(dir / "libcut.so", std::ios::binary) << whole.substr(0, 3000);
+  const Registry registry({dir});
+  EXPECT_TRUE(registry.plugins().empty());
+  EXPECT_TRUE(mentions(registry.problems(), "libcut.so", "not a loadable shared library: truncated")) << registry.describe_search();
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Registry, MissingDirectoriesAreReportedNotFatal) {

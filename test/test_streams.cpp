@@ -112,6 +112,12 @@ TEST(StreamFile, SyntaxErrorsAndTheWrongDefineAreLocated) {
                               1, 1, "expected (define (stream NAME) ...)"));
   EXPECT_TRUE(test::has_error(test::expect_input_error([] { stream::load_stream_file("/no/such/stream.pddl"); }), 0, 0,
                               "no such file"));
+  EXPECT_TRUE(test::has_error(
+      test::expect_input_error([] {
+        stream::parse_stream_file("(define (stream s)\n  (:stream PlaceK}in :inputs () :outputs (?p) :certified (Pose ?p)))",
+                                  "x.pddl");
+      }),
+      2, 12, "stream name 'placek}in' is not a name"));
 }
 
 TEST(StreamFile, FunctionsAndFluentsAreCheckedAgainstTheDomain) {

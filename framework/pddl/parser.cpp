@@ -770,6 +770,7 @@ class ProblemReader : public Reader {
     }
     problem_.objects = objects;
     if (init) read_init(*init, checker);
+    else error(def.where, "the problem has no (:init ...); write (:init) for an empty initial state");
     if (!goal) {
       error(def.where, "the problem has no (:goal ...)");
     } else {

@@ -108,14 +108,20 @@ std::string lower_name(std::string name) {
 }
 
 std::string read_text_file(const std::filesystem::path& file) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
-    throw InputError({file.string(), 0, 0}, std::filesystem::exists(file, ec) ? "not a regular file" : "no such file");
+  const fs::file_status status = fs::status(file, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) {
+    throw InputError({file.string(), 0, 0}, "cannot be examined: " + ec.message());  // a symbolic link loop, ...
   }
-  if (std::filesystem::file_size(file, ec) > (64u << 20)) throw InputError({file.string(), 0, 0}, "larger than 64 MiB");
-  std::ifstream in(file);
+  if (!fs::exists(status)) throw InputError({file.string(), 0, 0}, "no such file");
+  if (!fs::is_regular_file(status)) throw InputError({file.string(), 0, 0}, "not a regular file");
+  if (fs::file_size(file, ec) > (64u << 20)) throw InputError({file.string(), 0, 0}, "larger than 64 MiB");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError({file.string(), 0, 0}, "cannot be read (no permission?)");
   std::stringstream text;
   text << in.rdbuf();
+  if (in.bad()) throw InputError({file.string(), 0, 0}, "cannot be read (an I/O error)");
   return text.str();
 }
 

@@ -1,7 +1,9 @@
 #include "cluttertamp/plugin/registry.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <set>
@@ -171,7 +173,39 @@ struct Registry::Impl {
   void refresh_descriptors();
 };
 
+namespace {
+// Why `file` cannot be a shared library of this machine, read from its ELF header
+// alone; empty when the header and the section table it points to are whole.
+std::string elf_fault(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  unsigned char header[64] = {};
+  in.read(reinterpret_cast<char*>(header), sizeof header);
+  const std::streamsize got = in.gcount();
+  if (got < 4 || header[0] != 0x7f || header[1] != 'E' || header[2] != 'L' || header[3] != 'F') {
+    return "not an ELF file (no ELF header)";
+  }
+  if (got < 64 || header[4] != 2 || header[5] != 1) return "not a 64-bit little-endian ELF file, or truncated in its header";
+  auto read = [&](std::size_t at, std::size_t bytes) {
+    std::uint64_t value = 0;
+    for (std::size_t i = 0; i < bytes; ++i) value |= std::uint64_t(header[at + i]) << (8 * i);
+    return value;
+  };
+  const std::uint64_t section_table = read(0x28, 8), entry_size = read(0x3A, 2), entries = read(0x3C, 2);
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (!ec && section_table + entry_size * entries > size) {
+    return "truncated: its section table ends at byte " + std::to_string(section_table + entry_size * entries) +
+           ", the file has " + std::to_string(size);
+  }
+  return "";
+}
+}  // namespace
+
 void Registry::Impl::examine(const fs::path& file) {
+  if (const std::string fault = elf_fault(file); !fault.empty()) {
+    problems.push_back({file, "not a loadable shared library: " + fault});
+    return;
+  }
   std::vector<std::string> symbols;
   try {
     // Reads the file's section table; nothing of the library runs.

@@ -222,11 +222,15 @@ struct QueryBase {
     return *context;
   }
   Eigen::VectorXd configuration() const {
+    get();
     const WorldState& s = world.get().state();
     return s.robot_configuration.size() ? s.robot_configuration : world.robot->home();
   }
   double remaining_time() const { return get().deadline.remaining(); }
-  std::vector<std::string> joint_names() const { return world.robot->model()->variable_names(); }
+  std::vector<std::string> joint_names() const {
+    get();
+    return world.robot->model()->variable_names();
+  }
 };
 
 struct PythonGraspQuery : QueryBase {
@@ -627,7 +631,9 @@ class PythonPushSampler final : public plugin::PushSampler {
     physics::PushPath path{{physics.state_of(query.state, query.gripper)}, {}, settings.step};
     for (std::size_t k = 0; k < waypoints.size(); ++k) {
       const auto controls = physics::straight_controls(path.states.back().gripper, waypoints[k], settings);
-      context.count(counter::propagations, controls.size());
+      for (const physics::PushControl& c : controls) {
+        context.count(counter::propagations, static_cast<std::uint64_t>(std::lround(c.duration / settings.step)));
+      }
       if (!physics::simulate(physics, path, controls)) {
         return fail("on the way to waypoint " + std::to_string(k) +
                     " an object fell or left the support, or the gripper hit fixed geometry or left its region");
@@ -697,7 +703,10 @@ void bind_query_base(py::class_<Query>& c) {
       .def_property_readonly("joint_names", &Query::joint_names)
       .def_property_readonly("remaining_time", &Query::remaining_time)
       .def_property_readonly("world_T_robot_base",
-                             [](const Query& q) { return Eigen::Matrix4d(q.world.scene->world_T_robot_base.matrix()); });
+                             [](const Query& q) {
+                               q.get();
+                               return Eigen::Matrix4d(q.world.scene->world_T_robot_base.matrix());
+                             });
 }
 
 }  // namespace
@@ -801,7 +810,11 @@ void bind_samplers(py::module_& m) {
   grasp.def_property_readonly("object", [](const PythonGraspQuery& q) { return q.scene_object().id; })
       .def_property_readonly("shape", [](const PythonGraspQuery& q) { return shape_dict(q.scene_object().shape); })
       .def_property_readonly("world_T_object", &PythonGraspQuery::world_T_object)
-      .def_property_readonly("gripper_stroke", [](const PythonGraspQuery& q) { return q.world.robot->gripper().stroke; })
+      .def_property_readonly("gripper_stroke",
+                             [](const PythonGraspQuery& q) {
+                               q.get();
+                               return q.world.robot->gripper().stroke;
+                             })
       .def("grasp", &PythonGraspQuery::grasp, py::arg("world_T_gripper"), py::arg("approach") = 0.10,
            py::arg("lift") = 0.03, py::arg("clearance") = 0.008);
 
@@ -845,8 +858,15 @@ void bind_samplers(py::module_& m) {
         q.get();
         return q.goal;
       })
-      .def_property_readonly("lower_limits", [](const PythonMotionQuery& q) { return q.world.robot->model()->lower_limits(); })
-      .def_property_readonly("upper_limits", [](const PythonMotionQuery& q) { return q.world.robot->model()->upper_limits(); });
+      .def_property_readonly("lower_limits",
+                             [](const PythonMotionQuery& q) {
+                               q.get();
+                               return q.world.robot->model()->lower_limits();
+                             })
+      .def_property_readonly("upper_limits", [](const PythonMotionQuery& q) {
+        q.get();
+        return q.world.robot->model()->upper_limits();
+      });
 
   py::class_<PythonPushQuery> push(m, "PushQuery");
   push.def_property_readonly("seed", [](const PythonPushQuery& q) { return q.seed; })

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "cluttertamp/core/diagnostics.hpp"
+#include "robot/urdf_check.hpp"
 
 namespace cluttertamp::robot {
 
@@ -66,19 +67,19 @@ Shape to_shape(const fs::path& file, const std::string& link, std::size_t index,
     case urdf::Geometry::BOX: {
       const auto& box = static_cast<const urdf::Box&>(geometry);
       Eigen::Vector3d size(box.dim.x, box.dim.y, box.dim.z);
-      if ((size.array() <= 0).any()) throw InputError({file.string(), 0, 0}, where + ": box size must be positive");
+      if (!(size.array() > 0).all() || !size.allFinite()) throw InputError({file.string(), 0, 0}, where + ": box size must be positive");
       return Box{size};
     }
     case urdf::Geometry::CYLINDER: {
       const auto& c = static_cast<const urdf::Cylinder&>(geometry);
-      if (c.radius <= 0 || c.length <= 0) {
+      if (!(c.radius > 0 && c.length > 0) || !std::isfinite(c.radius) || !std::isfinite(c.length)) {
         throw InputError({file.string(), 0, 0}, where + ": cylinder radius and length must be positive");
       }
       return Cylinder{c.radius, c.length};
     }
     case urdf::Geometry::SPHERE: {
       const auto& s = static_cast<const urdf::Sphere&>(geometry);
-      if (s.radius <= 0) throw InputError({file.string(), 0, 0}, where + ": sphere radius must be positive");
+      if (!(s.radius > 0) || !std::isfinite(s.radius)) throw InputError({file.string(), 0, 0}, where + ": sphere radius must be positive");
       return Sphere{s.radius};
     }
     case urdf::Geometry::MESH: break;  // MeshReader
@@ -154,11 +155,8 @@ class MeshReader {
 RobotModel RobotModel::load_urdf(const fs::path& file) { return load_urdf(file, UrdfOptions{PackagePaths::with_environment({})}); }
 
 RobotModel RobotModel::load_urdf(const fs::path& file, const UrdfOptions& options) {
-  std::ifstream in(file);
-  if (!in) throw InputError({file.string(), 0, 0}, fs::exists(file) ? "cannot read the URDF file" : "no such URDF file");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string xml = text.str();
+  const std::string xml = read_urdf_text(file);
+  check_urdf(file, xml);  // with positions: urdfdom keeps none, and lets some mistakes pass
   const auto urdf_model = parse(file, xml);
   MeshReader meshes(file, xml, options);
 
@@ -265,17 +263,26 @@ void RobotModel::finish() {
   }
   order_.clear();
   variables_.clear();
-  std::function<void(LinkIndex)> visit = [&](LinkIndex link) {
-    order_.push_back(link);
-    for (JointIndex j : children[link]) {
-      if (joints_[j].type != JointType::fixed && joints_[j].mimicked < 0) {
-        joints_[j].variable = static_cast<std::int32_t>(variables_.size());
-        variables_.push_back(j);
-      }
-      visit(joints_[j].child);
+  // Depth first, children in joint order, without recursion: a chain may be long.
+  // Each entry: a link, and the next of its child joints to visit (-1: the link itself).
+  std::vector<std::pair<LinkIndex, std::ptrdiff_t>> stack{{root, -1}};
+  while (!stack.empty()) {
+    auto& [link, next] = stack.back();
+    if (next < 0) {
+      order_.push_back(link);
+      next = 0;
     }
-  };
-  visit(root);
+    if (static_cast<std::size_t>(next) == children[link].size()) {
+      stack.pop_back();
+      continue;
+    }
+    const JointIndex j = children[link][static_cast<std::size_t>(next++)];
+    if (joints_[j].type != JointType::fixed && joints_[j].mimicked < 0) {
+      joints_[j].variable = static_cast<std::int32_t>(variables_.size());
+      variables_.push_back(j);
+    }
+    stack.emplace_back(joints_[j].child, -1);
+  }
 
   const auto n = static_cast<Eigen::Index>(variables_.size());
   lower_.resize(n);

@@ -1,6 +1,7 @@
 #include "cluttertamp/stream/stream_file.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <map>
 
 #include "cluttertamp/pddl/parser.hpp"
@@ -159,6 +160,12 @@ class StreamReader {
       return;
     }
     s.name = e.items[1].text;
+    // A name as PDDL writes names (a problem file binds it under `streams:`, a stream map by it).
+    const bool named = std::isalpha(static_cast<unsigned char>(s.name[0])) &&
+                       std::all_of(s.name.begin(), s.name.end(), [](char c) {
+                         return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+                       });
+    if (!named) error(e.items[1].where, "stream name '" + s.name + "' is not a name: a letter, then letters, digits, '-' or '_'");
     const std::string what = "stream '" + s.name + "'";
     const auto k = keywords(e, 2, {":inputs", ":domain", ":outputs", ":certified", ":fluents"}, what);
     s.inputs = variables(value(k, ":inputs"), ":inputs of " + what);

@@ -64,7 +64,7 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
       ->check(CLI::ExistingDirectory);
   bench->add_option("--per-domain", args->per_domain, "pddl: only the first N problems of each folder, in natural order (0: all)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   bench->add_option("--reference-costs", args->reference_costs,
                     "pddl: file of 'folder/problem cost' lines, best known costs for the IPC quality score (default: "
                     "the cheapest plan of the searches run)")
@@ -74,7 +74,7 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(CLI::IsMember(search::search_names()));
-  bench->add_option("--time-limit", args->time_limit, "pddl: seconds per search; retrieval, push: per run")->capture_default_str()->check(CLI::PositiveNumber);
+  bench->add_option("--time-limit", args->time_limit, "pddl: seconds per search; retrieval, push: per run")->capture_default_str()->check(finite_positive());
   bench->add_option("--runs", args->runs, "pddl, retrieval, push, occlusion: runs per instance (seeds seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 100));
   auto* scenes = bench->add_option("--scenes", args->instances,
                                           "retrieval: generated scenes per object count (tables I and V); occlusion: per "
@@ -101,16 +101,16 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
   bench->add_option("--goal-distance", args->goal_distance,
                     "push: the target counts as reached with its centre this close to the pocket between the gripper's fingers, m")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   bench->add_option("--goal-heading", args->goal_heading,
                     "push: ... and the target within this angle of the gripper's heading, rad")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   args->steer = physics::KinodynamicSettings{}.steer;
   bench->add_option("--steer", args->steer,
                     "push: fraction of every planner's sampled controls steered towards the target (guided: its reach)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(finite_range(0.0, 1.0));
   bench->add_option("--table", args->tables,
                     "retrieval: I (12/16/20 objects, L strategies), V (100 objects, against traversability_graph), "
                     "VI (known minima, against exhaustive); repeatable, default I")
@@ -131,11 +131,11 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
   bench->add_option("--min-gap", args->min_gap,
                     "retrieval: least distance between generated cylinders and to the walls, m (0: the paper's recipe)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.2));
+      ->check(finite_range(0.0, 0.2));
   bench->add_option("--table5-width", args->table_v_width,
                     "retrieval: interior width of Table V's 100-object cabinets, m (default: 3.0, the generator's; "
                     "wider is sparser)")
-      ->check(CLI::Range(1.0, 10.0));
+      ->check(finite_range(1.0, 10.0));
   bench->add_option("--mobile-tables", args->mobile_tables,
                     "mobile: fig9 keeps the generated tables where, as in the paper's Fig. 9, one object is in the way "
                     "from some side and two or more from the robot's (proved by the exhaustive planner); random keeps "

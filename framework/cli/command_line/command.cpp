@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <sstream>
 
 #include "cluttertamp/core/memory_limit.hpp"
 
@@ -58,6 +60,51 @@ CLI::Validator seconds_validator() {
                    : "must be a finite number of seconds greater than 0";
       },
       "SECONDS", "finite positive");
+}
+
+namespace {
+// A validator of one parsed number: `ok` decides, `what` says what is allowed.
+CLI::Validator number_validator(std::function<bool(double)> ok, std::string what, std::string name) {
+  return CLI::Validator(
+      [ok = std::move(ok), what](const std::string& text) {
+        double value = 0;
+        return CLI::detail::lexical_cast(text, value) && std::isfinite(value) && ok(value) ? std::string()
+                                                                                          : "must be " + what;
+      },
+      name, name);
+}
+
+std::string number_text(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+}  // namespace
+
+CLI::Validator finite_positive() {
+  return number_validator([](double x) { return x > 0; }, "a finite number greater than 0", "POSITIVE");
+}
+
+CLI::Validator finite_non_negative() {
+  return number_validator([](double x) { return x >= 0; }, "a finite number of at least 0", "NONNEGATIVE");
+}
+
+CLI::Validator finite_range(double low, double high) {
+  const std::string range = "[" + number_text(low) + " - " + number_text(high) + "]";
+  return number_validator([low, high](double x) { return x >= low && x <= high; },
+                          "a finite number in " + range, range);
+}
+
+CLI::Validator count_validator() {
+  return CLI::Validator(
+      [](const std::string& text) {
+        std::uint64_t value = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        return error == std::errc() && end == text.data() + text.size() && !text.empty()
+                   ? std::string()
+                   : "must be a whole number from 0 to 18446744073709551615";
+      },
+      "COUNT", "non-negative integer");
 }
 
 std::filesystem::path source_file(const std::string& relative) {

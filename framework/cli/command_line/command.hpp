@@ -52,6 +52,14 @@ void add_package_paths(CLI::App& app, CommonOptions& common);
 CLI::Validator seed_validator();
 /// A finite number of seconds greater than 0.
 CLI::Validator seconds_validator();
+/// A finite number greater than 0 (CLI11's PositiveNumber lets NaN through).
+CLI::Validator finite_positive();
+/// A finite number of at least 0.
+CLI::Validator finite_non_negative();
+/// A finite number from `low` to `high` (CLI11's Range lets NaN through).
+CLI::Validator finite_range(double low, double high);
+/// A whole number from 0 to 2^64 - 1, without a sign (CLI11 reads "-1" as 2^64 - 1).
+CLI::Validator count_validator();
 /// A bundled file of the source tree (the default of some options).
 std::filesystem::path source_file(const std::string& relative);
 

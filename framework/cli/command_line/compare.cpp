@@ -13,7 +13,7 @@ Command declare_compare(CLI::App& app, CommonOptions& common) {
   compare->add_option("--runs", args->runs, "Seeds per setting (seed, seed+1, ...)")->capture_default_str()->check(CLI::Range(1, 1000));
   compare->add_option("--seed", args->seed, "First seed")->capture_default_str();
   compare->add_option("--time-limit", args->time_limit, "Seconds per run (default: each problem's planner.time_limit)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   compare->add_option("--json", args->json, "Also write the table as JSON to this file");
   compare->add_option("--csv", args->csv, "Also write every run as CSV to this file");
   compare->add_option("--svg", args->svg, "Also plot median time against object count (SVG) to this file");

@@ -11,20 +11,20 @@ Command declare_generate(CLI::App& app, CommonOptions& common) {
       ->check(CLI::Range(1, 500));
   generate->add_option("--width", args->width,
                        "Cabinet interior width, m (default: 0.9 for 12 objects to 1.2 for 20, +0.0225 per object beyond)")
-      ->check(CLI::Range(0.1, 10.0));
+      ->check(finite_range(0.1, 10.0));
   generate->add_option("--depth", args->depth, "Cabinet interior depth, m (default: 0.6 for 12 objects to 0.7 for 20 and beyond)")
-      ->check(CLI::Range(0.1, 2.0));
+      ->check(finite_range(0.1, 2.0));
   generate->add_option("--min-gap", args->min_gap,
                        "Least distance between cylinders and to the walls, m (default 0, the paper's recipe: any "
                        "collision-free placement, so neighbours may touch; with --table 0.01)")
-      ->check(CLI::Range(0.0, 0.2));
+      ->check(finite_range(0.0, 0.2));
   generate->add_option("--min-removals", args->min_removals,
                        "Keep only scenes whose fewest objects to move, target included, is this (Table VI: 2, 3, 4); "
                        "proved with the exhaustive planner")
       ->check(CLI::Range(2, 10));
   generate->add_option("--check-time", args->check_time, "Seconds for the exhaustive check of one scene")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   generate->add_option("--seed", args->seed, "Seed of the first scene tried")->capture_default_str();
   generate->add_option("--output", args->output, "Scene file to write")->required();
   generate->add_option("--problem", args->problem, "Also write a problem file for the scene here");

@@ -22,17 +22,17 @@ Command declare_guide(CLI::App& app, CommonOptions& common) {
   guide->add_option("--host", args->host, "Address to serve on (127.0.0.1: this machine only)")->capture_default_str();
   guide->add_option("--push-time", args->push_time, "Planning seconds per guide at most (never beyond the time left)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   guide->add_option("--time-limit", args->time_limit,
                     "Planning seconds for the whole session, pushes and reach (overrides planner.time_limit)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   guide->add_option("--seed", args->seed, "Random seed (overrides planner.seed)");
   guide->add_option("--max-guides", args->max_guides, "With --auto: at most this many guides")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
   guide->add_option("--diameter", args->diameter, "Diameter of every guide's region, m")
       ->capture_default_str()
-      ->check(CLI::Range(0.01, 1.0));
+      ->check(finite_range(0.01, 1.0));
   add_memory_limit(*guide, common);
   add_verbosity(*guide, args->verbosity, "Same output as the default");
   return {guide, [args] { return cli::guide(*args); }};

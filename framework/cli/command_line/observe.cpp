@@ -14,7 +14,7 @@ Command declare_observe(CLI::App& app, CommonOptions& common) {
   observe->add_option("--min-visible", args->min_visible_fraction,
                       "Observed when at least this fraction of the surface facing the camera is in view")
       ->capture_default_str()
-      ->check(CLI::Range(0.001, 1.0));
+      ->check(finite_range(0.001, 1.0));
   observe->add_flag("--json", args->json, "Print JSON: [{object, observed, visible_fraction, occluders}]");
   return {observe, [args] { return cli::observe(*args); }};
 }

@@ -11,9 +11,9 @@ Command declare_pddl(CLI::App& app, CommonOptions& common) {
   pddl->add_option("--search", args->search, "Search algorithm")
       ->capture_default_str()
       ->check(CLI::IsMember(search::search_names()));
-  pddl->add_option("--time-limit", args->time_limit, "Seconds")->capture_default_str()->check(CLI::PositiveNumber);
-  pddl->add_option("--max-expansions", args->max_expansions, "Stop after this many expansions");
-  pddl->add_option("--weight", args->weight, "Weight of h in wastar-ff")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  pddl->add_option("--time-limit", args->time_limit, "Seconds")->capture_default_str()->check(seconds_validator());
+  pddl->add_option("--max-expansions", args->max_expansions, "Stop after this many expansions")->check(count_validator());
+  pddl->add_option("--weight", args->weight, "Weight of h in wastar-ff")->capture_default_str()->check(finite_range(1.0, 1000.0));
   pddl->add_option("--plan", args->plan_file, "Also write the plan to this file (replaced whole; with --anytime, by each better plan)");
   pddl->add_flag("--anytime", args->anytime,
                  "After the first plan, search on for cheaper ones as LAMA does (weighted A* with weights 5, 3, 2, 1, "
