@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -275,6 +276,9 @@ PYBIND11_MODULE(_cluttertamp, m) {
       [](const fs::path& file, int objects, std::uint64_t seed, double min_gap, double width, double depth,
          double exit_distance) {
         if (objects < 1) throw py::value_error("a shelf holds at least one object, not " + std::to_string(objects));
+        for (const double length : {min_gap, width, depth, exit_distance}) {
+          if (!std::isfinite(length) || length < 0) throw py::value_error("lengths must be finite and not negative");
+        }
         ct::scenes::ShelfSpec spec;
         spec.objects = objects;
         spec.min_gap = min_gap;

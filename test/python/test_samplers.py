@@ -342,6 +342,8 @@ def test_generate_shelf_writes_the_scene_of_the_command_line(tmp_path):
         cluttertamp.generate_shelf(tmp_path / "x.yaml", problem_file=tmp_path / "x-problem.yaml")
     with pytest.raises(ValueError):
         cluttertamp.generate_shelf(tmp_path / "x.yaml", objects=0)
+    with pytest.raises(ValueError, match="finite"):
+        cluttertamp.generate_shelf(tmp_path / "x.yaml", min_gap=float("nan"))
 
 
 def run_example(name, *arguments):

@@ -185,11 +185,12 @@ def generate_shelf(scene_file, objects=12, seed=0, min_gap=0.0, problem_file=Non
     random in a cabinet sized for their number, the target nearest the middle of the back
     wall; min_gap m between neighbours, 0 the paper's): the scene of `cluttertamp generate
     --seed SEED`, same seed, same file. Unlike generate it keeps scenes whose target comes
-    straight out (|O_r| = 1) instead of going on to the next seed. With `problem_file`, also a problem that retrieves its
-    target with `planner` and the shipped samplers and the robot `robot` (a robot
-    description file, e.g. domains/robots/ur10_ag95.yaml), and returns that Problem; else
-    returns the target's id.
-    Raises ValueError when the objects do not fit."""
+    straight out (|O_r| = 1) instead of going on to the next seed.
+
+    With `problem_file`, also writes a problem that retrieves the target with `planner`,
+    the shipped samplers and the robot `robot` (a robot description file, e.g.
+    domains/robots/ur10_ag95.yaml), and returns that Problem; else returns the target's
+    id. Raises ValueError when the objects do not fit or a length is not finite."""
     scene_file = os.fspath(scene_file)
     target = _cluttertamp.generate_shelf(scene_file, objects, seed, min_gap)
     if problem_file is None:
