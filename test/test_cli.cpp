@@ -197,6 +197,26 @@ TEST_F(Cli, ValidateChecksThePluginsAProblemNames) {
   EXPECT_EQ(run("validate --plugin-path " + test::plugin_dir("good").string() + " " + problem).exit_code, 0);
 }
 
+// Misspelt plugin names used to be reported one per run, with no suggestion.
+TEST_F(Cli, ValidateReportsEveryMisspeltPluginWithTheNearName) {
+  const fs::path problem = dir_ / "misspelt.yaml";
+  std::ofstream(problem) << "version: 1\n"
+                         << "scene: " << test::data("scenes/good.yaml").string() << "\n"
+                         << "robot: {description: " << CLUTTERTAMP_SOURCE_DIR << "/domains/robots/ur10_ag95.yaml}\n"
+                         << "task: {retrieve: a}\n"
+                         << "planner: {plugin: retrieval_grap, time_limit: 5}\n"
+                         << "plugins: {grasp_sampler: grasp_sid, motion_sampler: motion_omp, placement_sampler: placement_regio}\n";
+  const CliRun r = run("validate " + problem.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  for (const char* near : {"'retrieval_grap' (did you mean 'retrieval_graph'?)", "'grasp_sid' (did you mean 'grasp_side'?)",
+                           "'motion_omp' (did you mean 'motion_ompl'?)",
+                           "'placement_regio' (did you mean 'placement_region'?)"}) {
+    EXPECT_NE(r.output.find(near), std::string::npos) << near << "\n" << r.output;
+  }
+  EXPECT_NE(r.output.find("misspelt.yaml:5:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("misspelt.yaml:6:"), std::string::npos) << r.output;
+}
+
 TEST_F(Cli, BadNumbersOnTheCommandLineAreBadInput) {
   const std::string problem_file = problem("solve").string();
   for (const char* option : {"--seed -1", "--seed 99999999999999999999", "--seed 1.5", "--time-limit nan",

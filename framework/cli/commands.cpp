@@ -327,13 +327,24 @@ int validate(const ValidateArgs& args) {
         for (const Diagnostic& w : check_pddl_task(problem)) {
           if (args.verbosity != Verbosity::quiet) std::cerr << w.str() << "\n";
         }
+        // Every error of the file in one run: the plugins' and the start's.
+        Diagnostics errors;
         if (!args.skip_plugins) {
           run::RunOptions options;
           options.plugin_paths = args.plugin_paths;
           const plugin::Registry registry(run::plugin_search_paths(problem, options));
-          run::create_plugins(problem, registry);
+          try {
+            run::create_plugins(problem, registry);
+          } catch (const InputError& e) {
+            errors.append(e.diagnostics());
+          }
         }
-        run::check_start_configuration(problem);
+        try {
+          run::check_start_configuration(problem);
+        } catch (const InputError& e) {
+          errors.append(e.diagnostics());
+        }
+        errors.throw_if_any();
         if (args.verbosity != Verbosity::quiet) {
           std::cout << file.string() << ": valid problem '" << problem.name << "', scene " << describe_scene(problem.scene)
                     << "\n";

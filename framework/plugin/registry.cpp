@@ -45,6 +45,22 @@ std::vector<fs::path> sorted_files(const fs::path& dir) {
   return files;
 }
 
+// Levenshtein distance, for "did you mean".
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
 // Calls a plugin's factory; its failures as std::runtime_error naming `who`.
 template <class Factory>
 std::shared_ptr<Plugin> create_with(const std::string& who, Factory&& factory) {
@@ -412,6 +428,18 @@ std::string Registry::describe_search() const {
 
 std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view name, const SourceLocation& where,
                                        std::string& who) const {
+  // The plugins of `kind` found, loaded or not (for "did you mean").
+  auto names_of_kind = [this](std::string_view k) {
+    std::vector<PluginDescriptor> out;
+    for (const auto& p : all_provided()) {
+      if (p->descriptor.kind == k) out.push_back(p->descriptor);
+    }
+    const std::lock_guard<std::mutex> lock(impl_->mutex);
+    for (const Impl::Candidate& c : impl_->candidates) {
+      if (c.kind == k) out.push_back({c.kind, c.name, "", "", 0, c.library});
+    }
+    return out;
+  };
   if (const auto provided = find_provided(kind, name)) {
     who = std::string(kind) + " '" + std::string(name) + "' (" + provided->descriptor.library.string() + ")";
     return create_with(who, [&] { return provided->create(); });
@@ -425,6 +453,13 @@ std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view n
     }
   }
   if (entry == nullptr) {
+    std::string hint;
+    for (const PluginDescriptor& d : names_of_kind(kind)) {
+      if (edit_distance(d.name, name) <= std::max<std::size_t>(2, name.size() / 4)) {
+        hint += (hint.empty() ? " (did you mean '" : " or '") + d.name + "'";
+      }
+    }
+    if (!hint.empty()) hint += "?)";
     std::string text = describe_search();
     if (!text.empty() && text.back() == '\n') text.pop_back();
     const std::vector<std::string> found = kinds();
@@ -434,7 +469,7 @@ std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view n
       for (const std::string& k : found) kinds_line += " " + k;
       if (found.empty()) kinds_line += " (none)";
     }
-    throw InputError(where, "no usable " + std::string(kind) + " plugin named '" + std::string(name) + "'" +
+    throw InputError(where, "no usable " + std::string(kind) + " plugin named '" + std::string(name) + "'" + hint +
                                 kinds_line + "\n" + text);
   }
   who = std::string(kind) + " '" + std::string(name) + "' (" + descriptor->library.filename().string() + ")";

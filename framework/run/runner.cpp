@@ -26,17 +26,30 @@ std::vector<fs::path> plugin_search_paths(const Problem& problem, const RunOptio
 
 namespace {
 
-plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem& problem) {
+// Runs `make`; its InputError goes into `errors` (every plugin of a problem is tried, so
+// that all misspelt names and bad parameters are reported in one run).
+template <class Make>
+void collecting(Diagnostics& errors, Make&& make) {
+  try {
+    make();
+  } catch (const InputError& e) {
+    errors.append(e.diagnostics());
+  }
+}
+
+plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem& problem, Diagnostics& errors) {
   plugin::Samplers samplers;
   for (const auto& [kind, choice] : problem.samplers) {
-    samplers.set(kind, registry.create(kind, choice.name, choice.parameters, choice.where));
+    collecting(errors, [&] { samplers.set(kind, registry.create(kind, choice.name, choice.parameters, choice.where)); });
   }
   // Bindings naming the same plugin with the same parameters share one object, so a
   // plugin serving several streams keeps one state (caches, a shared world model).
   std::map<std::string, std::shared_ptr<plugin::StreamSampler>> by_choice;
   for (const auto& [stream, choice] : problem.streams) {
     auto& shared = by_choice[choice.name + " " + choice.parameters.to_yaml()];
-    if (!shared) shared = registry.create<plugin::StreamSampler>(choice.name, choice.parameters, choice.where);
+    if (!shared) {
+      collecting(errors, [&] { shared = registry.create<plugin::StreamSampler>(choice.name, choice.parameters, choice.where); });
+    }
     samplers.streams[stream] = shared;
   }
   return samplers;
@@ -51,9 +64,13 @@ std::string memory_limit_reason() {
 
 Plugins create_plugins(const Problem& problem, const plugin::Registry& registry) {
   Plugins plugins;
-  plugins.samplers = create_samplers(registry, problem);
-  plugins.planner =
-      registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters, problem.planner.where);
+  Diagnostics errors;
+  plugins.samplers = create_samplers(registry, problem, errors);
+  collecting(errors, [&] {
+    plugins.planner =
+        registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters, problem.planner.where);
+  });
+  errors.throw_if_any();
   return plugins;
 }
 

@@ -49,8 +49,8 @@ struct Plugins {
   plugin::Samplers samplers;
 };
 
-/// Creates and configures every plugin the problem names. Throws InputError when
-/// one is missing or rejects its parameters.
+/// Creates and configures every plugin the problem names. Throws InputError listing
+/// every one that is missing (with the near names that exist) or rejects its parameters.
 CLUTTERTAMP_API Plugins create_plugins(const Problem& problem, const plugin::Registry& registry);
 
 /// Throws InputError, one error per contact, when a retrieval problem's robot starts in
