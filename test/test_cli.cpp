@@ -197,6 +197,31 @@ TEST_F(Cli, ValidateChecksThePluginsAProblemNames) {
   EXPECT_EQ(run("validate --plugin-path " + test::plugin_dir("good").string() + " " + problem).exit_code, 0);
 }
 
+// A problem without a sampler its planner needs passed validate, and plan then failed
+// as a planning failure (exit 1). Now both refuse it as bad input, naming the kind.
+TEST_F(Cli, APlannerWithoutTheSamplersItNeedsIsBadInput) {
+  const fs::path problem = dir_ / "no_grasps.yaml";
+  std::ofstream(problem) << "version: 1\n"
+                         << "scene: " << test::data("scenes/good.yaml").string() << "\n"
+                         << "robot: {description: " << CLUTTERTAMP_SOURCE_DIR << "/domains/robots/ur10_ag95.yaml}\n"
+                         << "task: {retrieve: a}\n"
+                         << "planner: {plugin: retrieval_graph, time_limit: 5}\n"
+                         << "plugins: {motion_sampler: motion_ompl}\n";
+  for (const std::string& command : {"validate " + problem.string(), "plan " + problem.string() + " -o " + (dir_ / "o").string()}) {
+    const CliRun r = run(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("no_grasps.yaml:5:19: error: planner 'retrieval_graph' needs a grasp_sampler: add "
+                            "`grasp_sampler: NAME` to the problem's plugins block (found: grasp_side)"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("needs a placement_sampler"), std::string::npos) << r.output;
+  }
+  const std::string reach = (fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/easy.yaml").string();
+  const CliRun grtc = run("plan " + reach + " --planner grtc -o " + (dir_ / "g").string());
+  EXPECT_EQ(grtc.exit_code, 2) << grtc.output;
+  EXPECT_NE(grtc.output.find("planner 'grtc' needs a push_sampler"), std::string::npos) << grtc.output;
+}
+
 // Misspelt plugin names used to be reported one per run, with no suggestion.
 TEST_F(Cli, ValidateReportsEveryMisspeltPluginWithTheNearName) {
   const fs::path problem = dir_ / "misspelt.yaml";
@@ -882,9 +907,9 @@ TEST_F(Cli, RetrievalWithPushesPushesAsideWhatItCanAndRetrievesTheTarget) {
   }
 
   const fs::path without = bundled_copy(source, "no-push-sampler.yaml", {{"  push_sampler: push_ompl\n", ""}});
-  const CliRun missing = plan(without);
-  EXPECT_EQ(missing.exit_code, 1) << missing.output;
-  EXPECT_NE(missing.output.find("retrieval_graph with push: true needs a push sampler"), std::string::npos) << missing.output;
+  const CliRun missing = plan(without);  // bad input, found before planning
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("planner 'retrieval_graph' needs a push_sampler"), std::string::npos) << missing.output;
 }
 
 // Fisher's exact test as bench push reports it, against the exact sums of binomial

@@ -20,6 +20,7 @@ namespace cluttertamp::plugin {
 Plugin::~Plugin() = default;
 void Plugin::configure(const Parameters&) {}
 TaskPlanner::~TaskPlanner() = default;
+std::vector<std::string> TaskPlanner::required_kinds() const { return {}; }
 ObjectPruner::~ObjectPruner() = default;
 GraspSampler::~GraspSampler() = default;
 PlacementSampler::~PlacementSampler() = default;

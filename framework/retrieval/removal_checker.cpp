@@ -255,6 +255,11 @@ void record_failure_once(Result& result, const Failure& failure) {
   result.failures.push_back(failure);
 }
 
+std::vector<std::string> retrieval_sampler_kinds() {
+  return {plugin::KindOf<plugin::GraspSampler>::name, plugin::KindOf<plugin::MotionSampler>::name,
+          plugin::KindOf<plugin::PlacementSampler>::name};
+}
+
 std::optional<std::string> retrieval_inputs_missing(const plugin::PlanningContext& context, const std::string& planner) {
   if (!context.worlds || !context.problem.robot.loaded) return "the problem has no robot";
   if (!std::holds_alternative<RetrievalTask>(context.problem.task)) return planner + " plans retrieve tasks only";

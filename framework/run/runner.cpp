@@ -37,6 +37,22 @@ void collecting(Diagnostics& errors, Make&& make) {
   }
 }
 
+// A kind the planner cannot plan without that the problem leaves empty is bad input,
+// found before planning (the planner would only fail with a reason).
+void check_required_kinds(const Problem& problem, const plugin::TaskPlanner& planner, const plugin::Samplers& samplers,
+                          const plugin::Registry& registry, Diagnostics& errors) {
+  for (const std::string& kind : planner.required_kinds()) {
+    if (samplers.get(kind)) continue;
+    std::string found;
+    for (const plugin::PluginDescriptor& d : registry.plugins()) {
+      if (d.kind == kind) found += (found.empty() ? "" : ", ") + d.name;
+    }
+    errors.error(problem.planner.where, "planner '" + problem.planner.name + "' needs a " + kind +
+                                            ": add `" + kind + ": NAME` to the problem's plugins block (found: " +
+                                            (found.empty() ? std::string("none") : found) + ")");
+  }
+}
+
 plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem& problem, Diagnostics& errors) {
   plugin::Samplers samplers;
   for (const auto& [kind, choice] : problem.samplers) {
@@ -70,6 +86,7 @@ Plugins create_plugins(const Problem& problem, const plugin::Registry& registry)
     plugins.planner =
         registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters, problem.planner.where);
   });
+  if (plugins.planner) check_required_kinds(problem, *plugins.planner, plugins.samplers, registry, errors);
   errors.throw_if_any();
   return plugins;
 }

@@ -56,6 +56,8 @@ class Exhaustive final : public plugin::TaskPlanner {
                                                Range::closed(1, 100)));
   }
 
+  std::vector<std::string> required_kinds() const override { return retrieval::retrieval_sampler_kinds(); }
+
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     Result result;
     if (auto why = retrieval::retrieval_inputs_missing(context, "exhaustive")) {

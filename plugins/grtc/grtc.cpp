@@ -45,6 +45,8 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     p.require(!guidance_.empty(), "guidance", "must be a guidance file or 'auto'");
   }
 
+  std::vector<std::string> required_kinds() const override { return {plugin::KindOf<plugin::PushSampler>::name}; }
+
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     const auto started = Clock::now();
     Result result;

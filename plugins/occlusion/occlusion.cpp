@@ -484,6 +484,8 @@ class OcclusionPlanner final : public plugin::TaskPlanner {
  public:
   void configure(const Parameters& p) override { settings_.read(p); }
 
+  std::vector<std::string> required_kinds() const override { return retrieval::retrieval_sampler_kinds(); }
+
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     if (const auto missing = retrieval::retrieval_inputs_missing(context, "occlusion")) {
       Result r;

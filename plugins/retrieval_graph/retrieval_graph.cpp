@@ -488,6 +488,12 @@ class RetrievalGraphPlanner final : public plugin::TaskPlanner {
     settings_.push = p.get_bool("push", settings_.push,
                                 "push instead of pick-and-place where a push works (needs a push sampler)");
   }
+  std::vector<std::string> required_kinds() const override {
+    std::vector<std::string> kinds = retrieval::retrieval_sampler_kinds();
+    if (settings_.push) kinds.emplace_back(plugin::KindOf<plugin::PushSampler>::name);
+    return kinds;
+  }
+
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     std::optional<std::string> why = retrieval::retrieval_inputs_missing(context, "retrieval_graph");
     if (!why && settings_.push && !context.samplers.get<plugin::PushSampler>()) {

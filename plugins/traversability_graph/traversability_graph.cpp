@@ -36,6 +36,8 @@ class TraversabilityGraph final : public plugin::TaskPlanner {
     region_ = p.get_string("region", region_, "the scene's region removed objects are placed in");
   }
 
+  std::vector<std::string> required_kinds() const override { return retrieval::retrieval_sampler_kinds(); }
+
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     Result result;
     if (auto why = retrieval::retrieval_inputs_missing(context, "traversability_graph")) {

@@ -14,9 +14,10 @@ namespace cluttertamp::plugin {
 /// records both). The registry refuses plugins built against another value. 18: plugin
 /// kinds are open (named by strings, declared by CLUTTERTAMP_PLUGIN_KIND), Samplers is a
 /// map by kind. 19: in-process plugins (provide_plugin: samplers written in Python).
+/// 20: TaskPlanner::required_kinds.
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>__<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 19
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 20
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.

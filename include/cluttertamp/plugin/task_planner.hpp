@@ -1,5 +1,8 @@
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "cluttertamp/core/result.hpp"
 #include "cluttertamp/plugin/context.hpp"
 #include "cluttertamp/plugin/plugin.hpp"
@@ -14,6 +17,12 @@ class CLUTTERTAMP_API TaskPlanner : public Plugin {
   /// Plans from `initial` until solved or `context.deadline` expires. Failure to
   /// find a plan is a Result with solved = false and a reason, not an exception.
   virtual Result solve(PlanningContext& context, const WorldState& initial) = 0;
+
+  /// The plugin kinds this planner, as configured, cannot plan without (e.g.
+  /// "grasp_sampler"; "push_sampler" only when configured to push). Called after
+  /// configure(). `plan` and `validate` refuse a problem whose plugins block fills none
+  /// of a kind as bad input, before planning. The default: none.
+  virtual std::vector<std::string> required_kinds() const;
 };
 
 }  // namespace cluttertamp::plugin

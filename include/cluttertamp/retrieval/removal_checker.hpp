@@ -139,6 +139,10 @@ CLUTTERTAMP_API collision::Footprint held_footprint(const plugin::PlanningContex
 /// objects) is there: checks repeat as planners retry.
 CLUTTERTAMP_API void record_failure_once(Result& result, const Failure& failure);
 
+/// The plugin kinds a retrieval planner cannot plan without: grasp_sampler,
+/// motion_sampler and placement_sampler (TaskPlanner::required_kinds).
+CLUTTERTAMP_API std::vector<std::string> retrieval_sampler_kinds();
+
 /// Why a retrieval planner named `planner` cannot run in `context` (no robot, not a
 /// retrieve task, a sampler missing), or nothing.
 CLUTTERTAMP_API std::optional<std::string> retrieval_inputs_missing(const plugin::PlanningContext& context,
