@@ -428,15 +428,15 @@ std::string Registry::describe_search() const {
 
 std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view name, const SourceLocation& where,
                                        std::string& who) const {
-  // The plugins of `kind` found, loaded or not (for "did you mean").
+  // The names of the plugins of `kind` found, loaded or not (for "did you mean").
   auto names_of_kind = [this](std::string_view k) {
-    std::vector<PluginDescriptor> out;
+    std::vector<std::string> out;
     for (const auto& p : all_provided()) {
-      if (p->descriptor.kind == k) out.push_back(p->descriptor);
+      if (p->descriptor.kind == k) out.push_back(p->descriptor.name);
     }
     const std::lock_guard<std::mutex> lock(impl_->mutex);
     for (const Impl::Candidate& c : impl_->candidates) {
-      if (c.kind == k) out.push_back({c.kind, c.name, "", "", 0, c.library});
+      if (c.kind == k) out.push_back(c.name);
     }
     return out;
   };
@@ -454,9 +454,9 @@ std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view n
   }
   if (entry == nullptr) {
     std::string hint;
-    for (const PluginDescriptor& d : names_of_kind(kind)) {
-      if (edit_distance(d.name, name) <= std::max<std::size_t>(2, name.size() / 4)) {
-        hint += (hint.empty() ? " (did you mean '" : " or '") + d.name + "'";
+    for (const std::string& near : names_of_kind(kind)) {
+      if (edit_distance(near, name) <= std::max<std::size_t>(2, name.size() / 4)) {
+        hint += (hint.empty() ? " (did you mean '" : " or '") + near + "'";
       }
     }
     if (!hint.empty()) hint += "?)";

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
@@ -12,9 +11,6 @@
 #include <console_bridge/console.h>
 #include <urdf_model/model.h>
 #include <urdf_parser/urdf_parser.h>
-
-#include <fstream>
-#include <sstream>
 
 #include "cluttertamp/core/diagnostics.hpp"
 #include "robot/urdf_check.hpp"
