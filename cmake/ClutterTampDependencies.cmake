@@ -34,7 +34,8 @@ cluttertamp_wrap_package(cluttertamp_ompl "${OMPL_INCLUDE_DIRS}" "${OMPL_LIBRARI
 find_package(Bullet REQUIRED)
 cluttertamp_wrap_package(cluttertamp_bullet "${BULLET_INCLUDE_DIRS}" "${BULLET_LIBRARIES}")
 # The browser side (`cluttertamp view`, `cluttertamp guide`): cpp-httplib (Debian builds
-# it as a shared library; its pkg-config flags enable TLS, which we do not use) and
+# it as a shared library; its pkg-config flags enable TLS, which we do not use) for the
+# browser tests' client; the guide server is Boost.Beast, beside Boost.Asio; and
 # three.js from libjs-three, inlined into every plan page. The CLI only.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib>=0.11)

@@ -60,8 +60,8 @@ struct CliRun {
   std::string output;  // stdout and stderr together
 };
 
-CliRun run(const std::string& arguments) {
-  const std::string command = std::string(CLUTTERTAMP_CLI) + " " + arguments + " 2>&1";
+// A shell command's exit code and output.
+CliRun run_command(const std::string& command) {
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};
   std::string output;
@@ -70,6 +70,8 @@ CliRun run(const std::string& arguments) {
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
+
+CliRun run(const std::string& arguments) { return run_command(std::string(CLUTTERTAMP_CLI) + " " + arguments + " 2>&1"); }
 
 class Cli : public ::testing::Test {
  protected:
@@ -1435,5 +1437,83 @@ TEST_F(Cli, PddlSearchesEndAtTheirLimitsWithTheReason) {
 }
 
 }  // namespace
+
+}  // namespace cluttertamp
+
+namespace cluttertamp {
+
+namespace {
+// A bash command line's exit code and output (stdout and stderr together).
+CliRun shell(const std::string& command_line) { return run_command("bash -c '" + command_line + "' 2>&1"); }
+}  // namespace
+
+// An unwritable output path is bad input found before planning: exit 2, nothing planned.
+TEST_F(Cli, AnUnwritableOutputIsRefusedBeforePlanning) {
+  std::ofstream(dir_ / "a-file") << "x";
+  const CliRun r = run("plan " + problem("solve").string() + " --output " + (dir_ / "a-file" / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("a-file/out: error: cannot create the output directory (--output)"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("SOLVED"), std::string::npos) << "planned although the result could not be kept: " << r.output;
+  const CliRun pddl = run("pddl " + test::data("pddl/domain.pddl").string() + " " + test::data("pddl/problem.pddl").string() +
+                          " --plan " + dir_.string() + " -q");
+  EXPECT_EQ(pddl.exit_code, 2) << pddl.output;
+  EXPECT_NE(pddl.output.find("the plan file (--plan) is a directory"), std::string::npos) << pddl.output;
+  const CliRun bench = run("bench collision --json " + (dir_ / "a-file" / "x.json").string());
+  EXPECT_EQ(bench.exit_code, 2) << bench.output;
+  EXPECT_NE(bench.output.find("a-file is not a directory"), std::string::npos) << bench.output;
+}
+
+// A write failing during the run (here a full device) is a fault, exit 3, never success.
+TEST_F(Cli, APlanThatCannotBeWrittenIsAFaultNotASuccess) {
+  const CliRun r = run("pddl " + test::data("pddl/domain.pddl").string() + " " + test::data("pddl/problem.pddl").string() +
+                       " --plan /dev/full -q");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("/dev/full: error: cannot write the plan file: No space left on device"), std::string::npos) << r.output;
+}
+
+// Files are replaced whole: when the drawings do not fit (a file size limit stands in
+// for a full disk), result.json says exit code 3 and why, as the process does; when
+// result.json itself does not fit, the previous one stays, complete.
+TEST_F(Cli, OutputsAreWholeAndResultJsonSaysTheProcessExitCode) {
+  const fs::path out = dir_ / "out";
+  const std::string plan = std::string(CLUTTERTAMP_CLI) + " plan " + CLUTTERTAMP_SOURCE_DIR + "/problems/default.yaml -q --output " + out.string();
+  ASSERT_EQ(run("plan " + std::string(CLUTTERTAMP_SOURCE_DIR) + "/problems/default.yaml -q --output " + out.string()).exit_code, 0);
+  ASSERT_GT(fs::file_size(out / "drawings.json"), 120u * 1024) << "the test needs drawings larger than the limit below";
+  const std::string before = test::read_text(out / "result.json");
+  ASSERT_LT(before.size(), 100u * 1024);
+  fs::remove(out / "drawings.json");
+  // SIGXFSZ ignored: a write beyond the limit fails with EFBIG instead of killing the process.
+  const CliRun small = shell("trap \"\" XFSZ; ulimit -f 100; " + plan);
+  EXPECT_EQ(small.exit_code, 3) << small.output;
+  EXPECT_NE(small.output.find("drawings.json: error: cannot write the drawings file: File too large"), std::string::npos) << small.output;
+  EXPECT_FALSE(fs::exists(out / "drawings.json")) << "no partial drawings";
+  const nlohmann::json result = nlohmann::json::parse(test::read_text(out / "result.json"));
+  EXPECT_EQ(result["exit_code"], 3);
+  EXPECT_NE(result["reason"].get<std::string>().find("drawings could not be written"), std::string::npos) << result["reason"];
+
+  ASSERT_EQ(run("plan " + std::string(CLUTTERTAMP_SOURCE_DIR) + "/problems/default.yaml -q --output " + out.string()).exit_code, 0);
+  const std::string complete = test::read_text(out / "result.json");
+  const CliRun tiny = shell("trap \"\" XFSZ; ulimit -f 8; " + plan);
+  EXPECT_EQ(tiny.exit_code, 3) << tiny.output;
+  EXPECT_NE(tiny.output.find("result.json: error: cannot write the result file: File too large"), std::string::npos) << tiny.output;
+  EXPECT_EQ(test::read_text(out / "result.json"), complete) << "the previous result.json, whole";
+  for (const auto& entry : fs::directory_iterator(out)) {
+    EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << "left behind: " << entry.path();
+  }
+}
+
+// plan --expect: a different result is exit code 3, and result.json says 3 as well.
+TEST_F(Cli, AnExpectationNotMetIsInResultJsonToo) {
+  const fs::path expected = dir_ / "expected.json";
+  ASSERT_EQ(plan(problem("solve")).exit_code, 0);
+  nlohmann::json other = nlohmann::json::parse(test::read_text(dir_ / "out" / "result.json"));
+  other["seed"] = 999;
+  std::ofstream(expected) << other.dump();
+  const CliRun r = plan(problem("solve"), "--expect " + expected.string());
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  const nlohmann::json result = nlohmann::json::parse(test::read_text(dir_ / "out" / "result.json"));
+  EXPECT_EQ(result["exit_code"], 3);
+  EXPECT_NE(result["reason"].get<std::string>().find("plan --expect: different from"), std::string::npos) << result["reason"];
+}
 
 }  // namespace cluttertamp

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <sstream>
+#include "cluttertamp/io/text_file.hpp"
 
 #include "cluttertamp/core/diagnostics.hpp"
 
@@ -99,8 +100,7 @@ void SvgPlot::legend(double x, double y, const std::string& colour, const std::s
 }
 
 void SvgPlot::write(const std::filesystem::path& file) const {
-  std::ofstream out(file);
-  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the SVG file");
+  std::ostringstream out;
   out << "<svg xmlns='http://www.w3.org/2000/svg' width='" << number(width_) << "' height='" << number(height_)
       << "' font-family='sans-serif' font-size='" << font_size_ << "'>\n";
   if (hatched_) {
@@ -108,7 +108,7 @@ void SvgPlot::write(const std::filesystem::path& file) const {
         << "<line x1='0' y1='0' x2='0' y2='6' stroke='grey' stroke-width='2'/></pattern></defs>\n";
   }
   out << body_.str() << "</svg>\n";
-  if (!out.flush()) throw InputError({file.string(), 0, 0}, "cannot write the SVG file");
+  io::write_text_file(file, out.str(), "SVG file");
 }
 
 }  // namespace cluttertamp::bench

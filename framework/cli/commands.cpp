@@ -218,55 +218,72 @@ int plan(const PlanArgs& args) {
     expected = io::read_text_file(*args.expect, "expected result file");
     if (!nlohmann::json::accept(*expected)) throw InputError({args.expect->string(), 0, 0}, "not a result.json: not JSON");
   }
+  // Where the results go is checked before planning: a long run's plan is never lost
+  // to an unwritable --output (bad input, exit 2, nothing planned).
+  io::check_writable_directory(args.output, "output directory (--output)");
   const plugin::Registry registry(run::plugin_search_paths(problem, options));
   if (args.verbosity == Verbosity::verbose) std::cerr << registry.describe_search();
 
-  const PlanRun first = plan_once(problem, registry, options, args);
-  const run::RunOutcome& outcome = first.outcome;
+  PlanRun first = plan_once(problem, registry, options, args);
+  run::RunOutcome& outcome = first.outcome;
   const fs::path result_file = args.output / "result.json";
-  const std::string result_text = io::result_to_json(problem, outcome.result, outcome.info);
-  io::write_result_json(result_file, problem, outcome.result, outcome.info);
-  // The planner's drawings beside it (a roadmap is tens of times the rest), never stale.
+  const std::string first_text = io::result_to_json(problem, outcome.result, outcome.info);
+  // Verdicts of --repeat and --expect come before anything is written, so that
+  // result.json's exit_code is the process's.
+  const std::string load = args.load > 0 ? ", " + std::to_string(args.load) + " busy threads on its CPU" : "";
+  std::vector<std::string> verdicts;
+  if (args.repeat > 1 && !first.plugin_error) {
+    double fastest = outcome.result.time.total, slowest = fastest;
+    if (auto d = repeat_difference(problem, registry, options, args, first_text, fastest, slowest)) {
+      verdicts.push_back("repeat    NOT DETERMINISTIC: " + *d);
+      outcome.info.exit_code = ExitCode::internal_error;
+      outcome.result.reason = "plan --repeat: not deterministic: " + *d;
+    } else {
+      verdicts.push_back("repeat    " + std::to_string(args.repeat) + " runs" + load +
+                         ": identical apart from time fields (total " + seconds(fastest) + " to " + seconds(slowest) + ")");
+    }
+  }
+  if (expected && !first.plugin_error) {
+    if (const std::optional<std::string> d = result_difference(*expected, first_text)) {
+      verdicts.push_back("expect    DIFFERENT from " + args.expect->string() + " at " + *d);
+      outcome.info.exit_code = ExitCode::internal_error;
+      outcome.result.reason = "plan --expect: different from " + args.expect->string() + " at " + *d;
+    } else {
+      verdicts.push_back("expect    identical to " + args.expect->string() + " apart from time fields" + load);
+    }
+  }
+  // The planner's drawings beside the result (a roadmap is tens of times the rest),
+  // never stale; written first, so that result.json can say when they could not be.
   const fs::path drawings_file = args.output / "drawings.json";
-  std::error_code ec;
-  if (outcome.result.drawings.empty()) fs::remove(drawings_file, ec);
-  else io::write_text_file(drawings_file, io::drawings_to_json(outcome.result), "drawings file");
+  const std::string drawings_text = io::drawings_to_json(outcome.result);
+  std::optional<std::string> write_fault;
+  try {
+    std::error_code ec;
+    if (outcome.result.drawings.empty()) fs::remove(drawings_file, ec);
+    else io::write_text_file(drawings_file, drawings_text, "drawings file");
+  } catch (const io::WriteError& e) {
+    write_fault = e.what();
+    outcome.info.exit_code = ExitCode::internal_error;
+    outcome.result.reason = std::string("the run's drawings could not be written: ") + e.what();
+  }
+  const std::string result_text = io::result_to_json(problem, outcome.result, outcome.info);
+  io::write_text_file(result_file, result_text, "result file");
+  if (write_fault) std::cerr << *write_fault << "\n";
   if (first.plugin_error) std::cerr << first.plugin_error->diagnostics().str();
   if (args.verbosity != Verbosity::quiet) print_summary(std::cout, problem, outcome, result_file);
   if (args.html) {
     // The page is a view of the run: failing to write it is reported, not the run's outcome.
     const fs::path page = args.output / "plan.html";
     try {
-      viewer::write_plan_html(page, problem,
-                              {result_text, io::drawings_to_json(outcome.result), result_file.string()});
+      viewer::write_plan_html(page, problem, {result_text, drawings_text, result_file.string()});
       if (args.verbosity != Verbosity::quiet) std::cout << "replay: " << page.string() << " (open it in a browser)\n";
-    } catch (const InputError& e) {
-      std::cerr << "warning: no replay page: " << e.diagnostics().str();
+    } catch (const io::WriteError& e) {
+      std::cerr << "warning: no replay page: " << e.what() << "\n";
     }
   }
-  int exit_code = outcome.info.exit_code;
   // Same seed, same result: the verdicts print even with --quiet, they are what was asked.
-  const std::string load = args.load > 0 ? ", " + std::to_string(args.load) + " busy threads on its CPU" : "";
-  if (args.repeat > 1 && !first.plugin_error) {
-    double fastest = outcome.result.time.total, slowest = fastest;
-    if (auto d = repeat_difference(problem, registry, options, args, result_text, fastest, slowest)) {
-      std::cout << "repeat    NOT DETERMINISTIC: " << *d << "\n";
-      exit_code = ExitCode::internal_error;
-    } else {
-      std::cout << "repeat    " << args.repeat << " runs" << load << ": identical apart from time fields (total "
-                << seconds(fastest) << " to " << seconds(slowest) << ")\n";
-    }
-  }
-  if (expected && !first.plugin_error) {
-    const std::optional<std::string> d = result_difference(*expected, result_text);
-    if (d) {
-      std::cout << "expect    DIFFERENT from " << args.expect->string() << " at " << *d << "\n";
-      exit_code = ExitCode::internal_error;
-    } else {
-      std::cout << "expect    identical to " << args.expect->string() << " apart from time fields" << load << "\n";
-    }
-  }
-  return exit_code;
+  for (const std::string& v : verdicts) std::cout << v << "\n";
+  return outcome.info.exit_code;
 }
 
 int view(const ViewArgs& args) {
@@ -285,8 +302,9 @@ int view(const ViewArgs& args) {
                                                           ", is gone: name it with --problem");
     }
   }
-  const Problem problem = io::load_problem(problem_file);
   const fs::path page = args.output.value_or(args.result.parent_path() / "plan.html");
+  io::check_writable(page, "page");
+  const Problem problem = io::load_problem(problem_file);
   const fs::path drawings = args.result.parent_path() / "drawings.json";
   viewer::write_plan_html(page, problem,
                           {text, fs::exists(drawings) ? io::read_text_file(drawings, "drawings file") : "",

@@ -105,6 +105,8 @@ int generate(const GenerateArgs& args) {
   if (args.table && (args.occlusion || args.depth > 0 || args.min_removals > 0)) {
     throw InputError({"--table", 0, 0}, "a table scene takes --objects and --width (the table's side) only");
   }
+  io::check_writable(args.output, "scene file (--output)");
+  if (!args.problem.empty()) io::check_writable(args.problem, "problem file (--problem)");
   for (int attempt = 0; attempt < args.max_attempts; ++attempt) {
     const std::uint64_t seed = args.seed + static_cast<std::uint64_t>(attempt);
     Scene scene;

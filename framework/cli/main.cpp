@@ -8,6 +8,7 @@
 #include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/core/memory_limit.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
+#include "cluttertamp/io/text_file.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/version.hpp"
 
@@ -27,6 +28,10 @@ int run(const cli::Command& command) {
   } catch (const cluttertamp::InputError& e) {
     std::cerr << e.diagnostics().str();
     return ExitCode::bad_input;
+  } catch (const cluttertamp::io::WriteError& e) {
+    // The path was checked before the work: a write failing now is a fault of the run.
+    std::cerr << e.what() << "\n";
+    return ExitCode::internal_error;
   } catch (const std::bad_alloc&) {
     std::cerr << "cluttertamp: " << cluttertamp::run::memory_limit_reason() << "\n";
     return ExitCode::no_plan;

@@ -28,6 +28,7 @@ int pddl(const PddlArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   const pddl::Domain domain = pddl::load_domain(args.domain);
   const pddl::Problem problem = pddl::load_problem(args.problem, domain);
+  if (!args.plan_file.empty()) io::check_writable(args.plan_file, "plan file (--plan)");
   if (args.verbosity != Verbosity::quiet) {
     for (const Diagnostic& w : domain.warnings) std::cerr << w.str() << "\n";
   }

@@ -22,6 +22,7 @@ namespace cluttertamp::cli {
 
 int self_collisions(const SelfCollisionArgs& args) {
   const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
+  if (!args.srdf.empty()) io::check_writable(args.srdf, "SRDF file (--srdf)");
   const robot::RobotModel& model = *robot->model();
   Scene empty;
   empty.world_T_robot_base = Eigen::Isometry3d::Identity();

@@ -70,7 +70,9 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
   out["seed"] = run.seed;
   out["time_limit"] = run.time_limit;
   out["solved"] = result.solved;
-  out["reason"] = result.solved ? Json(nullptr) : Json(result.reason);
+  // A solved run that still ended in a fault (an output not written, a failed --expect)
+  // says why beside its exit code.
+  out["reason"] = result.solved && run.exit_code == 0 ? Json(nullptr) : Json(result.reason);
   out["exit_code"] = run.exit_code;
   out["plan"] = plan;
   out["cost"] = result.cost ? Json(*result.cost) : Json(nullptr);

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cluttertamp/io/scene_io.hpp"
+#include "cluttertamp/io/text_file.hpp"
 
 namespace cluttertamp::io {
 
@@ -80,13 +81,7 @@ std::string scene_to_yaml(const Scene& scene) {
 }
 
 void write_scene(const std::filesystem::path& file, const Scene& scene) {
-  const std::string text = scene_to_yaml(scene);
-  std::error_code ec;
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
-  std::ofstream out(file);
-  out << text;
-  out.close();
-  if (!out) throw InputError({file.string(), 0, 0}, "cannot write the scene file");
+  write_text_file(file, scene_to_yaml(scene), "scene file");
 }
 
 }  // namespace cluttertamp::io

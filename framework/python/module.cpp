@@ -17,6 +17,7 @@
 
 #include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/core/problem.hpp"
+#include "cluttertamp/io/text_file.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/io/result_json.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
@@ -211,6 +212,8 @@ void translate_input_errors(py::module_& m) {
       py::object instance = py::reinterpret_borrow<py::object>(exception)(text);
       instance.attr("errors") = errors;
       PyErr_SetObject(exception.ptr(), instance.ptr());
+    } catch (const io::WriteError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());  // a file not written: Python's own error for that
     }
   });
 }

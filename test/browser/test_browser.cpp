@@ -33,17 +33,25 @@ Json read_json(const fs::path& file) {
   return Json::parse(in);
 }
 
-// Starts `cluttertamp guide` on a free port; the URL it serves.
+// Starts `cluttertamp guide` on a free port; the URL it serves, with the session token.
 std::string start_guide(Child& server) {
   const std::string line = server.line();
   std::smatch m;
-  if (!std::regex_search(line, m, std::regex("http://127\\.0\\.0\\.1:([0-9]+)/"))) {
+  if (!std::regex_search(line, m, std::regex("http://127\\.0\\.0\\.1:([0-9]+)/\\?token=[0-9a-f]{32}"))) {
     throw std::runtime_error("guide did not say where it serves: '" + line + "'");
   }
   return m[0];
 }
 
 int port_of(const std::string& url) { return std::stoi(url.substr(url.rfind(':') + 1)); }
+
+// A client of the guide server that carries the session token, as the page does.
+std::unique_ptr<httplib::Client> guide_client(const std::string& url) {
+  auto client = std::make_unique<httplib::Client>("127.0.0.1", port_of(url));
+  client->set_read_timeout(60, 0);
+  client->set_default_headers({{"X-Guide-Token", url.substr(url.find("token=") + 6)}});
+  return client;
+}
 
 std::vector<std::string> guide_command(const fs::path& dir, const std::string& time_limit) {
   return {kCli, "guide", (kSource / "problems/push/shelf10/p01.yaml").string(), "--port", "0", "--output", dir.string(),
@@ -111,8 +119,13 @@ TEST(Browser, TheGuideServerAnswersBadRequestsAndManyTabsWithoutStopping) {
   const fs::path dir = fresh_dir("guide-bad-requests");
   Child server(guide_command(dir / "out", "30"), (dir / "server.log").string());
   const std::string url = start_guide(server);
-  httplib::Client http("127.0.0.1", port_of(url));
-  http.set_read_timeout(60, 0);
+  const auto client = guide_client(url);
+  httplib::Client& http = *client;
+  // Without the session token of the printed address, nothing changes the session.
+  httplib::Client stranger("127.0.0.1", port_of(url));
+  const auto refused = stranger.Post("/api/finish", "{}", "application/json");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 403) << refused->body;
   const std::vector<std::pair<std::string, std::string>> bad{
       {"{not json", "not a JSON object"},
       {"[1, 2]", "not a JSON object"},
@@ -141,17 +154,15 @@ TEST(Browser, TheGuideServerAnswersBadRequestsAndManyTabsWithoutStopping) {
   // Four tabs at once: one pushes while the others read the state.
   std::vector<std::future<int>> tabs;
   tabs.push_back(std::async(std::launch::async, [&] {
-    httplib::Client c("127.0.0.1", port_of(url));
-    c.set_read_timeout(60, 0);
-    const auto r = c.Post("/api/guide", R"({"object": "o3", "x": 0.78, "y": 0.06})", "application/json");
+    const auto c = guide_client(url);
+    const auto r = c->Post("/api/guide", R"({"object": "o3", "x": 0.78, "y": 0.06})", "application/json");
     return r ? r->status : -1;
   }));
   for (int i = 0; i < 3; ++i) {
     tabs.push_back(std::async(std::launch::async, [&] {
-      httplib::Client c("127.0.0.1", port_of(url));
-      c.set_read_timeout(60, 0);
+      const auto c = guide_client(url);
       int last = 0;
-      for (int k = 0; k < 5; ++k) last = c.Get("/api/state") ? 200 : -1;
+      for (int k = 0; k < 5; ++k) last = c->Get("/api/state") ? 200 : -1;
       return last;
     }));
   }

@@ -1,4 +1,5 @@
 #include "cli/command_line/command.hpp"
+#include "cluttertamp/io/text_file.hpp"
 #include "cluttertamp/physics/push_planning.hpp"
 #include "cluttertamp/search/planner.hpp"
 
@@ -9,6 +10,10 @@ namespace {
 // Runs the bench `args.what` names; defaults that differ per bench are set here, where
 // the command line says whether the user gave them.
 int run_bench(BenchArgs& args, const CLI::Option& objects, const CLI::Option& scenes, const CLI::Option& robot) {
+  // A sweep's results are never lost to an unwritable path found at its end.
+  if (!args.json.empty()) io::check_writable(args.json, "JSON file (--json)");
+  if (!args.csv.empty()) io::check_writable(args.csv, "CSV file (--csv)");
+  if (!args.svg.empty()) io::check_writable(args.svg, "SVG file (--svg)");
   if (args.what == "pddl") return bench::pddl(args);
   if (args.what == "samplers") return bench::samplers(args);
   if (args.what == "retrieval") {

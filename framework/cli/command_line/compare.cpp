@@ -1,4 +1,5 @@
 #include "cli/command_line/command.hpp"
+#include "cluttertamp/io/text_file.hpp"
 
 namespace cluttertamp::cli {
 
@@ -20,7 +21,13 @@ Command declare_compare(CLI::App& app, CommonOptions& common) {
   add_plugin_paths(*compare, args->plugin_paths);
   add_memory_limit(*compare, common);
   add_verbosity(*compare, args->verbosity, "Same output as the default");
-  return {compare, [args] { return bench::compare(*args); }};
+  return {compare, [args] {
+            // A sweep's results are never lost to an unwritable path found at its end.
+            if (args->json) io::check_writable(*args->json, "JSON file (--json)");
+            if (args->csv) io::check_writable(*args->csv, "CSV file (--csv)");
+            if (args->svg) io::check_writable(*args->svg, "SVG file (--svg)");
+            return bench::compare(*args);
+          }};
 }
 
 }  // namespace cluttertamp::cli
