@@ -256,7 +256,7 @@ TEST(TextFile, AFileIsReplacedWholeAndAFailedWriteLeavesTheOldOne) {
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++entries;
   EXPECT_EQ(entries, 1u);  // no partial copy left beside it
   if (std::filesystem::exists("/dev/full")) {
-    EXPECT_THROW(io::write_text_file("/dev/full", std::string(1 << 16, 'x'), "plan file"), InputError);
+    EXPECT_THROW(io::write_text_file("/dev/full", std::string(1 << 16, 'x'), "plan file"), io::WriteError);
   }
   std::filesystem::remove_all(dir);
 }

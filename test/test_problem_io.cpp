@@ -1,3 +1,5 @@
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "cluttertamp/io/problem_io.hpp"
@@ -165,6 +167,25 @@ TEST(ProblemIo, BadValuesAndAMissingSceneAreLocated) {
   const Diagnostics e = test::expect_input_error([] { io::load_problem(test::data("problems/no_scene_retrieve.yaml")); });
   EXPECT_TRUE(test::has_error(e, 1, 1, "missing the required key 'scene'")) << e.str();
   EXPECT_TRUE(test::has_error(e, 1, 1, "missing the required key 'robot'")) << e.str();
+}
+
+}  // namespace
+}  // namespace cluttertamp
+
+namespace cluttertamp {
+namespace {
+
+// A misspelt target is an unknown object, with the near names of the scene's objects.
+TEST(ProblemIo, AMisspeltTargetSuggestsTheNearObjectNames) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "cluttertamp_misspelt_target.yaml";
+  std::string text = test::replaced(test::read_text(test::data("problems/good.yaml")), "retrieve: a", "retrieve: aa");
+  text = test::replaced(text, "../scenes/good.yaml", test::data("scenes/good.yaml").string());
+  text = test::replaced(text, "../../../domains/", std::string(CLUTTERTAMP_SOURCE_DIR) + "/domains/");
+  std::ofstream(file) << text;
+  const Diagnostics d = test::expect_input_error([&] { io::load_problem(file); });
+  EXPECT_TRUE(test::has_error(d, 4, 0, "names 'aa', which is not an object of scene")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 4, 0, "(did you mean 'a'")) << d.str();
+  std::filesystem::remove(file);
 }
 
 }  // namespace

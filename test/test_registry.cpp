@@ -95,6 +95,7 @@ TEST(Registry, PluginParameterErrorsAreInputErrors) {
   unknown.set("outcom", std::string("solve"), {"p.yaml", 10, 3});
   const Diagnostics d2 = test::expect_input_error([&] { registry.create<plugin::TaskPlanner>("test_planner", unknown); });
   EXPECT_TRUE(test::has_error(d2, 10, 3, "unknown parameter 'outcom' for task_planner 'test_planner'"));
+  EXPECT_TRUE(test::has_error(d2, 10, 3, "(did you mean 'outcome'?)"));
 }
 
 TEST(Registry, RefusesAnAbiMismatchedPlugin) {
@@ -112,6 +113,18 @@ TEST(Registry, RefusesAnAbiMismatchedPlugin) {
   EXPECT_NE(message.find(plugin_dir("abi").string()), std::string::npos) << message;
   EXPECT_NE(message.find("grasp_sampler 'test_grasp'"), std::string::npos) << message;
   EXPECT_NE(message.find("plugin ABI version 999"), std::string::npos) << message;
+}
+
+// A library whose plugin section holds a record under a current plugin name but without
+// cluttertamp's mark is refused from the file: the fixture aborts the process if loaded.
+TEST(Registry, RefusesALibraryWhoseRecordsLackTheMarkBeforeLoadingIt) {
+  const Registry registry({plugin_dir("forged"), plugin_dir("good")});
+  EXPECT_EQ(registry.find("grasp_sampler", "forged_grasp"), nullptr);
+  EXPECT_TRUE(mentions(registry.problems(), "libtest_wrong_mark.so", "lacks cluttertamp's mark")) << registry.describe_search();
+  const Diagnostics d = test::expect_input_error([&] { registry.create<plugin::GraspSampler>("forged_grasp"); });
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_NE(d.items()[0].message.find("lacks cluttertamp's mark"), std::string::npos) << d.items()[0].message;
+  EXPECT_NE(registry.find("grasp_sampler", "test_grasp"), nullptr) << "the good plugins beside it still load";
 }
 
 TEST(Registry, RefusesBrokenLibraries) {

@@ -65,4 +65,32 @@ InputError::InputError(SourceLocation location, const std::string& message)
 
 InputError::~InputError() = default;
 
+namespace {
+// Levenshtein distance.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+}  // namespace
+
+std::string did_you_mean(const std::string& given, const std::vector<std::string>& candidates) {
+  std::string hint;
+  for (const std::string& near : candidates) {
+    if (near != given && edit_distance(near, given) <= std::max<std::size_t>(2, given.size() / 4)) {
+      hint += (hint.empty() ? " (did you mean '" : " or '") + near + "'";
+    }
+  }
+  return hint.empty() ? hint : hint + "?)";
+}
+
 }  // namespace cluttertamp

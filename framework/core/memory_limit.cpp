@@ -9,6 +9,18 @@
 namespace cluttertamp {
 
 namespace {
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
 std::atomic<std::size_t> limit_mib{0};
 constexpr std::size_t kMiB = 1024 * 1024;
 }  // namespace
@@ -19,7 +31,10 @@ std::size_t default_memory_limit_mib() {
   return std::max<std::size_t>(1024, physical / 4 * 3);
 }
 
+bool memory_limit_supported() { return !kAddressSanitizer; }
+
 std::size_t set_memory_limit(std::size_t mib) {
+  if (!memory_limit_supported()) return 0;
   if (mib == 0) mib = default_memory_limit_mib();
   rlimit current{};
   if (getrlimit(RLIMIT_AS, &current) != 0) return 0;

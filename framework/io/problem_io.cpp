@@ -296,8 +296,10 @@ void ProblemReader::check_target() {
   if (target.empty() || !scene_ok_) return;
   const Scene& scene = problem_.scene;
   if (!scene.find_object(target)) {
+    std::vector<std::string> ids;
+    for (const SceneObject& o : scene.objects) ids.push_back(o.id);
     file_.error(retrieve_node_, std::string(key) + " names '" + target + "', which is not an object of scene " +
-                                    problem_.scene_file.string());
+                                    problem_.scene_file.string() + did_you_mean(target, ids));
   } else if (scene.objects[scene.target].id != target) {
     file_.error(retrieve_node_, std::string(key) + " names '" + target + "' but the scene's target is '" +
                                     scene.objects[scene.target].id + "'");

@@ -313,16 +313,20 @@ void MapReader::report_unknown_keys() {
 
 bool MapReader::has(const std::string& key) const { return valid_ && node_[key].IsDefined(); }
 
+// A missing key of a const node is a "zombie" that throws YAML::InvalidNode on any
+// question but IsDefined(); an undefined node answers every question.
 YAML::Node MapReader::optional(const std::string& key) const {
-  if (!valid_) return YAML::Node();
-  return node_[key];
+  if (!valid_) return YAML::Node(YAML::NodeType::Undefined);
+  YAML::Node value = node_[key];
+  return value.IsDefined() ? value : YAML::Node(YAML::NodeType::Undefined);
 }
 
 YAML::Node MapReader::required(const std::string& key) const {
-  if (!valid_) return YAML::Node();
+  if (!valid_) return YAML::Node(YAML::NodeType::Undefined);
   YAML::Node value = node_[key];
-  if (!value.IsDefined()) file_.error(node_, what_ + " is missing the required key '" + key + "'");
-  return value;
+  if (value.IsDefined()) return value;
+  file_.error(node_, what_ + " is missing the required key '" + key + "'");
+  return YAML::Node(YAML::NodeType::Undefined);
 }
 
 }  // namespace cluttertamp::io::detail

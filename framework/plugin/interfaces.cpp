@@ -21,6 +21,7 @@ Plugin::~Plugin() = default;
 void Plugin::configure(const Parameters&) {}
 TaskPlanner::~TaskPlanner() = default;
 std::vector<std::string> TaskPlanner::required_kinds() const { return {}; }
+void TaskPlanner::check_inputs(const Problem&) const {}
 ObjectPruner::~ObjectPruner() = default;
 GraspSampler::~GraspSampler() = default;
 PlacementSampler::~PlacementSampler() = default;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -43,22 +44,6 @@ std::vector<fs::path> sorted_files(const fs::path& dir) {
   }
   std::sort(files.begin(), files.end());
   return files;
-}
-
-// Levenshtein distance, for "did you mean".
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
 }
 
 // Calls a plugin's factory; its failures as std::runtime_error naming `who`.
@@ -215,6 +200,67 @@ std::string elf_fault(const fs::path& file) {
   }
   return "";
 }
+
+// The bytes of the ELF section `name` read from the file (a 64-bit little-endian ELF
+// file whose header elf_fault passed); nothing when there is no such section or its
+// bounds leave the file. Nothing of the library runs.
+std::optional<std::string> elf_section(const fs::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  auto bytes = [&](std::uint64_t at, std::uint64_t count) -> std::optional<std::string> {
+    if (count > (std::uint64_t(1) << 24)) return std::nullopt;  // no plugin section is 16 MiB
+    std::string out(count, '\0');
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(at));
+    in.read(out.data(), static_cast<std::streamsize>(count));
+    if (!in || in.gcount() != static_cast<std::streamsize>(count)) return std::nullopt;
+    return out;
+  };
+  auto number = [](const std::string& b, std::size_t at, std::size_t width) {
+    std::uint64_t value = 0;
+    for (std::size_t i = 0; i < width && at + i < b.size(); ++i) value |= std::uint64_t(static_cast<unsigned char>(b[at + i])) << (8 * i);
+    return value;
+  };
+  const std::optional<std::string> header = bytes(0, 64);
+  if (!header) return std::nullopt;
+  const std::uint64_t table = number(*header, 0x28, 8), entry_size = number(*header, 0x3A, 2),
+                      entries = number(*header, 0x3C, 2), names_index = number(*header, 0x3E, 2);
+  if (entry_size < 64 || names_index >= entries) return std::nullopt;
+  const std::optional<std::string> sections = bytes(table, entry_size * entries);
+  if (!sections) return std::nullopt;
+  auto field = [&](std::uint64_t index, std::size_t at, std::size_t width) { return number(*sections, index * entry_size + at, width); };
+  const std::optional<std::string> names = bytes(field(names_index, 24, 8), field(names_index, 32, 8));
+  if (!names) return std::nullopt;
+  for (std::uint64_t i = 0; i < entries; ++i) {
+    const std::uint64_t at = field(i, 0, 4);
+    if (at >= names->size() || names->compare(at, name.size() + 1, name.c_str(), name.size() + 1) != 0) continue;
+    constexpr std::uint64_t kNoBits = 8;  // SHT_NOBITS: no bytes in the file
+    if (field(i, 4, 4) == kNoBits) return std::nullopt;
+    return bytes(field(i, 24, 8), field(i, 32, 8));
+  }
+  return std::nullopt;
+}
+
+// Why the plugin section's records cannot be trusted, from the file alone; empty when
+// there is one record per plugin symbol, each with the mark and this ABI.
+std::string record_fault(const fs::path& file, std::size_t symbols) {
+  const std::optional<std::string> section = elf_section(file, kSection);
+  if (!section) return "its plugin section cannot be read from the file";
+  if (section->size() != symbols * sizeof(PluginRecord)) {
+    return "its plugin section holds " + std::to_string(section->size()) + " bytes for " + std::to_string(symbols) +
+           " plugin records of " + std::to_string(sizeof(PluginRecord)) + " bytes";
+  }
+  for (std::size_t i = 0; i < symbols; ++i) {
+    std::uint32_t magic = 0, abi = 0;
+    std::memcpy(&magic, section->data() + i * sizeof(PluginRecord), sizeof magic);
+    std::memcpy(&abi, section->data() + i * sizeof(PluginRecord) + sizeof magic, sizeof abi);
+    if (magic != kEntryMagic) return "a record in its plugin section lacks cluttertamp's mark: not a cluttertamp plugin";
+    if (abi != kAbiVersion) {
+      return "a record in its plugin section was built for plugin ABI version " + std::to_string(abi) +
+             ", but this cluttertamp needs version " + std::to_string(kAbiVersion) + "; rebuild it against this cluttertamp";
+    }
+  }
+  return "";
+}
 }  // namespace
 
 void Registry::Impl::examine(const fs::path& file) {
@@ -236,6 +282,16 @@ void Registry::Impl::examine(const fs::path& file) {
     return;
   }
   const std::string prefix = "cluttertamp_abi";
+  // Names with this ABI are trusted only when the section's records carry the mark:
+  // checked in the file, so a forged or stray library is refused before any of its code
+  // (its constructors included) runs. Other ABIs are refused by name below.
+  const std::string current = prefix + std::to_string(kAbiVersion) + "_";
+  if (std::any_of(symbols.begin(), symbols.end(), [&](const std::string& x) { return x.rfind(current, 0) == 0; })) {
+    if (const std::string fault = record_fault(file, symbols.size()); !fault.empty()) {
+      problems.push_back({file, "not loaded: " + fault});
+      return;
+    }
+  }
   for (const std::string& symbol : symbols) {
     // cluttertamp_abi<N>_<kind>__<name>
     std::size_t pos = prefix.size();
@@ -297,7 +353,8 @@ bool Registry::Impl::load(Candidate& candidate) {
     std::lock_guard<std::mutex> lock(g_libraries_mutex);
     loaded_libraries().push_back(library);
   }
-  const auto* entry = static_cast<const PluginEntry*>(library->get<const void*>(candidate.symbol));
+  const PluginRecord& record = library->get<const PluginRecord>(candidate.symbol);
+  const PluginEntry* entry = record.magic == kEntryMagic && record.abi_version == kAbiVersion ? record.entry : nullptr;
   if (entry == nullptr || entry->magic != kEntryMagic || entry->abi_version != kAbiVersion ||
       entry->kind == nullptr || candidate.kind != entry->kind || entry->name == nullptr || candidate.name != entry->name ||
       entry->create == nullptr) {
@@ -453,13 +510,7 @@ std::shared_ptr<Plugin> Registry::make(std::string_view kind, std::string_view n
     }
   }
   if (entry == nullptr) {
-    std::string hint;
-    for (const std::string& near : names_of_kind(kind)) {
-      if (edit_distance(near, name) <= std::max<std::size_t>(2, name.size() / 4)) {
-        hint += (hint.empty() ? " (did you mean '" : " or '") + near + "'";
-      }
-    }
-    if (!hint.empty()) hint += "?)";
+    const std::string hint = did_you_mean(std::string(name), names_of_kind(kind));
     std::string text = describe_search();
     if (!text.empty() && text.back() == '\n') text.pop_back();
     const std::vector<std::string> found = kinds();
@@ -513,9 +564,11 @@ std::shared_ptr<Plugin> Registry::create(std::string_view kind, std::string_view
   }
   Diagnostics all = given.errors();
   all.append(diagnostics);
+  std::vector<std::string> read;
+  for (const ParameterDeclaration& d : given.declarations()) read.push_back(d.key);
   for (const std::string& key : given.unused()) {
     all.error(given.location(key), std::string("unknown parameter '") + key + "' for " + std::string(kind) + " '" +
-                                       std::string(name) + "'");
+                                       std::string(name) + "'" + did_you_mean(key, read));
   }
   all.throw_if_any();
   return object;

@@ -86,7 +86,10 @@ Plugins create_plugins(const Problem& problem, const plugin::Registry& registry)
     plugins.planner =
         registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters, problem.planner.where);
   });
-  if (plugins.planner) check_required_kinds(problem, *plugins.planner, plugins.samplers, registry, errors);
+  if (plugins.planner) {
+    check_required_kinds(problem, *plugins.planner, plugins.samplers, registry, errors);
+    collecting(errors, [&] { plugins.planner->check_inputs(problem); });
+  }
   errors.throw_if_any();
   return plugins;
 }

@@ -520,7 +520,7 @@ std::string replay_json(const Problem& problem, const PlanFiles& plan, double fr
   Json result, drawings = Json::array();
   try {
     result = Json::parse(plan.result_json);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // a syntax error, or a number out of range ("1e400")
     throw InputError({name, 0, 0}, std::string("not a result.json: ") + e.what());
   }
   if (!plan.drawings_json.empty()) {

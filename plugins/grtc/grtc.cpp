@@ -47,6 +47,16 @@ class GrtcPlanner final : public plugin::TaskPlanner {
 
   std::vector<std::string> required_kinds() const override { return {plugin::KindOf<plugin::PushSampler>::name}; }
 
+  // The task and the guidance file, read against the scene as solve() would read them.
+  void check_inputs(const Problem& problem) const override {
+    if (!std::get_if<ReachTask>(&problem.task)) {
+      throw InputError(problem.planner.where, "grtc plans reach tasks only (task: {reach: <target>})");
+    }
+    if (guidance_ == "auto") return;
+    const Scene& scene = problem.scene;
+    io::load_guidance(guidance_file(problem), scene, physics::support_region(scene, WorldState::initial(scene)));
+  }
+
   Result solve(plugin::PlanningContext& context, const WorldState& initial) override {
     const auto started = Clock::now();
     Result result;
@@ -65,7 +75,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
     const physics::Guidance guidance = guidance_ == "auto"
                                       ? physics::generate_guidance(initial_world, initial_world.state_of(initial, exit), exit.head<2>(),
                                                           max_guides_, diameter_)
-                                      : io::load_guidance(guidance_file(context), scene, initial_world.support_region());
+                                      : io::load_guidance(guidance_file(context.problem), scene, initial_world.support_region());
     result.counters[counter::guides] = guidance.size();
     result.counters[counter::guides_satisfied] = 0;
     result.counters[counter::guides_skipped] = 0;
@@ -102,11 +112,11 @@ class GrtcPlanner final : public plugin::TaskPlanner {
 
  private:
   // Relative paths are read from the directory of the file that names them.
-  std::filesystem::path guidance_file(const plugin::PlanningContext& context) const {
+  std::filesystem::path guidance_file(const Problem& problem) const {
     const std::filesystem::path path(guidance_);
     if (path.is_absolute()) return path;
     const std::filesystem::path base = !guidance_where_.file.empty() ? std::filesystem::path(guidance_where_.file)
-                                                                     : context.problem.source_file;
+                                                                     : problem.source_file;
     return base.parent_path() / path;
   }
 

@@ -1,7 +1,8 @@
-// Runs the PDDL fuzz target over a seed corpus and deterministic mutations of it, so
-// that the tests exercise it without a fuzzing engine (the libFuzzer build is separate:
-// docs/symbolic-planning.md, "Fuzzing"). Usage: pddl_fuzz_replay MUTATIONS FILE_OR_DIR...
+// Runs a fuzz target over its seed corpus and deterministic mutations of it, so that
+// the tests exercise it without a fuzzing engine (the libFuzzer build is separate:
+// docs/development.md, "Fuzzing"). Usage: <name>_fuzz_replay MUTATIONS FILE_OR_DIR...
 #include <algorithm>
+#include <cstdlib>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -14,13 +15,20 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
 namespace {
+// With FUZZ_REPLAY_LAST=FILE, each input is written there before it runs: after a
+// crash, FILE holds the input that caused it.
 void run(const std::string& input) {
+  if (const char* last = std::getenv("FUZZ_REPLAY_LAST")) std::ofstream(last, std::ios::binary) << input;
   LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(input.data()), input.size());
 }
 
 std::string mutate(std::string s, std::mt19937_64& rng) {
+  // PDDL, YAML, XML, JSON and HTTP pieces: each target's grammar gets some of its own.
   static const std::string tokens[] = {"(", ")", " ", "?x", "-", ":", "(and", "(not", "(forall (?v)", "(either a b)",
-                                       "\n;;;;\n", "object", "(= ?a ?b)", ":derived", "\"", "\t", "999999999999"};
+                                       "\n;;;;\n", "object", "(= ?a ?b)", ":derived", "\"", "\t", "999999999999",
+                                       "{", "}", "[", "]", ",", "\n  ", "- ", "&a ", "*a", "nan", "-1e308", "1e400", "~",
+                                       "<", ">", "/>", "</link>", "<joint ", "=\"", "\"0 0\"", "null", "true",
+                                       "\r\n", "Content-Length: 99999999\r\n", "Host: evil\r\n", "%00", "\xff\xfe"};
   const int edits = 1 + static_cast<int>(rng() % 4);
   for (int e = 0; e < edits; ++e) {
     const std::size_t at = s.empty() ? 0 : rng() % (s.size() + 1);
@@ -37,11 +45,15 @@ std::string mutate(std::string s, std::mt19937_64& rng) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::cerr << "usage: pddl_fuzz_replay MUTATIONS FILE_OR_DIR...\n";
+    std::cerr << "usage: " << argv[0] << " MUTATIONS FILE_OR_DIR...\n";
     return 2;
   }
   const int mutations = std::stoi(argv[1]);
   std::vector<std::string> seeds;
+  if (mutations < 0) {
+    std::cerr << argv[0] << ": MUTATIONS must be at least 0\n";
+    return 2;
+  }
   for (int i = 2; i < argc; ++i) {
     std::vector<std::filesystem::path> files;
     if (std::filesystem::is_directory(argv[i])) {
@@ -59,6 +71,10 @@ int main(int argc, char** argv) {
       seeds.push_back(text.str());
     }
   }
+  if (seeds.empty()) {
+    std::cerr << argv[0] << ": no seed files found: the corpus is missing\n";
+    return 2;
+  }
   std::mt19937_64 rng(12345);
   std::size_t runs = 0;
   for (const std::string& seed : seeds) {
@@ -66,6 +82,7 @@ int main(int argc, char** argv) {
     ++runs;
     for (int m = 0; m < mutations; ++m, ++runs) run(mutate(seed, rng));
   }
-  std::cout << "pddl fuzz replay: " << runs << " inputs (" << seeds.size() << " seeds), no crash\n";
+  const std::string name = std::filesystem::path(argv[0]).filename().string();
+  std::cout << name << ": " << runs << " inputs (" << seeds.size() << " seeds), no crash\n";
   return 0;
 }

@@ -70,4 +70,9 @@ class CLUTTERTAMP_API InputError : public std::runtime_error {
   Diagnostics diagnostics_;
 };
 
+/// " (did you mean 'x'?)" — or " (did you mean 'x' or 'y'?)" — naming the `candidates`
+/// within a few edits of `given` (at most 2, or a quarter of its length); empty when
+/// none is. For the end of an error about an unknown name.
+CLUTTERTAMP_API std::string did_you_mean(const std::string& given, const std::vector<std::string>& candidates);
+
 }  // namespace cluttertamp

@@ -9,16 +9,14 @@
 /// (included before this use); NAME is a C identifier, unique among the plugins of the
 /// same kind that a run can see. The class must be default-constructible and derive
 /// from the kind's interface (checked at compile time; a misspelt kind does not
-/// compile). Each use exports one PluginEntry under the name
+/// compile). Each use exports one PluginRecord (mark, ABI, entry) under the name
 /// cluttertamp_abi<ABI>_<KIND>__<NAME> in the library's "ctplugin" section, which the
-/// registry lists (kind, name, ABI) without loading the library.
+/// registry lists and checks (kind, name, ABI, mark) without loading the library.
 ///
 /// Each bundled interface header also defines a shorthand, e.g.
 /// CLUTTERTAMP_EXPORT_GRASP_SAMPLER(CLASS, NAME, DESCRIPTION, VERSION).
 
 #include <type_traits>
-
-#include <boost/dll/alias.hpp>
 
 #include "cluttertamp/plugin/plugin.hpp"
 
@@ -31,9 +29,12 @@
       ::cluttertamp::plugin::kEntryMagic, ::cluttertamp::plugin::kAbiVersion, #KIND, #NAME, DESCRIPTION, \
       VERSION, &create};                                                                               \
   }                                                                                                    \
-  CLUTTERTAMP_DETAIL_ALIAS(cluttertamp_export_##KIND##_##NAME::entry, CLUTTERTAMP_PLUGIN_ABI_VERSION, KIND, NAME)
+  CLUTTERTAMP_DETAIL_RECORD(cluttertamp_export_##KIND##_##NAME::entry, CLUTTERTAMP_PLUGIN_ABI_VERSION, KIND, NAME)
 
-// Two levels so that the ABI version macro is expanded before it is pasted.
-#define CLUTTERTAMP_DETAIL_ALIAS(ENTRY, ABI, KIND, NAME) CLUTTERTAMP_DETAIL_ALIAS2(ENTRY, ABI, KIND, NAME)
-#define CLUTTERTAMP_DETAIL_ALIAS2(ENTRY, ABI, KIND, NAME) \
-  BOOST_DLL_ALIAS_SECTIONED(ENTRY, cluttertamp_abi##ABI##_##KIND##__##NAME, ctplugin)
+// Two levels so that the ABI version macro is expanded before it is pasted. The record
+// is visible (plugins are built with hidden visibility) and kept by the linker.
+#define CLUTTERTAMP_DETAIL_RECORD(ENTRY, ABI, KIND, NAME) CLUTTERTAMP_DETAIL_RECORD2(ENTRY, ABI, KIND, NAME)
+#define CLUTTERTAMP_DETAIL_RECORD2(ENTRY, ABI, KIND, NAME)                                           \
+  extern "C" __attribute__((visibility("default"), section("ctplugin"), used))                      \
+  const ::cluttertamp::plugin::PluginRecord cluttertamp_abi##ABI##_##KIND##__##NAME{                \
+      ::cluttertamp::plugin::kEntryMagic, ::cluttertamp::plugin::kAbiVersion, &ENTRY};

@@ -14,13 +14,15 @@ namespace cluttertamp::plugin {
 /// records both). The registry refuses plugins built against another value. 18: plugin
 /// kinds are open (named by strings, declared by CLUTTERTAMP_PLUGIN_KIND), Samplers is a
 /// map by kind. 19: in-process plugins (provide_plugin: samplers written in Python).
-/// 20: TaskPlanner::required_kinds.
+/// 20: TaskPlanner::required_kinds. 21: the plugin section holds PluginRecords (mark
+/// and ABI readable from the file, before the library is loaded).
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>__<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 20
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 21
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
-/// Marks a PluginEntry, so a stray symbol in the plugin section is never trusted.
+/// Marks a PluginRecord and a PluginEntry, so a stray symbol in the plugin section is
+/// never trusted.
 inline constexpr std::uint32_t kEntryMagic = 0x43545047;  // "CTPG"
 
 /// KindOf<Interface>::name is the name of the kind whose plugins implement Interface
@@ -89,5 +91,16 @@ struct PluginEntry {
   const char* version;      ///< the plugin's own version
   Plugin* (*create)();      ///< a new object of the kind's interface; caller owns it
 };
+
+/// What the export macro places in a library's "ctplugin" section, one per plugin. Its
+/// first two fields are plain numbers in the file, so the registry checks every record
+/// of the section before it loads the library: a library whose records lack the mark
+/// or name another ABI is refused without any of its code running.
+struct PluginRecord {
+  std::uint32_t magic;        ///< kEntryMagic
+  std::uint32_t abi_version;  ///< kAbiVersion of the SDK it was built with
+  const PluginEntry* entry;   ///< the plugin's entry (relocated when the library loads)
+};
+static_assert(sizeof(PluginRecord) == 16, "the registry reads records of 16 bytes from the file");
 
 }  // namespace cluttertamp::plugin

@@ -23,6 +23,13 @@ class CLUTTERTAMP_API TaskPlanner : public Plugin {
   /// configure(). `plan` and `validate` refuse a problem whose plugins block fills none
   /// of a kind as bad input, before planning. The default: none.
   virtual std::vector<std::string> required_kinds() const;
+
+  /// Checks the inputs this planner reads beside its parameters — files its parameters
+  /// name, the scene objects those files name — against `problem`, before planning.
+  /// Called after configure(), by `plan` and by `validate` alike, so that what planning
+  /// would refuse as bad input `validate` reports first. Throws InputError with every
+  /// error located (file:line:column). The default checks nothing.
+  virtual void check_inputs(const Problem& problem) const;
 };
 
 }  // namespace cluttertamp::plugin
