@@ -77,6 +77,12 @@ def test_a_result_writes_the_same_result_json_and_a_replay_page(tmp_path):
     result.write_page(page)
     text = page.read_text(encoding="utf-8")
     assert text.lower().startswith("<!doctype html>") and "target" in text
+    # A file that cannot be written is Python's OSError, naming it; nothing is left half written.
+    (tmp_path / "a-file").write_text("x")
+    with pytest.raises(OSError):
+        result.write(tmp_path / "a-file" / "out")
+    with pytest.raises(OSError, match="a-file/plan.html: error: cannot write the page"):
+        result.write_page(tmp_path / "a-file" / "plan.html")
 
 
 def test_planning_failure_is_a_result_with_a_reason(tmp_path):
