@@ -21,7 +21,7 @@ function(cluttertamp_add_plugin name)
   # Every symbol resolved at link time: a plugin that needs more than it links fails
   # to build, not to load (and one built against the SDK alone proves it needs no more).
   # ALLOW_UNDEFINED is for the tests' plugin that must fail to load.
-  if(NOT ARG_ALLOW_UNDEFINED)
+  if(NOT ARG_ALLOW_UNDEFINED AND (NOT DEFINED CLUTTERTAMP_NO_UNDEFINED OR CLUTTERTAMP_NO_UNDEFINED))
     target_link_options(${name} PRIVATE "LINKER:--no-undefined")
   endif()
   set_target_properties(${name} PROPERTIES

@@ -55,18 +55,22 @@ void check_required_kinds(const Problem& problem, const plugin::TaskPlanner& pla
 
 plugin::Samplers create_samplers(const plugin::Registry& registry, const Problem& problem, Diagnostics& errors) {
   plugin::Samplers samplers;
-  for (const auto& [kind, choice] : problem.samplers) {
+  // Named pairs, not structured bindings: clang 14 cannot capture those in a lambda.
+  for (const auto& entry : problem.samplers) {
+    const std::string& kind = entry.first;
+    const PluginChoice& choice = entry.second;
     collecting(errors, [&] { samplers.set(kind, registry.create(kind, choice.name, choice.parameters, choice.where)); });
   }
   // Bindings naming the same plugin with the same parameters share one object, so a
   // plugin serving several streams keeps one state (caches, a shared world model).
   std::map<std::string, std::shared_ptr<plugin::StreamSampler>> by_choice;
-  for (const auto& [stream, choice] : problem.streams) {
+  for (const auto& entry : problem.streams) {
+    const PluginChoice& choice = entry.second;
     auto& shared = by_choice[choice.name + " " + choice.parameters.to_yaml()];
     if (!shared) {
       collecting(errors, [&] { shared = registry.create<plugin::StreamSampler>(choice.name, choice.parameters, choice.where); });
     }
-    samplers.streams[stream] = shared;
+    samplers.streams[entry.first] = shared;
   }
   return samplers;
 }

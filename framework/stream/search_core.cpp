@@ -134,7 +134,8 @@ void SearchCore::check_bindings() const {
     const auto it = problem_.bindings.find(name);
     return it != problem_.bindings.end() && it->second;
   }, d);
-  for (const auto& [name, unused] : options_.streams) {
+  for (const auto& entry : options_.streams) {
+    const std::string& name = entry.first;  // not a structured binding: lambdas capture it
     const auto& declared = problem_.streams->streams;
     if (std::none_of(declared.begin(), declared.end(), [&](const StreamDecl& s) { return s.name == name; })) {
       d.error(problem_.streams->where, "stream options name '" + name + "', which this stream file does not declare");

@@ -9,7 +9,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   namespace fz = cluttertamp::fuzz;
   static const auto description = [] {
     const auto file = fz::workspace() / "urdf-robot.yaml";
-    std::ofstream(file) << "version: 1\nurdf: robot.urdf\nbase_link: base\ntip_link: tip\n"
+    std::ofstream(file) << "version: 1\nurdf: robot.urdf\nbase_link: base\ntip_link: tip\nik: numeric\n"
                            "gripper: {finger_thickness: 0.01, base_half_length: 0.05, stroke: 0.08}\n";
     return file;
   }();
