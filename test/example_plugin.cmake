@@ -22,7 +22,7 @@ foreach(library IN LISTS sdk_libraries)
 endforeach()
 file(GLOB sdk_config "${sdk}/lib*/cmake/cluttertamp")
 execute_process(COMMAND "${CMAKE_COMMAND}" -S "${SOURCE}/examples/my_grasps" -B "${BINARY}/build"
-                        "-Dcluttertamp_DIR=${sdk_config}" -DCMAKE_BUILD_TYPE=Release
+                        "-Dcluttertamp_DIR=${sdk_config}" -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}"
                 RESULT_VARIABLE configure OUTPUT_VARIABLE out ERROR_VARIABLE out)
 if(NOT configure EQUAL 0)
   message(FATAL_ERROR "configuring the example failed:\n${out}")

@@ -7,7 +7,7 @@ cmake_minimum_required(VERSION 3.22)  # policies of today: quoted arguments are 
 file(REMOVE_RECURSE "${BINARY}")
 set(example "${SOURCE}/examples/blocks_2d")
 execute_process(COMMAND "${CMAKE_COMMAND}" -S "${example}" -B "${BINARY}/build" "-Dcluttertamp_DIR=${PACKAGE}"
-                        -DCMAKE_BUILD_TYPE=Release RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+                        -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "configuring the example failed:\n${out}")
 endif()

@@ -61,7 +61,8 @@ class RetrievalPlanner : public ::testing::Test {
     shared_ = std::make_unique<collision::SharedWorld>(problem_.scene, problem_.robot.loaded);
     world_ = &shared_->world();
     std::map<std::string, std::uint64_t> counters;
-    plugin::PlanningContext context{problem_, plugin::Deadline::after(60), seed, counters, samplers_, shared_.get()};
+    // The outer limit only (work budgets decide), wide enough for a sanitizer build.
+    plugin::PlanningContext context{problem_, plugin::Deadline::after(600), seed, counters, samplers_, shared_.get()};
     WorldState s = WorldState::initial(problem_.scene);
     s.robot_configuration = problem_.robot.loaded->home();
     return planner->solve(context, s);

@@ -201,7 +201,10 @@ constexpr std::string_view kBusy =
 
 }  // namespace
 
-struct HttpServer::Impl : std::enable_shared_from_this<HttpServer::Impl> {
+// Handlers of the server's own (accepting, stopping) hold a plain pointer: they run
+// only inside run(), within the server's life, and a shared one would keep the server
+// alive from inside its own io_context.
+struct HttpServer::Impl {
   net::io_context context;
   tcp::acceptor acceptor{context};
   std::shared_ptr<Shared> shared = std::make_shared<Shared>();
@@ -229,7 +232,7 @@ struct HttpServer::Impl : std::enable_shared_from_this<HttpServer::Impl> {
   }
 
   void accept() {
-    acceptor.async_accept(net::make_strand(context), [self = shared_from_this()](beast::error_code ec, tcp::socket socket) {
+    acceptor.async_accept(net::make_strand(context), [self = this](beast::error_code ec, tcp::socket socket) {
       if (ec == net::error::operation_aborted || !self->acceptor.is_open()) return;
       if (!ec) {
         if (self->shared->open.load() >= self->shared->limits.max_connections && !self->evict_longest_waiting()) {
@@ -246,7 +249,7 @@ struct HttpServer::Impl : std::enable_shared_from_this<HttpServer::Impl> {
 };
 
 HttpServer::HttpServer(const std::string& host, int port, ServerLimits limits, HttpHandler handler)
-    : impl_(std::make_shared<Impl>()) {
+    : impl_(std::make_unique<Impl>()) {
   impl_->shared->limits = limits;
   impl_->shared->handler = std::move(handler);
   beast::error_code ec;
@@ -289,7 +292,7 @@ void HttpServer::run(int threads) {
 }
 
 void HttpServer::stop() {
-  net::post(impl_->context, [impl = impl_] {
+  net::post(impl_->context, [impl = impl_.get()] {
     beast::error_code ignored;
     impl->acceptor.close(ignored);
   });

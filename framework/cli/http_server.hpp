@@ -75,7 +75,7 @@ class HttpServer {
 
  private:
   struct Impl;
-  std::shared_ptr<Impl> impl_;
+  std::unique_ptr<Impl> impl_;
 };
 
 /// Parses `raw` as one HTTP request with the server's parser and limits and answers it

@@ -162,6 +162,8 @@ def test_pddl_plans_are_accepted_by_the_validator_and_broken_ones_are_not():
     assert "lama-first" in cluttertamp.search_names()
 
 
+@pytest.mark.skipif(os.environ.get("CLUTTERTAMP_SANITIZED") == "1",
+                    reason="AddressSanitizer holds freed memory in quarantine: the process grows by design")
 def test_a_thousand_plans_do_not_grow_the_process(tmp_path):
     problem = cluttertamp.load_problem(small_problem(tmp_path))
 
