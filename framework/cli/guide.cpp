@@ -4,13 +4,10 @@
 #include <pthread.h>
 
 #include <atomic>
-#include <chrono>
 #include <cstdlib>
 #include <csignal>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <mutex>
 #include <thread>
 
 #include <nlohmann/json.hpp>
