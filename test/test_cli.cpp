@@ -98,6 +98,19 @@ class Cli : public ::testing::Test {
     return file;
   }
 
+  // A retrieval of 'a' from the good test scene by the UR10, with these planner and
+  // plugins lines (YAML flow maps).
+  fs::path retrieval_problem(const std::string& name, const std::string& planner, const std::string& plugins) {
+    const fs::path file = dir_ / name;
+    std::ofstream(file) << "version: 1\n"
+                        << "scene: " << test::data("scenes/good.yaml").string() << "\n"
+                        << "robot: {description: " << CLUTTERTAMP_SOURCE_DIR << "/domains/robots/ur10_ag95.yaml}\n"
+                        << "task: {retrieve: a}\n"
+                        << "planner: " << planner << "\n"
+                        << "plugins: " << plugins << "\n";
+    return file;
+  }
+
   CliRun plan(const fs::path& problem_file, const std::string& extra = "") {
     return run("plan " + problem_file.string() + " --output " + (dir_ / "out").string() + " " + extra);
   }
@@ -203,13 +216,8 @@ TEST_F(Cli, ValidateChecksThePluginsAProblemNames) {
 // A problem without a sampler its planner needs passed validate, and plan then failed
 // as a planning failure (exit 1). Now both refuse it as bad input, naming the kind.
 TEST_F(Cli, APlannerWithoutTheSamplersItNeedsIsBadInput) {
-  const fs::path problem = dir_ / "no_grasps.yaml";
-  std::ofstream(problem) << "version: 1\n"
-                         << "scene: " << test::data("scenes/good.yaml").string() << "\n"
-                         << "robot: {description: " << CLUTTERTAMP_SOURCE_DIR << "/domains/robots/ur10_ag95.yaml}\n"
-                         << "task: {retrieve: a}\n"
-                         << "planner: {plugin: retrieval_graph, time_limit: 5}\n"
-                         << "plugins: {motion_sampler: motion_ompl}\n";
+  const fs::path problem =
+      retrieval_problem("no_grasps.yaml", "{plugin: retrieval_graph, time_limit: 5}", "{motion_sampler: motion_ompl}");
   for (const std::string& command : {"validate " + problem.string(), "plan " + problem.string() + " -o " + (dir_ / "o").string()}) {
     const CliRun r = run(command);
     EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
@@ -227,13 +235,9 @@ TEST_F(Cli, APlannerWithoutTheSamplersItNeedsIsBadInput) {
 
 // Misspelt plugin names used to be reported one per run, with no suggestion.
 TEST_F(Cli, ValidateReportsEveryMisspeltPluginWithTheNearName) {
-  const fs::path problem = dir_ / "misspelt.yaml";
-  std::ofstream(problem) << "version: 1\n"
-                         << "scene: " << test::data("scenes/good.yaml").string() << "\n"
-                         << "robot: {description: " << CLUTTERTAMP_SOURCE_DIR << "/domains/robots/ur10_ag95.yaml}\n"
-                         << "task: {retrieve: a}\n"
-                         << "planner: {plugin: retrieval_grap, time_limit: 5}\n"
-                         << "plugins: {grasp_sampler: grasp_sid, motion_sampler: motion_omp, placement_sampler: placement_regio}\n";
+  const fs::path problem = retrieval_problem(
+      "misspelt.yaml", "{plugin: retrieval_grap, time_limit: 5}",
+      "{grasp_sampler: grasp_sid, motion_sampler: motion_omp, placement_sampler: placement_regio}");
   const CliRun r = run("validate " + problem.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   for (const char* near : {"'retrieval_grap' (did you mean 'retrieval_graph'?)", "'grasp_sid' (did you mean 'grasp_side'?)",
