@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages cluttertamp builds with; with --browser also
-# Chromium and ChromeDriver, which the browser tests drive (headless).
+# Installs the Debian 12 packages cluttertamp builds and tests with (ompl-demos: the
+# tests load bench logs with ompl_benchmark_statistics; parallel: the GNU parallel
+# recipe); with --browser also Chromium and ChromeDriver, which the browser tests drive
+# (headless); with --slurm also Slurm and munge, for scripts/test-slurm.sh.
 # Idempotent: packages already installed are skipped, and apt is not touched at all
 # when nothing is missing. Needs root (or sudo) only when something must be installed.
 set -euo pipefail
@@ -14,11 +16,13 @@ packages=(
   nlohmann-json3-dev libcli11-dev
   libcpp-httplib-dev libjs-three
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  ompl-demos parallel
 )
 for arg in "$@"; do
   case "$arg" in
     --browser) packages+=(chromium chromium-driver) ;;
-    *) echo "install-deps: unknown option $arg (known: --browser)" >&2; exit 2 ;;
+    --slurm) packages+=(slurm-wlm munge) ;;
+    *) echo "install-deps: unknown option $arg (known: --browser, --slurm)" >&2; exit 2 ;;
   esac
 done
 

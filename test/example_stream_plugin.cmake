@@ -76,7 +76,9 @@ string(REPLACE "domain: domain.pddl" "domain: ${example}/domain.pddl" yaml "${ya
 string(REPLACE "streams: stream.pddl" "streams: ${example}/stream.pddl" yaml "${yaml}")
 string(REPLACE "problem: tight.pddl" "problem: impossible.pddl" yaml "${yaml}")
 file(WRITE "${BINARY}/impossible.yaml" "${yaml}")
-run(1 compare "${BINARY}/impossible.yaml" --runs 1 --time-limit 1 --plugin-path "${plugins}")
+# It ran (exit code 0); with --check-goals, a run unsolved is exit code 1.
+run(0 compare "${BINARY}/impossible.yaml" --runs 1 --time-limit 1 --plugin-path "${plugins}")
+run(1 compare "${BINARY}/impossible.yaml" --runs 1 --time-limit 1 --plugin-path "${plugins}" --check-goals)
 expect("Failed runs:")
 expect("blocks-2d-tight, adaptive, all movable: 1x no plan exists: not even with optimistic stream outputs")
 

@@ -1,6 +1,10 @@
 #pragma once
 // Shared helpers for the tests: paths of the test data and fixtures.
 
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -19,6 +23,28 @@ inline Eigen::Isometry3d at(double x, double y, double z) {
   p.translation() << x, y, z;
   return p;
 }
+
+/// What a command printed (stdout and stderr together) and its exit code.
+struct CliRun {
+  int exit_code;
+  std::string output;
+};
+
+/// A shell command's exit code (-1 when it did not exit) and output.
+inline CliRun run_command(const std::string& command) {
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string output;
+  std::array<char, 4096> buffer{};
+  while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+#ifdef CLUTTERTAMP_CLI
+/// `cluttertamp ARGUMENTS`, stderr with stdout.
+inline CliRun run_cli(const std::string& arguments) { return run_command(std::string(CLUTTERTAMP_CLI) + " " + arguments + " 2>&1"); }
+#endif
 
 inline std::filesystem::path data(const std::string& relative) {
   return std::filesystem::path(CLUTTERTAMP_TEST_DATA) / relative;

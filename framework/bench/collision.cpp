@@ -204,7 +204,7 @@ int collision(const BenchArgs& args) {
     write_json_file(args.json, json);
     std::cout << "\nwrote " << args.json.string() << "\n";
   }
-  return all_met ? run::ExitCode::solved : run::ExitCode::no_plan;
+  return goal_exit_code(args.check_goals, all_met);
 }
 
 }  // namespace cluttertamp::bench

@@ -229,7 +229,7 @@ int compare(const CompareArgs& args) {
   if (args.svg) write_svg(rows, *args.svg);
   bool all = true;
   for (const Row& r : rows) all = all && success(r) == 100.0;
-  return all ? 0 : 1;
+  return goal_exit_code(args.check_goals, all);
 }
 
 }  // namespace cluttertamp::bench

@@ -48,22 +48,33 @@ struct Row {
   std::string reason;
 };
 
+// A table the filter could not judge within the time limit. Passing it over would make
+// the tables chosen depend on the machine's speed, so the selection stops instead.
+struct TableUndecided {
+  std::uint64_t seed;
+  std::string check;
+};
+
+bool ended_by_time_limit(const Result& result) { return !result.solved && result.reason.find("time limit") != std::string::npos; }
+
 // Why `scene` is not a table of Tian et al.'s Fig. 9, or nothing when it is: from some
 // side exactly one object is in the target's way, from the robot's side (grasp_side's
 // defaults: approaches within 60 degrees of facing the robot) at least two. The
-// exhaustive planner over every set of at most one object proves both, with seed 0.
-std::optional<std::string> unlike_figure_9(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
+// exhaustive planner over every set of at most one object proves both, with seed 0; its
+// work is finite, so `time_limit` (s) is only the outer limit. Throws TableUndecided.
+std::optional<std::string> unlike_figure_9(const Scene& scene, std::uint64_t seed, const std::shared_ptr<const robot::RobotDescription>& robot,
                                            const plugin::Registry& registry, const plugin::Samplers& all_sides,
-                                           const plugin::Samplers& robot_side) {
+                                           const plugin::Samplers& robot_side, double time_limit) {
   Parameters one;
   one.set("max_removals", std::int64_t{1});
   const auto exhaustive = registry.create<plugin::TaskPlanner>("exhaustive", one, {"bench mobile", 0, 0});
-  const Result best = run::plan_scene(scene, robot, *exhaustive, all_sides, 0, 60);
+  const Result best = run::plan_scene(scene, robot, *exhaustive, all_sides, 0, time_limit);
+  if (ended_by_time_limit(best)) throw TableUndecided{seed, "whether one object frees the target from some side"};
   if (!best.solved) return "no single object frees the target from any side: " + best.reason;
   if (best.moved_objects.size() < 2) return "the target comes out directly";
-  const Result near = run::plan_scene(scene, robot, *exhaustive, robot_side, 0, 60);
+  const Result near = run::plan_scene(scene, robot, *exhaustive, robot_side, 0, time_limit);
+  if (ended_by_time_limit(near)) throw TableUndecided{seed, "whether one object frees the target from the robot's side"};
   if (near.solved) return "one object frees the target from the robot's side";
-  if (near.reason.find("time limit") != std::string::npos) return "the robot's side was not decided in time";
   return std::nullopt;
 }
 
@@ -85,7 +96,7 @@ std::vector<std::pair<std::uint64_t, Scene>> tables(const BenchArgs& args, int o
       throw InputError({"--sizes", 0, 0}, std::to_string(objects) + " objects: " + e.what());
     }
     if (fig9) {
-      if (const auto why = unlike_figure_9(scene, robot, registry, all_sides, robot_side)) {
+      if (const auto why = unlike_figure_9(scene, seed, robot, registry, all_sides, robot_side, args.time_limit)) {
         if (args.verbosity == Verbosity::verbose) std::cerr << "table seed " << seed << ": " << *why << "; next\n";
         continue;
       }
@@ -110,7 +121,15 @@ int mobile(const BenchArgs& args) {
   grasp.set("base_distance", 0.6);
   samplers.set(registry.create<plugin::GraspSampler>("grasp_side", grasp, {"bench mobile", 0, 0}));
   const int objects = args.sizes.empty() ? 20 : args.sizes.front();
-  const auto instances = tables(args, objects, robot, registry, samplers);
+  std::vector<std::pair<std::uint64_t, Scene>> instances;
+  try {
+    instances = tables(args, objects, robot, registry, samplers);
+  } catch (const TableUndecided& e) {
+    std::cerr << "\nbench mobile: table seed " << e.seed << ": " << e.check << " was not decided within the time limit ("
+              << args.time_limit << " s); the tables chosen must not depend on this machine's speed, so the bench stops here. "
+              << "Give a larger --time-limit, or --mobile-tables random.\n";
+    return run::ExitCode::no_plan;
+  }
   std::vector<Row> rows;
   for (const Strategy& s : kStrategies) {
     Parameters p;
@@ -177,7 +196,7 @@ int mobile(const BenchArgs& args) {
                                                       {"runs", args.runs}, {"time_limit_s", args.time_limit},
                                                       {"strategies", summary}});
   }
-  return goals_met ? run::ExitCode::solved : run::ExitCode::no_plan;
+  return goal_exit_code(args.check_goals, goals_met);
 }
 
 }  // namespace cluttertamp::bench

@@ -127,7 +127,7 @@ int occlusion(const BenchArgs& args) {
                                                       {"runs", args.runs}, {"time_limit_s", args.time_limit},
                                                       {"sizes", summary}});
   }
-  return goals_met ? run::ExitCode::solved : run::ExitCode::no_plan;
+  return goal_exit_code(args.check_goals, goals_met);
 }
 
 }  // namespace cluttertamp::bench

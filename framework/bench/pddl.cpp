@@ -407,7 +407,7 @@ int pddl(const BenchArgs& args) {
     std::cerr << refused.size() << " problem file(s) refused (bad input, listed above)\n";
     return run::ExitCode::bad_input;
   }
-  return invalid ? run::ExitCode::no_plan : run::ExitCode::solved;
+  return invalid ? run::ExitCode::internal_error : run::ExitCode::solved;
 }
 
 }  // namespace cluttertamp::bench

@@ -70,7 +70,7 @@ int physics(const BenchArgs& args) {
                                 {"goal", kGoal}};
     write_json_file(args.json, json);
   }
-  return met ? run::ExitCode::solved : run::ExitCode::no_plan;
+  return goal_exit_code(args.check_goals, met);
 }
 
 }  // namespace cluttertamp::bench

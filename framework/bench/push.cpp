@@ -260,7 +260,7 @@ int push(const BenchArgs& args) {
   json["goal_p_values"] = p_values;
   if (!args.json.empty()) write_json_file(args.json, json);
   if (!args.svg.empty()) write_svg(runs, scenes, args.time_limit, args.svg);
-  return met ? run::ExitCode::solved : run::ExitCode::no_plan;
+  return goal_exit_code(args.check_goals, met);
 }
 
 }  // namespace cluttertamp::bench

@@ -5,20 +5,27 @@
 //   V:  retrieval_graph (L = 1) against traversability_graph on 100-object shelves;
 //   VI: retrieval_graph (L = 1) against the exhaustive optimum on the bundled
 //       16-object shelves whose fewest objects to move is 2, 3 and 4.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <limits>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
+#include "bench/ompl_log.hpp"
+#include "bench/reports.hpp"
+#include "bench/settings.hpp"
+#include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
+#include "cluttertamp/io/text_file.hpp"
+#include "cluttertamp/version.hpp"
 #include "cluttertamp/run/shelf_runs.hpp"
 #include "bench/statistics.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
@@ -46,11 +53,11 @@ struct Paper {
   double success = kNone;
 };
 
-// One row of a table: a planner with its parameters on a set of scenes.
+// One row of a table: a planner with its parameters on a set of `instances` scenes.
 struct Row {
   std::string table, scenes, planner, initial_limit;
   int objects = 0;
-  const std::vector<Scene>* instances = nullptr;
+  std::size_t instances = 0;
   Paper paper;
 };
 
@@ -145,14 +152,13 @@ std::string text(const Figure& f) {
 
 Figure of(const std::vector<double>& v) { return v.empty() ? Figure{} : Figure{mean(v), stddev(v)}; }
 
-std::uint64_t counter(const Result& r, const std::string& name) { return r.counters.count(name) ? r.counters.at(name) : 0; }
-
-// Generated shelves of `objects` cylinders whose target needs a removal, as the paper's.
-// With args.fit_to_robot the shelf goes where `robot` reaches it, and `robot` becomes the
-// description to plan these scenes with: its home replaced by the fit's start when the
-// home reaches into the cabinet.
-std::vector<Scene> generated(int objects, const BenchArgs& args, std::shared_ptr<const robot::RobotDescription>& robot,
-                             const plugin::Samplers& samplers, double width = 0.0) {
+// Generated shelves of `objects` cylinders whose target needs a removal, as the paper's,
+// with the seed of each. With args.fit_to_robot the shelf goes where `robot` reaches it,
+// and `robot` becomes the description to plan these scenes with: its home replaced by
+// the fit's start when the home reaches into the cabinet. Fewer than args.instances
+// within 1000 seeds is bad input.
+std::vector<std::pair<std::uint64_t, Scene>> generated(int objects, const BenchArgs& args, std::shared_ptr<const robot::RobotDescription>& robot,
+                                                       const plugin::Samplers& samplers, double width = 0.0) {
   scenes::ShelfSpec spec;
   spec.objects = objects;
   spec.width = width;
@@ -162,282 +168,372 @@ std::vector<Scene> generated(int objects, const BenchArgs& args, std::shared_ptr
     spec = fit.spec;
     if (fit.start) robot = std::make_shared<const robot::RobotDescription>(robot->with_home(*fit.start));
     if (args.verbosity != Verbosity::quiet) {
-      std::printf("shelf%d for %s: %s%s\n", objects, robot->name().c_str(), scenes::describe_placement(fit).c_str(),
-                  fit.start ? "; the home reaches into the cabinet, so the runs start with the tool drawn back" : "");
+      std::cerr << "shelf" << objects << " for " << robot->name() << ": " << scenes::describe_placement(fit)
+                << (fit.start ? "; the home reaches into the cabinet, so the runs start with the tool drawn back" : "") << "\n";
     }
   }
-  std::vector<Scene> out;
+  std::vector<std::pair<std::uint64_t, Scene>> out;
   for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < args.seed + 1000; ++seed) {
-    Scene scene = scenes::generate_shelf_scene(spec, seed);  // throws runtime_error: too crowded
-    if (!run::target_comes_out_directly(scene, robot, samplers, seed)) out.push_back(std::move(scene));
+    Scene scene;
+    try {
+      scene = scenes::generate_shelf_scene(spec, seed);
+    } catch (const std::runtime_error& e) {
+      throw InputError({"--sizes", 0, 0}, "shelf" + std::to_string(objects) + ": " + e.what());
+    }
+    if (!run::target_comes_out_directly(scene, robot, samplers, seed)) out.emplace_back(seed, std::move(scene));
+  }
+  if (static_cast<int>(out.size()) < args.instances) {
+    throw InputError({"--scenes", 0, 0}, "only " + std::to_string(out.size()) + " of " + std::to_string(args.instances) + " generated shelves of " +
+                                             std::to_string(objects) + " objects need a removal within 1000 seeds from " +
+                                             std::to_string(args.seed));
   }
   return out;
 }
 
-class Bench {
- public:
-  explicit Bench(const BenchArgs& args)
-      : args_(args),
-        registry_(plugin::Registry::default_search_paths()),
-        samplers_(run::shipped_samplers(registry_)),
-        robot_(std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot))) {
-    if (!args.csv.empty()) {
-      csv_.open(args.csv);
-      csv_ << "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations,table,planner,scenes,"
-              "sequences,seed,scene\n";
-    }
-  }
-
-  const plugin::Samplers& samplers() const { return samplers_; }
-  const std::shared_ptr<const robot::RobotDescription>& robot() const { return robot_; }
-  /// The description the scenes named `scenes` are planned with, when not robot().
-  void set_robot(const std::string& scenes, std::shared_ptr<const robot::RobotDescription> robot) {
-    robots_[scenes] = std::move(robot);
-  }
-
-  void set_total(int runs) { total_ = runs; }
-
-  static void header() {
-    std::cout << std::left << std::setw(6) << "table" << std::setw(14) << "scenes" << std::setw(27) << "planner (L init)"
-              << std::setw(13) << "|O_r|" << std::setw(13) << "paper" << std::setw(15) << "total s" << std::setw(8)
-              << "median" << std::setw(8) << "p90" << std::setw(14) << "paper" << std::setw(14) << "task s" << std::setw(13) << "paper"
-              << std::setw(14) << "motion s" << std::setw(14) << "paper" << std::setw(7) << "iter" << std::setw(6)
-              << "paper" << std::setw(7) << "seqs" << std::setw(12) << "paper" << std::setw(8) << "success"
-              << std::setw(7) << "paper" << "checks (median)\n";
-  }
-
-  void run(const Row& row) {
-    Measured m;
-    for (std::size_t i = 0; i < row.instances->size(); ++i) {
-      for (int run = 0; run < args_.runs; ++run) measure(row, (*row.instances)[i], i, run, m);
-    }
-    if (args_.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(60, ' ') << "\r";
-    print(row, m);
-    measured_[{row.scenes, row.planner + "/" + row.initial_limit}] = std::move(m);
-  }
-
-  void write_json() const {
-    if (!args_.json.empty()) write_json_file(args_.json, rows_);
-  }
-
- private:
-  void measure(const Row& row, const Scene& scene, std::size_t instance, int run, Measured& m) {
-    Parameters parameters;
-    if (!row.initial_limit.empty()) parameters.set("initial_L", row.initial_limit);
-    const auto planner = registry_.create<plugin::TaskPlanner>(row.planner, parameters);
-    const std::uint64_t seed = args_.seed + static_cast<std::uint64_t>(run);
-    const auto t0 = std::chrono::steady_clock::now();
-    const auto fitted = robots_.find(row.scenes);
-    const Result r = run::plan_scene(scene, fitted == robots_.end() ? robot_ : fitted->second, *planner, samplers_, seed,
-                                     args_.time_limit);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ++m.runs;
-    m.checks.push_back(double(counter(r, counter::collision_checks)));
-    for (const auto& [name, totals] : r.phases) {
-      PhaseTotals& sum = m.phases[name];
-      sum.calls += totals.calls;
-      sum.collision_checks += totals.collision_checks;
-      sum.seconds += totals.seconds;
-    }
-    if (!r.solved) ++m.failures[r.reason];
-    if (r.solved) {
-      ++m.solved;
-      m.removed.push_back(double(r.moved_objects.size()));
-      m.removed_by_run[{instance, run}] = double(r.moved_objects.size());
-      m.total.push_back(seconds);
-      m.task.push_back(r.time.task_planning);
-      m.motion.push_back(r.time.motion_planning);
-      if (r.counters.count(counter::iterations)) m.iterations.push_back(double(counter(r, counter::iterations)));
-      if (r.counters.count(counter::planning_sequences)) m.sequences.push_back(double(counter(r, counter::planning_sequences)));
-    }
-    if (csv_.is_open()) {
-      csv_ << row.objects << "," << row.initial_limit << "," << instance << "," << run << "," << r.solved << ","
-           << r.moved_objects.size() << "," << seconds << "," << r.time.task_planning << "," << r.time.motion_planning
-           << "," << counter(r, counter::iterations) << "," << row.table << "," << row.planner << "," << row.scenes << ","
-           << counter(r, counter::planning_sequences) << "," << seed << "," << csv_field(scene.name) << "\n";
-    }
-    ++done_;
-    if (args_.verbosity != Verbosity::quiet) {
-      const int bar = total_ ? 30 * done_ / total_ : 30;
-      std::cerr << "\r[" << std::string(static_cast<std::size_t>(bar), '#') << std::string(static_cast<std::size_t>(30 - bar), ' ')
-                << "] " << done_ << "/" << total_ << " table " << row.table << " " << row.planner << std::flush;
-    }
-  }
-
-  void print(const Row& row, const Measured& m) {
-    const double success = m.runs ? 100.0 * m.solved / m.runs : 0.0;
-    const std::string name = row.planner + (row.initial_limit.empty() ? "" : " (" + row.initial_limit + ")");
-    auto number = [](double v, int digits) {
-      if (std::isnan(v)) return std::string("-");
-      char out[32];
-      std::snprintf(out, sizeof out, "%.*f", digits, v);
-      return std::string(out);
-    };
-    const Figure iterations = of(m.iterations);
-    std::cout << std::left << std::setw(6) << row.table << std::setw(14) << row.scenes << std::setw(27) << name
-              << std::setw(13) << text(of(m.removed)) << std::setw(13) << text(row.paper.removed) << std::setw(15)
-              << text(of(m.total)) << std::setw(8) << number(m.total.empty() ? kNone : median(m.total), 2) << std::setw(8)
-              << number(m.total.empty() ? kNone : percentile(m.total, 90), 2) << std::setw(14)
-              << text(row.paper.total) << std::setw(14) << text(of(m.task)) << std::setw(13) << text(row.paper.task)
-              << std::setw(14) << text(of(m.motion)) << std::setw(14) << text(row.paper.motion) << std::setw(7)
-              << number(iterations.mean, 2) << std::setw(6) << number(row.paper.iterations.mean, 2) << std::setw(7)
-              << number(of(m.sequences).mean, 2) << std::setw(12) << text(row.paper.sequences) << std::setw(8)
-              << number(success, 0) << std::setw(7) << number(row.paper.success, 0)
-              << number(m.checks.empty() ? kNone : median(m.checks), 0) << std::endl;
-    print_phases(m);
-    for (const auto& [reason, count] : m.failures) std::cout << "      failed " << count << "x: " << reason << "\n";
-    auto figure = [&](const std::vector<double>& v) {
-      nlohmann::ordered_json f = {{"mean", mean(v)}, {"std", stddev(v)}, {"median", median(v)}};
-      return v.empty() ? nlohmann::ordered_json(nullptr) : f;
-    };
-    auto paper = [](const Figure& f) {
-      return std::isnan(f.mean) ? nlohmann::ordered_json(nullptr)
-                                : nlohmann::ordered_json{{"mean", f.mean}, {"std", std::isnan(f.sd) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(f.sd)}};
-    };
-    // Against the table's baseline on the runs both solved: a planner that fails the
-    // hard scenes would look better on the means alone.
-    nlohmann::ordered_json pair = nullptr;
-    const auto baseline = measured_.find({row.scenes, baseline_of(row.table) + "/"});
-    if (row.planner == "retrieval_graph" && baseline != measured_.end()) {
-      const Paired p = paired(m, baseline->second);
-      std::cout << "      paired with " << baseline_of(row.table) << " on the " << p.runs << " runs both solved: |O_r| "
-                << number(p.removed, 2) << " against " << number(p.baseline_removed, 2);
-      if (p.runs > 0) {
-        const double more = 100.0 * (p.removed / p.baseline_removed - 1.0);
-        std::cout << " (" << (more >= 0 ? "+" : "") << number(more, 1) << " %)";
-      }
-      std::cout << std::endl;
-      pair = {{"against", baseline_of(row.table)}, {"runs", p.runs},
-              {"removed", p.runs ? nlohmann::ordered_json(p.removed) : nlohmann::ordered_json(nullptr)},
-              {"against_removed", p.runs ? nlohmann::ordered_json(p.baseline_removed) : nlohmann::ordered_json(nullptr)}};
-    }
-    rows_.push_back({{"table", row.table},
-                     {"scenes", row.scenes},
-                     {"objects", row.objects},
-                     {"planner", row.planner},
-                     {"initial_L", row.initial_limit.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(row.initial_limit)},
-                     {"instances", row.instances->size()},
-                     {"runs", args_.runs},
-                     {"success_rate", success},
-                     {"removed", figure(m.removed)},
-                     {"time_s", figure(m.total)},
-                     {"time_p90_s", m.total.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(percentile(m.total, 90))},
-                     {"collision_checks", figure(m.checks)},
-                     {"phases", phases_json(m)},
-                     {"failures", m.failures},
-                     {"task_time_s", figure(m.task)},
-                     {"motion_time_s", figure(m.motion)},
-                     {"iterations", figure(m.iterations)},
-                     {"planning_sequences", figure(m.sequences)},
-                     {"paired", pair},
-                     {"paper",
-                      {{"removed", paper(row.paper.removed)},
-                       {"time_s", paper(row.paper.total)},
-                       {"task_time_s", paper(row.paper.task)},
-                       {"motion_time_s", paper(row.paper.motion)},
-                       {"iterations", paper(row.paper.iterations)},
-                       {"planning_sequences", paper(row.paper.sequences)},
-                       {"success", std::isnan(row.paper.success) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(row.paper.success)}}}});
-  }
-
-  // Per run, every phase's time and collision checks (the motion planner's by how each
-  // query ended), most checks first: where the time went, without a profiler.
-  void print_phases(const Measured& m) const {
-    if (m.runs == 0 || m.phases.empty()) return;
-    std::vector<std::pair<std::string, PhaseTotals>> sorted(m.phases.begin(), m.phases.end());
-    std::stable_sort(sorted.begin(), sorted.end(),
-                     [](const auto& a, const auto& b) { return a.second.collision_checks > b.second.collision_checks; });
-    std::cout << "      per run:";
-    for (const auto& [name, t] : sorted) {
-      char out[128];
-      std::snprintf(out, sizeof out, " %s %.1fx %.3fs %.0fk;", name.c_str(), double(t.calls) / m.runs, t.seconds / m.runs,
-                    double(t.collision_checks) / m.runs / 1000.0);
-      std::cout << out;
-    }
-    std::cout << "\n";
-  }
-
-  static nlohmann::ordered_json phases_json(const Measured& m) {
-    nlohmann::ordered_json out = nlohmann::ordered_json::object();
-    for (const auto& [name, t] : m.phases) {
-      const double runs = std::max(1, m.runs);
-      out[name] = {{"calls_per_run", double(t.calls) / runs},
-                   {"collision_checks_per_run", double(t.collision_checks) / runs},
-                   {"time_per_run_s", t.seconds / runs}};
-    }
-    return out;
-  }
-
-  const BenchArgs& args_;
-  plugin::Registry registry_;
-  plugin::Samplers samplers_;
-  std::shared_ptr<const robot::RobotDescription> robot_;
-  std::map<std::string, std::shared_ptr<const robot::RobotDescription>> robots_;
-  std::ofstream csv_;
-  nlohmann::ordered_json rows_ = nlohmann::ordered_json::array();
-  std::map<std::pair<std::string, std::string>, Measured> measured_;  // (scenes, planner/initial_L) -> its runs
-  int done_ = 0, total_ = 0;
-};
-
-}  // namespace
-
-int retrieval(const BenchArgs& args) {
-  Bench bench(args);
+// The rows of the tables asked for, from the arguments alone: every shard of a sweep
+// and `bench merge` make the same list.
+std::vector<Row> rows_of(const BenchArgs& args) {
   const std::vector<std::string> tables = args.tables.empty() ? std::vector<std::string>{"I"} : args.tables;
   auto wants = [&](const std::string& t) { return std::find(tables.begin(), tables.end(), t) != tables.end(); };
-
-  // Instances first (generating or loading can fail on bad input before any run).
-  std::map<std::string, std::vector<Scene>> scenes;
+  const auto generated_count = static_cast<std::size_t>(args.instances);
   std::vector<Row> rows;
-  try {
-    if (wants("I")) {
-      for (int n : args.sizes.empty() ? std::vector<int>{12, 16, 20} : args.sizes) {
-        const std::string key = "shelf" + std::to_string(n);
-        auto robot = bench.robot();
-        scenes[key] = generated(n, args, robot, bench.samplers());
-        bench.set_robot(key, robot);
-        for (const std::string strategy : {"one", "nodecol", "objects"}) {
-          const Paper p = kTableI.count({n, strategy}) ? kTableI.at({n, strategy}) : Paper{};
-          rows.push_back({"I", key, "retrieval_graph", strategy, n, nullptr, p});
-        }
-        rows.push_back({"I", key, "traversability_graph", "", n, nullptr, {}});
+  if (wants("I")) {
+    for (int n : args.sizes.empty() ? std::vector<int>{12, 16, 20} : args.sizes) {
+      const std::string key = "shelf" + std::to_string(n);
+      for (const std::string strategy : {"one", "nodecol", "objects"}) {
+        const Paper p = kTableI.count({n, strategy}) ? kTableI.at({n, strategy}) : Paper{};
+        rows.push_back({"I", key, "retrieval_graph", strategy, n, generated_count, p});
       }
+      rows.push_back({"I", key, "traversability_graph", "", n, generated_count, {}});
     }
-    if (wants("V")) {
-      auto robot = bench.robot();
-      scenes["shelf100"] = generated(100, args, robot, bench.samplers(), args.table_v_width);
-      bench.set_robot("shelf100", robot);
-      rows.push_back({"V", "shelf100", "traversability_graph", "", 100, nullptr, kTableVNam});
-      rows.push_back({"V", "shelf100", "retrieval_graph", "one", 100, nullptr, kTableVOurs});
+  }
+  if (wants("V")) {
+    rows.push_back({"V", "shelf100", "traversability_graph", "", 100, generated_count, kTableVNam});
+    rows.push_back({"V", "shelf100", "retrieval_graph", "one", 100, generated_count, kTableVOurs});
+  }
+  if (wants("VI")) {
+    for (const auto& [minimum, paper] : kTableVI) {
+      const std::string key = "shelf16-min" + std::to_string(minimum);
+      rows.push_back({"VI", key, "exhaustive", "", 16, 1, paper.first});
+      rows.push_back({"VI", key, "retrieval_graph", "one", 16, 1, paper.second});
     }
-    if (wants("VI")) {
-      for (const auto& [minimum, paper] : kTableVI) {
-        const std::string key = "shelf16-min" + std::to_string(minimum);
-        scenes[key] = {io::load_scene(args.table_vi_scenes / (key + ".yaml"))};
-        rows.push_back({"VI", key, "exhaustive", "", 16, nullptr, paper.first});
-        rows.push_back({"VI", key, "retrieval_graph", "one", 16, nullptr, paper.second});
-      }
-    }
-  } catch (const std::runtime_error& e) {
-    if (dynamic_cast<const InputError*>(&e)) throw;
-    std::cerr << "bench retrieval: " << e.what() << "\n";
-    return run::ExitCode::bad_input;
   }
   if (!args.planners.empty()) {
     std::erase_if(rows, [&](const Row& row) {
       return std::find(args.planners.begin(), args.planners.end(), row.planner) == args.planners.end();
     });
   }
-  int total = 0;
-  for (Row& row : rows) {
-    row.instances = &scenes[row.scenes];
-    total += static_cast<int>(row.instances->size()) * args.runs;
+  return rows;
+}
+
+// Run `index` of the sweep: the row, the scene of the row's set and the run's number.
+struct RunRef {
+  std::size_t row = 0, instance = 0;
+  int run = 0;
+};
+
+std::vector<RunRef> runs_of(const std::vector<Row>& rows, int runs) {
+  std::vector<RunRef> out;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    for (std::size_t i = 0; i < rows[r].instances; ++i) {
+      for (int k = 0; k < runs; ++k) out.push_back({r, i, k});
+    }
   }
-  bench.set_total(total);
-  Bench::header();
-  for (const Row& row : rows) bench.run(row);
-  bench.write_json();
+  return out;
+}
+
+std::string row_name(const Row& row) { return row.planner + (row.initial_limit.empty() ? "" : " (" + row.initial_limit + ")"); }
+
+// Plans the runs it is given, making each row's scenes when a run first needs them.
+class Runner {
+ public:
+  explicit Runner(const BenchArgs& args)
+      : args_(args),
+        registry_(plugin::Registry::default_search_paths()),
+        samplers_(run::shipped_samplers(registry_)),
+        robot_(std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot))) {}
+
+  Record run(const Row& row, std::size_t instance, int run) {
+    const Scenes& set = scenes(row);
+    const auto& [scene_seed, scene] = set.scenes.at(instance);
+    Parameters parameters;
+    if (!row.initial_limit.empty()) parameters.set("initial_L", row.initial_limit);
+    const auto planner = registry_.create<plugin::TaskPlanner>(row.planner, parameters);
+    const std::uint64_t seed = args_.seed + static_cast<std::uint64_t>(run);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Result r = run::plan_scene(scene, set.robot, *planner, samplers_, seed, args_.time_limit);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    nlohmann::ordered_json phases = nlohmann::ordered_json::object();
+    for (const auto& [name, t] : r.phases) phases[name] = {{"calls", t.calls}, {"collision_checks", t.collision_checks}, {"seconds", t.seconds}};
+    return {{"table", row.table},
+            {"scenes", row.scenes},
+            {"objects", row.objects},
+            {"problem", scene.name},
+            {"scene_seed", scene_seed ? nlohmann::ordered_json(*scene_seed) : nlohmann::ordered_json(nullptr)},
+            {"instance", instance},
+            {"planner", row.planner},
+            {"parameters", row.initial_limit.empty() ? nlohmann::ordered_json::object() : nlohmann::ordered_json{{"initial_L", row.initial_limit}}},
+            {"run", run},
+            {"seed", seed},
+            {"solved", r.solved},
+            {"time_s", seconds},
+            {"task_s", r.time.task_planning},
+            {"motion_s", r.time.motion_planning},
+            {"removed", r.moved_objects.size()},
+            {"counters", r.counters},
+            {"phases", phases},
+            {"reason", r.reason},
+            {"version", std::string(version())}};
+  }
+
+ private:
+  struct Scenes {
+    std::vector<std::pair<std::optional<std::uint64_t>, Scene>> scenes;
+    std::shared_ptr<const robot::RobotDescription> robot;
+  };
+
+  const Scenes& scenes(const Row& row) {
+    const auto known = scenes_.find(row.scenes);
+    if (known != scenes_.end()) return known->second;
+    Scenes set;
+    set.robot = robot_;
+    if (row.table == "VI") {
+      set.scenes.emplace_back(std::nullopt, io::load_scene(args_.table_vi_scenes / (row.scenes + ".yaml")));
+    } else {
+      for (auto& [seed, scene] : generated(row.objects, args_, set.robot, samplers_, row.table == "V" ? args_.table_v_width : 0.0)) {
+        set.scenes.emplace_back(seed, std::move(scene));
+      }
+    }
+    return scenes_.emplace(row.scenes, std::move(set)).first->second;
+  }
+
+  const BenchArgs& args_;
+  plugin::Registry registry_;
+  plugin::Samplers samplers_;
+  std::shared_ptr<const robot::RobotDescription> robot_;
+  std::map<std::string, Scenes> scenes_;
+};
+
+std::uint64_t counter_of(const Record& r, const char* name) {
+  const auto counters = r.find("counters");
+  if (counters == r.end()) return 0;
+  const auto it = counters->find(name);
+  return it == counters->end() ? 0 : it->get<std::uint64_t>();
+}
+
+// A row's measures from its runs' records.
+Measured measured_of(const std::vector<const Record*>& runs) {
+  Measured m;
+  for (const Record* run : runs) {
+    const Record& r = *run;
+    ++m.runs;
+    m.checks.push_back(double(counter_of(r, counter::collision_checks)));
+    for (const auto& [name, totals] : r.at("phases").items()) {
+      PhaseTotals& sum = m.phases[name];
+      sum.calls += totals.at("calls").get<std::uint64_t>();
+      sum.collision_checks += totals.at("collision_checks").get<std::uint64_t>();
+      sum.seconds += totals.at("seconds").get<double>();
+    }
+    if (!r.at("solved").get<bool>()) {
+      ++m.failures[r.at("reason").get<std::string>()];
+      continue;
+    }
+    const double removed = number(r, "removed");
+    ++m.solved;
+    m.removed.push_back(removed);
+    m.removed_by_run[{r.at("instance").get<std::size_t>(), r.at("run").get<int>()}] = removed;
+    m.total.push_back(number(r, "time_s"));
+    m.task.push_back(number(r, "task_s"));
+    m.motion.push_back(number(r, "motion_s"));
+    if (r.at("counters").contains(counter::iterations)) m.iterations.push_back(double(counter_of(r, counter::iterations)));
+    if (r.at("counters").contains(counter::planning_sequences)) m.sequences.push_back(double(counter_of(r, counter::planning_sequences)));
+  }
+  return m;
+}
+
+void header() {
+  std::cout << std::left << std::setw(6) << "table" << std::setw(14) << "scenes" << std::setw(27) << "planner (L init)"
+            << std::setw(13) << "|O_r|" << std::setw(13) << "paper" << std::setw(15) << "total s" << std::setw(8)
+            << "median" << std::setw(8) << "p90" << std::setw(14) << "paper" << std::setw(14) << "task s" << std::setw(13) << "paper"
+            << std::setw(14) << "motion s" << std::setw(14) << "paper" << std::setw(7) << "iter" << std::setw(6)
+            << "paper" << std::setw(7) << "seqs" << std::setw(12) << "paper" << std::setw(8) << "success"
+            << std::setw(7) << "paper" << "checks (median)\n";
+}
+
+std::string number_text(double v, int digits) {
+  if (std::isnan(v)) return "-";
+  char out[32];
+  std::snprintf(out, sizeof out, "%.*f", digits, v);
+  return out;
+}
+
+// Per run, every phase's time and collision checks (the motion planner's by how each
+// query ended), most checks first: where the time went, without a profiler.
+void print_phases(const Measured& m) {
+  if (m.runs == 0 || m.phases.empty()) return;
+  std::vector<std::pair<std::string, PhaseTotals>> sorted(m.phases.begin(), m.phases.end());
+  std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.second.collision_checks > b.second.collision_checks; });
+  std::cout << "      per run:";
+  for (const auto& [name, t] : sorted) {
+    char out[128];
+    std::snprintf(out, sizeof out, " %s %.1fx %.3fs %.0fk;", name.c_str(), double(t.calls) / m.runs, t.seconds / m.runs,
+                  double(t.collision_checks) / m.runs / 1000.0);
+    std::cout << out;
+  }
+  std::cout << "\n";
+}
+
+nlohmann::ordered_json phases_json(const Measured& m) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const auto& [name, t] : m.phases) {
+    const double runs = std::max(1, m.runs);
+    out[name] = {{"calls_per_run", double(t.calls) / runs},
+                 {"collision_checks_per_run", double(t.collision_checks) / runs},
+                 {"time_per_run_s", t.seconds / runs}};
+  }
+  return out;
+}
+
+// Prints a row's line of the table (with its phases, failures and pairing) and returns
+// its JSON.
+nlohmann::ordered_json report_row(const Row& row, const Measured& m, const Measured* baseline, int runs) {
+  const double success = m.runs ? 100.0 * m.solved / m.runs : 0.0;
+  const Figure iterations = of(m.iterations);
+  std::cout << std::left << std::setw(6) << row.table << std::setw(14) << row.scenes << std::setw(27) << row_name(row)
+            << std::setw(13) << text(of(m.removed)) << std::setw(13) << text(row.paper.removed) << std::setw(15)
+            << text(of(m.total)) << std::setw(8) << number_text(m.total.empty() ? kNone : median(m.total), 2) << std::setw(8)
+            << number_text(m.total.empty() ? kNone : percentile(m.total, 90), 2) << std::setw(14) << text(row.paper.total)
+            << std::setw(14) << text(of(m.task)) << std::setw(13) << text(row.paper.task) << std::setw(14) << text(of(m.motion))
+            << std::setw(14) << text(row.paper.motion) << std::setw(7) << number_text(iterations.mean, 2) << std::setw(6)
+            << number_text(row.paper.iterations.mean, 2) << std::setw(7) << number_text(of(m.sequences).mean, 2) << std::setw(12)
+            << text(row.paper.sequences) << std::setw(8) << number_text(success, 0) << std::setw(7) << number_text(row.paper.success, 0)
+            << number_text(m.checks.empty() ? kNone : median(m.checks), 0) << "\n";
+  print_phases(m);
+  for (const auto& [reason, count] : m.failures) std::cout << "      failed " << count << "x: " << reason << "\n";
+  auto figure = [&](const std::vector<double>& v) {
+    nlohmann::ordered_json f = {{"mean", mean(v)}, {"std", stddev(v)}, {"median", median(v)}};
+    return v.empty() ? nlohmann::ordered_json(nullptr) : f;
+  };
+  auto paper = [](const Figure& f) {
+    return std::isnan(f.mean) ? nlohmann::ordered_json(nullptr)
+                              : nlohmann::ordered_json{{"mean", f.mean}, {"std", std::isnan(f.sd) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(f.sd)}};
+  };
+  // Against the table's baseline on the runs both solved: a planner that fails the
+  // hard scenes would look better on the means alone.
+  nlohmann::ordered_json pair = nullptr;
+  if (row.planner == "retrieval_graph" && baseline) {
+    const Paired p = paired(m, *baseline);
+    std::cout << "      paired with " << baseline_of(row.table) << " on the " << p.runs << " runs both solved: |O_r| "
+              << number_text(p.removed, 2) << " against " << number_text(p.baseline_removed, 2);
+    if (p.runs > 0) {
+      const double more = 100.0 * (p.removed / p.baseline_removed - 1.0);
+      std::cout << " (" << (more >= 0 ? "+" : "") << number_text(more, 1) << " %)";
+    }
+    std::cout << "\n";
+    pair = {{"against", baseline_of(row.table)}, {"runs", p.runs},
+            {"removed", p.runs ? nlohmann::ordered_json(p.removed) : nlohmann::ordered_json(nullptr)},
+            {"against_removed", p.runs ? nlohmann::ordered_json(p.baseline_removed) : nlohmann::ordered_json(nullptr)}};
+  }
+  return {{"table", row.table},
+          {"scenes", row.scenes},
+          {"objects", row.objects},
+          {"planner", row.planner},
+          {"initial_L", row.initial_limit.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(row.initial_limit)},
+          {"instances", row.instances},
+          {"runs", runs},
+          {"success_rate", success},
+          {"removed", figure(m.removed)},
+          {"time_s", figure(m.total)},
+          {"time_p90_s", m.total.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(percentile(m.total, 90))},
+          {"collision_checks", figure(m.checks)},
+          {"phases", phases_json(m)},
+          {"failures", m.failures},
+          {"task_time_s", figure(m.task)},
+          {"motion_time_s", figure(m.motion)},
+          {"iterations", figure(m.iterations)},
+          {"planning_sequences", figure(m.sequences)},
+          {"paired", pair},
+          {"paper",
+           {{"removed", paper(row.paper.removed)},
+            {"time_s", paper(row.paper.total)},
+            {"task_time_s", paper(row.paper.task)},
+            {"motion_time_s", paper(row.paper.motion)},
+            {"iterations", paper(row.paper.iterations)},
+            {"planning_sequences", paper(row.paper.sequences)},
+            {"success", std::isnan(row.paper.success) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(row.paper.success)}}}};
+}
+
+std::string row_key(const std::string& scenes, const std::string& planner, const std::string& initial_limit) {
+  return scenes + "/" + planner + "/" + initial_limit;
+}
+
+void write_csv(const std::filesystem::path& file, const std::vector<Record>& records) {
+  std::ostringstream csv;
+  csv << "objects,initial_L,instance,run,solved,removed,time_s,task_s,motion_s,iterations,table,planner,scenes,sequences,seed,scene\n";
+  for (const Record& r : records) {
+    const auto& parameters = r.at("parameters");
+    csv << r.at("objects").get<int>() << "," << (parameters.contains("initial_L") ? parameters["initial_L"].get<std::string>() : "") << ","
+        << r.at("instance").get<std::size_t>() << "," << r.at("run").get<int>() << "," << r.at("solved").get<bool>() << ","
+        << r.at("removed").get<std::size_t>() << "," << number(r, "time_s") << "," << number(r, "task_s") << "," << number(r, "motion_s")
+        << "," << counter_of(r, counter::iterations) << "," << r.at("table").get<std::string>() << "," << r.at("planner").get<std::string>()
+        << "," << r.at("scenes").get<std::string>() << "," << counter_of(r, counter::planning_sequences) << ","
+        << r.at("seed").get<std::uint64_t>() << "," << csv_field(r.at("problem").get<std::string>()) << "\n";
+  }
+  io::write_text_file(file, csv.str(), "CSV file");
+}
+
+SweepPlan plan_of(const BenchArgs& args, const std::vector<Row>& rows, const std::vector<RunRef>& refs) {
+  return {"retrieval", settings_of(args), refs.size(), [&rows, &refs](std::size_t i) {
+            const RunRef& ref = refs.at(i);
+            return rows[ref.row].scenes + " " + row_name(rows[ref.row]) + ", scene " + std::to_string(ref.instance) + ", run " +
+                   std::to_string(ref.run);
+          }};
+}
+
+}  // namespace
+
+int report_retrieval(const BenchArgs& args, const std::vector<Record>& records) {
+  const std::vector<Row> rows = rows_of(args);
+  std::map<std::string, std::vector<const Record*>> by_row;
+  for (const Record& r : records) {
+    const auto& parameters = r.at("parameters");
+    by_row[row_key(r.at("scenes").get<std::string>(), r.at("planner").get<std::string>(),
+                   parameters.contains("initial_L") ? parameters["initial_L"].get<std::string>() : "")]
+        .push_back(&r);
+  }
+  std::map<std::string, Measured> measured;
+  for (const Row& row : rows) measured[row_key(row.scenes, row.planner, row.initial_limit)] = measured_of(by_row[row_key(row.scenes, row.planner, row.initial_limit)]);
+  header();
+  nlohmann::ordered_json json = nlohmann::ordered_json::array();
+  for (const Row& row : rows) {
+    const auto baseline = measured.find(row_key(row.scenes, baseline_of(row.table), ""));
+    json.push_back(report_row(row, measured[row_key(row.scenes, row.planner, row.initial_limit)],
+                              baseline == measured.end() || baseline_of(row.table).empty() ? nullptr : &baseline->second, args.runs));
+  }
+  if (!args.json.empty()) write_json_file(args.json, json);
+  if (!args.csv.empty()) write_csv(args.csv, records);
+  if (!args.ompl_log.empty()) {
+    std::vector<OmplLogPlanner> planners;
+    for (const Row& row : rows) {
+      const std::string key = row_key(row.scenes, row.planner, row.initial_limit);
+      planners.push_back({row.scenes + "/" + row.planner + (row.initial_limit.empty() ? "" : "[initial_L=" + row.initial_limit + "]"), by_row[key]});
+    }
+    write_ompl_log(args.ompl_log, {"cluttertamp_bench_retrieval", settings_of(args).dump(2), args.seed, args.time_limit}, planners);
+  }
   return run::ExitCode::solved;
+}
+
+int retrieval(const BenchArgs& args) {
+  const std::vector<Row> rows = rows_of(args);
+  const std::vector<RunRef> refs = runs_of(rows, args.runs);
+  std::optional<Runner> runner;  // made on the first run: a parent of -j runs none
+  const std::vector<Record> records = run_sweep(plan_of(args, rows, refs), args.sweep, args.verbosity, [&](std::size_t i) {
+    if (!runner) runner.emplace(args);
+    const RunRef& ref = refs.at(i);
+    return runner->run(rows[ref.row], ref.instance, ref.run);
+  });
+  if (!args.report) return run::ExitCode::solved;
+  return report_retrieval(args, records);
 }
 
 }  // namespace cluttertamp::bench

@@ -102,7 +102,7 @@ int samplers(const BenchArgs& args) {
     write_json_file(args.json, json);
     std::cout << "\nwrote " << args.json.string() << "\n";
   }
-  return all ? run::ExitCode::solved : run::ExitCode::no_plan;
+  return goal_exit_code(args.check_goals, all);
 }
 
 }  // namespace cluttertamp::bench

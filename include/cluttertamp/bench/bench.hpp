@@ -1,11 +1,13 @@
 #pragma once
 // The benchmarks of `cluttertamp bench` and `cluttertamp compare`: the papers'
-// experiments and the speed goals, each a function from its arguments to an exit code
-// (0: the goal it checks met; see each). Tables go to stdout, progress to stderr.
+// experiments and the speed goals, each a function from its arguments to an exit code:
+// 0 when it ran, 2 on bad input, 3 on a fault; with check_goals, 1 when a goal it
+// reports (see each) was missed. Tables go to stdout, progress to stderr.
 
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,42 @@ namespace cluttertamp::bench {
 
 /// How much a command prints: errors only, the default, or also why each step went.
 enum class Verbosity { quiet, normal, verbose };
+
+/// Which runs of a bench one process does: run i when i % count == index (a
+/// deterministic partition, interleaved so that every shard gets its share of each
+/// table's rows).
+struct Shard {
+  std::size_t index = 0, count = 1;
+  bool holds(std::size_t run) const { return run % count == index; }
+};
+
+/// "K/N" as the command line gives it: 0 <= K < N. Throws InputError naming `option`.
+CLUTTERTAMP_API Shard parse_shard(const std::string& text, const std::string& option = "--shard");
+
+/// How a bench's runs are spread and recorded: --shard K/N, -j N, --records FILE.
+struct SweepOptions {
+  Shard shard;
+  /// Child processes sharing this shard's runs (each run single-threaded, results as
+  /// with 1); 1: the runs run in this process.
+  int jobs = 1;
+  /// JSON Lines file of this shard's runs (written as FILE.partial while they run,
+  /// renamed when all are done); empty: none.
+  std::filesystem::path records;
+  /// As the command line gave them, for the child processes.
+  std::vector<std::filesystem::path> package_paths;
+  std::size_t memory_limit_mib = 0;
+  /// The cluttertamp program the child processes run; empty: this process's own.
+  std::filesystem::path executable;
+};
+
+/// A child process of -j failed; its output has the reason. `exit_code` is its own
+/// (2: bad input, 3: a fault), for the parent to exit with.
+class CLUTTERTAMP_API WorkerFailed : public std::runtime_error {
+ public:
+  WorkerFailed(int exit_code, const std::string& message);
+  ~WorkerFailed() override;
+  int exit_code;
+};
 
 struct BenchArgs {
   std::string what;  ///< "collision", "pddl", "samplers", "retrieval", "physics" or "push"
@@ -48,7 +86,14 @@ struct BenchArgs {
   std::string mobile_tables = "fig9";    ///< bench mobile: "fig9" (Tian et al.'s Fig. 9 tables) or "random"
   std::vector<std::string> occlusion_layouts;  ///< bench occlusion: "columns", "random" (default both)
   Verbosity verbosity = Verbosity::normal;
-  int runs = 3;                          ///< bench pddl
+  int runs = 3;                          ///< runs per instance (seeds seed, seed + 1, ...)
+  /// Exit code 1 when a goal the bench reports is missed; otherwise 0 whenever it ran.
+  bool check_goals = false;
+  SweepOptions sweep;  ///< bench retrieval
+  /// OMPL's benchmark log of the runs (for ompl_benchmark_statistics, Planner Arena); empty: none.
+  std::filesystem::path ompl_log;
+  /// false: only run the runs and write the records (a child process of -j).
+  bool report = true;
 };
 struct CompareArgs {
   std::vector<std::filesystem::path> problems;  ///< stream problems (task: pddl)
@@ -58,34 +103,56 @@ struct CompareArgs {
   std::optional<std::filesystem::path> json, csv, svg;
   std::vector<std::filesystem::path> plugin_paths;
   Verbosity verbosity = Verbosity::normal;
+  bool check_goals = false;  ///< exit code 1 when a run was not solved
 };
 /// {adaptive, incremental} x {pruned, all movable} on each problem, `runs` seeds each:
-/// a table beside Tian et al.'s Table IV; exit code 0 when every run solved, else 1.
+/// a table beside Tian et al.'s Table IV; goal: every run solved.
 CLUTTERTAMP_API int compare(const CompareArgs& args);
 
-/// FK, IK, collision and sweep query times; exit code 0 when every speed goal is met, 1 when one is missed.
+/// `cluttertamp bench merge`: records files of one sweep's shards reported as one run.
+struct MergeArgs {
+  std::vector<std::filesystem::path> files;
+  std::filesystem::path json, csv, svg, records;  ///< empty: not written; records: the merged records file
+  std::filesystem::path ompl_log;                 ///< OMPL's benchmark log; empty: not written
+  bool check_goals = false;
+  Verbosity verbosity = Verbosity::normal;
+};
+/// The tables, CSV, JSON and plots of the records in `args.files`, as the bench that
+/// wrote them reports an unsharded run of the same runs; the exit code is that report's.
+CLUTTERTAMP_API int merge(const MergeArgs& args);
+
+/// A child process of `-j`: runs the shard `sweep.shard` of the sweep whose bench and
+/// settings `settings_file` holds (written by the parent) and writes its records.
+CLUTTERTAMP_API int sweep_worker(const std::filesystem::path& settings_file, const SweepOptions& sweep);
+
+/// The exit code of a bench that ran: 1 when `goals_met` is false and the user asked
+/// for --check-goals, else 0.
+CLUTTERTAMP_API int goal_exit_code(bool check_goals, bool goals_met);
+
+/// FK, IK, collision and sweep query times; goals: the speed goals it prints.
 CLUTTERTAMP_API int collision(const BenchArgs& args);
 /// The occlusion planner on generated occlusion shelves (Table II of Tian et al.);
-/// exit code 0 when success >= 95 % and the median time <= 1 s for every size, else 1.
+/// goal: success >= 95 % and the median time <= 1 s for every size.
 CLUTTERTAMP_API int occlusion(const BenchArgs& args);
 /// retrieval_graph with a mobile manipulator on generated tables, initial L = 1,
-/// |n_g.NodeCol| and |O| (Table III of Tian et al.); exit code 0 when L = 1 moves at
-/// most 2.2 objects on average with a median <= 1 s, else 1.
+/// |n_g.NodeCol| and |O| (Table III of Tian et al.); goal: L = 1 moves at most 2.2
+/// objects on average with a median <= 1 s. A table check that the time limit ends
+/// stops it: exit code 1.
 CLUTTERTAMP_API int mobile(const BenchArgs& args);
-/// Pushing physics speed (times real time) on a generated shelf; exit code 0 when the
-/// 10-object goal (>= 20) is met or another size was asked for, 1 otherwise.
+/// Pushing physics speed (times real time) on a generated shelf; goal: >= 20 times
+/// real time with 10 objects (none for another size).
 CLUTTERTAMP_API int physics(const BenchArgs& args);
 /// Every problem of a folder tree in the IPC layout with each search: a table per
 /// instance (each plan checked by the validator) and per domain folder (coverage, IPC
-/// quality score, median plan length and time). Exit code 0; 1 when a plan failed
+/// quality score, median plan length and time). Exit code 3 when a plan failed
 /// validation; 2 when a file was refused (after all the rest ran).
 CLUTTERTAMP_API int pddl(const BenchArgs& args);
-/// Grasp, motion and pick-and-place medians; exit code 0 when every goal is met.
+/// Grasp, motion and pick-and-place medians; goals: the speed goals it prints.
 CLUTTERTAMP_API int samplers(const BenchArgs& args);
-/// Tables I, V and VI of Tian et al.; exit code 0.
+/// Tables I, V and VI of Tian et al.; no goal.
 CLUTTERTAMP_API int retrieval(const BenchArgs& args);
 /// RRT, KPIECE and guided reaching through clutter on shelf scenes, beside Papallas &
-/// Dogar's Fig. 6; exit code 0 when guided beats both on success rate, 1 otherwise.
+/// Dogar's Fig. 6; goal: guided beats both on success rate.
 CLUTTERTAMP_API int push(const BenchArgs& args);
 
 }  // namespace cluttertamp::bench

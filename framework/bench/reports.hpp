@@ -1,0 +1,17 @@
+#pragma once
+// The reports of the benches that run as sweeps: tables on stdout and the files the
+// arguments name (CSV, JSON, SVG), made from run records alone. A bench's own run, a
+// -j run and `bench merge` all end in the same function, so they print the same
+// figures for the same runs.
+
+#include <vector>
+
+#include "bench/sweep.hpp"
+#include "cluttertamp/bench/bench.hpp"
+
+namespace cluttertamp::bench {
+
+/// Tables I, V and VI of Tian et al. from `bench retrieval` records; exit code 0.
+int report_retrieval(const BenchArgs& args, const std::vector<Record>& records);
+
+}  // namespace cluttertamp::bench

@@ -1,0 +1,77 @@
+#include "bench/settings.hpp"
+
+#include <filesystem>
+
+namespace cluttertamp::bench {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Calls visit(name, field) for each field of BenchArgs that settings carry: one list for
+// writing and reading them.
+template <class Args, class Visit>
+void each_setting(Args& a, Visit&& visit) {
+  visit("what", a.what);
+  visit("seed", a.seed);
+  visit("samples", a.samples);
+  visit("objects", a.objects);
+  visit("robot", a.robot);
+  visit("pddl_instances", a.pddl_instances);
+  visit("per_domain", a.per_domain);
+  visit("reference_costs", a.reference_costs);
+  visit("searches", a.searches);
+  visit("parse_objects", a.parse_objects);
+  visit("time_limit", a.time_limit);
+  visit("instances", a.instances);
+  visit("sizes", a.sizes);
+  visit("push_scenes", a.push_scenes);
+  visit("goal_distance", a.goal_distance);
+  visit("goal_heading", a.goal_heading);
+  visit("steer", a.steer);
+  visit("tables", a.tables);
+  visit("planners", a.planners);
+  visit("table_vi_scenes", a.table_vi_scenes);
+  visit("min_gap", a.min_gap);
+  visit("fit_to_robot", a.fit_to_robot);
+  visit("table_v_width", a.table_v_width);
+  visit("mobile_tables", a.mobile_tables);
+  visit("occlusion_layouts", a.occlusion_layouts);
+  visit("runs", a.runs);
+}
+
+nlohmann::ordered_json to_json(const fs::path& p) { return p.empty() ? std::string() : fs::absolute(p).lexically_normal().string(); }
+template <class T>
+nlohmann::ordered_json to_json(const T& value) {
+  return value;
+}
+
+void from_json(const nlohmann::ordered_json& j, fs::path& p) { p = j.get<std::string>(); }
+template <class T>
+void from_json(const nlohmann::ordered_json& j, T& value) {
+  value = j.get<T>();
+}
+
+}  // namespace
+
+nlohmann::ordered_json settings_of(const BenchArgs& args) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  each_setting(args, [&](const char* name, const auto& field) { out[name] = to_json(field); });
+  return out;
+}
+
+BenchArgs args_of(const nlohmann::ordered_json& settings, const SourceLocation& where) {
+  BenchArgs args;
+  each_setting(args, [&](const char* name, auto& field) {
+    const auto it = settings.find(name);
+    if (it == settings.end()) throw InputError(where, std::string("the settings have no '") + name + "'");
+    try {
+      from_json(*it, field);
+    } catch (const nlohmann::json::exception&) {
+      throw InputError(where, std::string("the settings' '") + name + "' is of the wrong type: " + it->dump());
+    }
+  });
+  return args;
+}
+
+}  // namespace cluttertamp::bench

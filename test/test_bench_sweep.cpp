@@ -1,0 +1,208 @@
+// Benches as sweeps: shards, child processes (-j) and `bench merge` give the figures of
+// one unsharded run for the same runs; the options of each bench are its own.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+
+namespace cluttertamp {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_cli;
+
+class BenchSweep : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("cluttertamp_sweep_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  std::string at(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+// The lines of a records file as JSON: the header, then the runs.
+std::vector<nlohmann::json> records(const fs::path& file) {
+  std::vector<nlohmann::json> out;
+  std::ifstream in(file);
+  for (std::string line; std::getline(in, line);) out.push_back(nlohmann::json::parse(line));
+  return out;
+}
+
+// `j` without what the clock measured (keys of times: "..._s", "seconds", "time..."):
+// what must be the same for the same runs, however they were spread.
+nlohmann::json without_times(nlohmann::json j) {
+  if (j.is_object()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (auto& [key, value] : j.items()) {
+      const bool time = key == "seconds" || key.find("time") != std::string::npos || (key.size() > 2 && key.substr(key.size() - 2) == "_s");
+      if (!time) out[key] = without_times(value);
+    }
+    return out;
+  }
+  if (j.is_array()) {
+    for (auto& value : j) value = without_times(value);
+  }
+  return j;
+}
+
+// Six runs of Table I (retrieval_graph's three limits on one 12-object shelf, two seeds
+// each), once in one process, once as shard 0/2 in two child processes (-j 2) beside
+// shard 1/2: merged, the shards are the unsharded run, record for record and figure for
+// figure but the times; the unsharded run's own records merged are its report exactly.
+TEST_F(BenchSweep, ShardsAndChildProcessesMergeIntoTheUnshardedRun) {
+  const std::string bench = "bench retrieval -q --sizes 12 --scenes 1 --runs 2 --planner retrieval_graph --time-limit 600 ";
+  const auto whole = run_cli(bench + "--records " + at("all.jsonl") + " --json " + at("all.json") + " --csv " + at("all.csv"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const auto first = run_cli(bench + "--shard 0/2 -j 2 --records " + at("s0.jsonl"));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const auto second = run_cli(bench + "--shard 1/2 --records " + at("s1.jsonl"));
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_FALSE(fs::exists(at("s1.jsonl.partial")));
+
+  const auto all = records(at("all.jsonl")), s0 = records(at("s0.jsonl")), s1 = records(at("s1.jsonl"));
+  ASSERT_EQ(all.size(), 7u);  // the header and six runs
+  EXPECT_EQ(all[0]["bench"], "retrieval");
+  EXPECT_EQ(all[0]["runs"], 6);
+  EXPECT_EQ(all[0]["shard"], "0/1");
+  EXPECT_EQ(s0[0]["shard"], "0/2");
+  EXPECT_EQ(s0[0]["settings"], all[0]["settings"]);
+  ASSERT_EQ(s0.size(), 4u);
+  ASSERT_EQ(s1.size(), 4u);
+  for (std::size_t k = 1; k < s0.size(); ++k) {
+    EXPECT_EQ(s0[k]["index"], 2 * (k - 1));  // run i belongs to shard i % 2
+    EXPECT_EQ(without_times(s0[k]), without_times(all[s0[k]["index"].get<std::size_t>() + 1])) << s0[k].dump();
+    EXPECT_EQ(without_times(s1[k]), without_times(all[s1[k]["index"].get<std::size_t>() + 1])) << s1[k].dump();
+  }
+  for (std::size_t k = 1; k < all.size(); ++k) {
+    for (const char* field : {"problem", "scene_seed", "planner", "parameters", "seed", "solved", "time_s", "removed", "counters", "reason", "version"}) {
+      EXPECT_TRUE(all[k].contains(field)) << field << " in " << all[k].dump();
+    }
+  }
+
+  const auto merged = run_cli("bench merge -q " + at("s1.jsonl") + " " + at("s0.jsonl") + " --json " + at("merged.json") + " --records " +
+                              at("merged.jsonl"));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  EXPECT_EQ(without_times(nlohmann::json::parse(test::read_text(at("merged.json")))),
+            without_times(nlohmann::json::parse(test::read_text(at("all.json")))));
+  const auto merged_records = records(at("merged.jsonl"));
+  ASSERT_EQ(merged_records.size(), all.size());
+  for (std::size_t k = 1; k < all.size(); ++k) EXPECT_EQ(without_times(merged_records[k]), without_times(all[k]));
+
+  const auto again = run_cli("bench merge -q " + at("all.jsonl") + " --json " + at("again.json") + " --csv " + at("again.csv"));
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(test::read_text(at("again.json")), test::read_text(at("all.json")));
+  EXPECT_EQ(test::read_text(at("again.csv")), test::read_text(at("all.csv")));
+  const std::size_t table = whole.output.find("table");
+  ASSERT_NE(table, std::string::npos) << whole.output;
+  EXPECT_EQ(again.output.substr(again.output.find("table")), whole.output.substr(table));
+
+  // Shards that overlap, another sweep's file and a file that is no records file are
+  // bad input, located.
+  const auto twice = run_cli("bench merge -q " + at("s0.jsonl") + " " + at("merged.jsonl"));
+  EXPECT_EQ(twice.exit_code, 2) << twice.output;
+  EXPECT_NE(twice.output.find("merged.jsonl:2:1: error: run 0 is also in"), std::string::npos) << twice.output;
+  auto other = records(at("s1.jsonl"));
+  other[0]["settings"]["runs"] = 3;
+  std::ofstream(at("other.jsonl")) << other[0].dump() << "\n";
+  const auto mixed = run_cli("bench merge -q " + at("s0.jsonl") + " " + at("other.jsonl"));
+  EXPECT_EQ(mixed.exit_code, 2) << mixed.output;
+  EXPECT_NE(mixed.output.find("other.jsonl:1:1: error: another sweep"), std::string::npos) << mixed.output;
+  std::ofstream(at("garbage.jsonl")) << all[0].dump() << "\n{\"index\": 99}\n";
+  const auto garbage = run_cli("bench merge -q " + at("garbage.jsonl"));
+  EXPECT_EQ(garbage.exit_code, 2) << garbage.output;
+  EXPECT_NE(garbage.output.find("garbage.jsonl:2:1: error: a run without a valid \"index\" (0 to 5)"), std::string::npos) << garbage.output;
+  // A merge of part of the shards reports the runs it has and says so.
+  const auto part = run_cli("bench merge " + at("s0.jsonl") + " --json " + at("part.json"));
+  EXPECT_EQ(part.exit_code, 0) << part.output;
+  EXPECT_NE(part.output.find("3 of 6 runs are in these files"), std::string::npos) << part.output;
+}
+
+// The runs in OMPL's benchmark log format load into ompl_benchmark_statistics' SQLite
+// database: a planner per row, a database row per run, our counters as run properties.
+TEST_F(BenchSweep, TheOmplLogLoadsIntoOmplBenchmarkStatistics) {
+  const auto r = run_cli("bench retrieval -q --sizes 12 --scenes 1 --runs 2 --planner retrieval_graph --time-limit 600 --ompl-log " +
+                         at("runs.log") + " --records " + at("runs.jsonl"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto load = test::run_command("cd " + dir_.string() + " && ompl_benchmark_statistics runs.log -d runs.db 2>&1");
+  ASSERT_EQ(load.exit_code, 0) << load.output;
+  const auto query = test::run_command(
+      "/usr/bin/python3 -c \"import sqlite3; c = sqlite3.connect('" + at("runs.db") +
+      "'); print(c.execute('SELECT p.name, COUNT(*), SUM(r.solved), SUM(r.removed), SUM(r.collision_checks), SUM(r.seed) FROM runs r "
+      "JOIN plannerConfigs p ON r.plannerid = p.id GROUP BY p.name ORDER BY p.name').fetchall()); "
+      "print(c.execute('SELECT name, timelimit, runcount FROM experiments').fetchall())\" 2>&1");
+  ASSERT_EQ(query.exit_code, 0) << query.output;
+  std::map<std::string, std::vector<long>> expected;  // planner -> runs, solved, removed, checks, seeds
+  const auto all = records(at("runs.jsonl"));
+  for (std::size_t k = 1; k < all.size(); ++k) {
+    const auto& run = all[k];
+    auto& sums = expected["shelf12/retrieval_graph[initial_L=" + run["parameters"]["initial_L"].get<std::string>() + "]"];
+    sums.resize(5);
+    sums[0] += 1;
+    sums[1] += run["solved"].get<bool>();
+    sums[2] += run["removed"].get<long>();
+    sums[3] += run["counters"]["collision_checks"].get<long>();
+    sums[4] += run["seed"].get<long>();
+  }
+  std::string rows = "[";
+  for (const auto& [name, sums] : expected) {
+    rows += std::string(rows.size() > 1 ? ", " : "") + "('" + name + "'";
+    for (long v : sums) rows += ", " + std::to_string(v);
+    rows += ")";
+  }
+  rows += "]\n[('cluttertamp_bench_retrieval', 600.0, 2)]\n";
+  EXPECT_EQ(query.output, rows);
+}
+
+TEST_F(BenchSweep, AShardIsKOfN) {
+  for (const char* shard : {"2/2", "1/0", "-1/2", "a/b", "1", "1/2/3"}) {
+    const auto r = run_cli("bench retrieval --shard " + std::string(shard));
+    EXPECT_EQ(r.exit_code, 2) << shard << ": " << r.output;
+    EXPECT_NE(r.output.find("--shard"), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(run_cli("bench retrieval -j 0").exit_code, 2);
+}
+
+// Each bench takes only its own options, with the defaults it uses in its --help.
+TEST_F(BenchSweep, EachBenchTakesOnlyItsOwnOptions) {
+  const auto stray = run_cli("bench collision --svg " + at("x.svg") + " --table V");
+  EXPECT_EQ(stray.exit_code, 2) << stray.output;
+  EXPECT_NE(stray.output.find("--svg"), std::string::npos) << stray.output;
+  EXPECT_FALSE(fs::exists(at("x.svg")));
+  EXPECT_EQ(run_cli("bench").exit_code, 2);
+  EXPECT_EQ(run_cli("bench nonsense").exit_code, 2);
+  EXPECT_EQ(run_cli("bench mobile --sizes 20 30").exit_code, 2);  // one table size
+  const std::map<std::string, std::vector<std::string>> defaults{
+      {"mobile", {"--scenes", "=20", "--robot", "pr2_mobile.yaml"}},
+      {"occlusion", {"--scenes", "=20", "--sizes", "=[12,16,20]"}},
+      {"retrieval", {"--scenes", "=5", "--runs", "=3", "--time-limit", "=60"}},
+      {"physics", {"--objects", "=10"}},
+      {"collision", {"--objects", "=20", "--samples", "=5000"}},
+  };
+  for (const auto& [bench, expected] : defaults) {
+    const auto help = run_cli("bench " + bench + " --help");
+    EXPECT_EQ(help.exit_code, 0) << help.output;
+    for (std::size_t k = 0; k + 1 < expected.size(); k += 2) {
+      const std::size_t option = help.output.find(expected[k]);
+      ASSERT_NE(option, std::string::npos) << bench << ": " << help.output;
+      const std::size_t end = help.output.find('\n', option);
+      EXPECT_NE(help.output.substr(option, end - option).find(expected[k + 1]), std::string::npos)
+          << bench << " " << expected[k] << ": " << help.output.substr(option, end - option);
+    }
+  }
+  EXPECT_EQ(run_cli("bench physics --help").output.find("--table"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cluttertamp
