@@ -104,9 +104,9 @@ TEST_F(BenchSweep, ShardsAndChildProcessesMergeIntoTheUnshardedRun) {
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_EQ(test::read_text(at("again.json")), test::read_text(at("all.json")));
   EXPECT_EQ(test::read_text(at("again.csv")), test::read_text(at("all.csv")));
-  const std::size_t table = whole.output.find("table");
+  const std::size_t table = whole.output.find("Table I");
   ASSERT_NE(table, std::string::npos) << whole.output;
-  EXPECT_EQ(again.output.substr(again.output.find("table")), whole.output.substr(table));
+  EXPECT_EQ(again.output.substr(again.output.find("Table I")), whole.output.substr(table));
 
   // Shards that overlap, another sweep's file and a file that is no records file are
   // bad input, located.

@@ -122,8 +122,10 @@ void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& sce
     plot.x_label(times, x0 + group / 2, "P" + std::to_string(k + 1));
     for (std::size_t s = 0; s < std::size(kSettings); ++s) {
       const Summary m = summarise(runs, kSettings[s].name, scenes[k]);
+      const double bar = group / 4, x = x0 + bar / 2 + double(s) * bar;
+      plot.unsolved(times, x + bar * 0.45, static_cast<int>(m.runs - m.solved));  // a scene never solved still shows
       if (m.times.empty()) continue;
-      const double bar = group / 4, x = x0 + bar / 2 + double(s) * bar, t = mean(m.times), ci = ci95_half_width(m.times);
+      const double t = mean(m.times), ci = ci95_half_width(m.times);
       plot.bar(times, x, bar * 0.9, t, colour(s));
       plot.error_bar(times, x + bar * 0.45, t - ci, t + ci);
     }
@@ -131,6 +133,7 @@ void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& sce
   for (std::size_t s = 0; s < std::size(kSettings); ++s) {
     plot.legend(left2 + 10 + double(s) * 90, h - 13, colour(s), kSettings[s].name);
   }
+  plot.legend(left2 + 10 + 3 * 90, h - 13, "cross", "unsolved runs");
   plot.write(file);
 }
 

@@ -22,6 +22,7 @@
 #include "bench/ompl_log.hpp"
 #include "bench/reports.hpp"
 #include "bench/settings.hpp"
+#include "bench/svg_plot.hpp"
 #include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
 #include "cluttertamp/io/text_file.hpp"
@@ -138,19 +139,6 @@ const std::map<int, std::pair<Paper, Paper>> kTableVI{  // brute force, ours
     {3, {table_vi({3, 0}, {18.39, 2.54}), table_vi({3.18, 0.38}, {14.71, 2.26})}},
     {4, {table_vi({4, 0}, {145.56, 7.44}), table_vi({4.27, 0.44}, {20.84, 5.57})}},
 };
-
-std::string text(const Figure& f) {
-  if (std::isnan(f.mean)) return "-";
-  char out[48];
-  if (std::isnan(f.sd)) {
-    std::snprintf(out, sizeof out, "%.2f", f.mean);
-  } else {
-    std::snprintf(out, sizeof out, "%.2f(%.2f)", f.mean, f.sd);
-  }
-  return out;
-}
-
-Figure of(const std::vector<double>& v) { return v.empty() ? Figure{} : Figure{mean(v), stddev(v)}; }
 
 // Generated shelves of `objects` cylinders whose target needs a removal, as the paper's,
 // with the seed of each. With args.fit_to_robot the shelf goes where `robot` reaches it,
@@ -351,13 +339,74 @@ Measured measured_of(const std::vector<const Record*>& runs) {
   return m;
 }
 
-void header() {
-  std::cout << std::left << std::setw(6) << "table" << std::setw(14) << "scenes" << std::setw(27) << "planner (L init)"
-            << std::setw(13) << "|O_r|" << std::setw(13) << "paper" << std::setw(15) << "total s" << std::setw(8)
-            << "median" << std::setw(8) << "p90" << std::setw(14) << "paper" << std::setw(14) << "task s" << std::setw(13) << "paper"
-            << std::setw(14) << "motion s" << std::setw(14) << "paper" << std::setw(7) << "iter" << std::setw(6)
-            << "paper" << std::setw(7) << "seqs" << std::setw(12) << "paper" << std::setw(8) << "success"
-            << std::setw(7) << "paper" << "checks (median)\n";
+// The terminal's table: one per paper table, each with the paper's columns for it,
+// ours and the paper's side by side; at most 100 columns (the CSV and JSON hold the
+// rest: standard deviations, percentiles, checks, phases).
+struct Column {
+  const char* label;
+  int digits;
+  double (*ours)(const Measured&);
+  double (*paper)(const Paper&);
+};
+double success_of(const Measured& m) { return m.runs ? 100.0 * m.solved / m.runs : kNone; }
+double mean_or_none(const std::vector<double>& v) { return v.empty() ? kNone : mean(v); }
+const Column kRemoved{"|O_r|", 2, [](const Measured& m) { return mean_or_none(m.removed); }, [](const Paper& p) { return p.removed.mean; }};
+const Column kTime{"time", 2, [](const Measured& m) { return mean_or_none(m.total); }, [](const Paper& p) { return p.total.mean; }};
+const Column kMedian{"median", 2, [](const Measured& m) { return m.total.empty() ? kNone : median(m.total); }, nullptr};
+const Column kTask{"task", 2, [](const Measured& m) { return mean_or_none(m.task); }, [](const Paper& p) { return p.task.mean; }};
+const Column kMotion{"motion", 2, [](const Measured& m) { return mean_or_none(m.motion); }, [](const Paper& p) { return p.motion.mean; }};
+const Column kIterations{"iter", 2, [](const Measured& m) { return mean_or_none(m.iterations); }, [](const Paper& p) { return p.iterations.mean; }};
+const Column kSequences{"seqs", 2, [](const Measured& m) { return mean_or_none(m.sequences); }, [](const Paper& p) { return p.sequences.mean; }};
+const Column kSuccess{"succ%", 0, success_of, [](const Paper& p) { return p.success; }};
+
+std::vector<Column> columns_of(const std::string& table) {
+  if (table == "V") return {kRemoved, kTask, kMotion, kTime, kSequences};
+  if (table == "VI") return {kRemoved, kTime, kMedian, kSuccess};
+  return {kRemoved, kTime, kMedian, kIterations, kSuccess};
+}
+
+struct NameWidths {
+  std::size_t scenes = 7, planner = 8;
+};
+
+NameWidths name_widths(const std::vector<Row>& rows, const std::string& table) {
+  NameWidths w;
+  for (const Row& row : rows) {
+    if (row.table != table) continue;
+    w.scenes = std::max(w.scenes, row.scenes.size() + 1);
+    w.planner = std::max(w.planner, row_name(row).size() + 1);
+  }
+  return w;
+}
+
+// `line` cut to the terminal's 100 columns.
+std::string fitted(std::string line) {
+  if (line.size() > 100) line = line.substr(0, 97) + "...";
+  return line;
+}
+
+std::string number_text(double v, int digits);
+
+void print_table_header(const std::string& table, const NameWidths& w) {
+  std::ostringstream line;
+  line << std::left << std::setw(static_cast<int>(w.scenes)) << "scenes" << std::setw(static_cast<int>(w.planner)) << "planner"
+       << std::right;
+  for (const Column& c : columns_of(table)) {
+    line << std::setw(7) << c.label;
+    if (c.paper) line << std::setw(7) << "paper";
+  }
+  std::cout << "\nTable " << table << "\n" << line.str() << "\n";
+}
+
+void print_row(const Row& row, const Measured& m, const NameWidths& w) {
+  std::ostringstream line;
+  line << std::left << std::setw(static_cast<int>(w.scenes)) << row.scenes << std::setw(static_cast<int>(w.planner)) << row_name(row)
+       << std::right;
+  for (const Column& c : columns_of(row.table)) {
+    line << std::setw(7) << number_text(c.ours(m), c.digits);
+    if (c.paper) line << std::setw(7) << number_text(c.paper(row.paper), c.digits);
+  }
+  std::cout << line.str() << "\n";
 }
 
 std::string number_text(double v, int digits) {
@@ -396,20 +445,12 @@ nlohmann::ordered_json phases_json(const Measured& m) {
 
 // Prints a row's line of the table (with its phases, failures and pairing) and returns
 // its JSON.
-nlohmann::ordered_json report_row(const Row& row, const Measured& m, const Measured* baseline, int runs) {
+nlohmann::ordered_json report_row(const Row& row, const Measured& m, const Measured* baseline, int runs, const NameWidths& widths,
+                                  bool verbose) {
   const double success = m.runs ? 100.0 * m.solved / m.runs : 0.0;
-  const Figure iterations = of(m.iterations);
-  std::cout << std::left << std::setw(6) << row.table << std::setw(14) << row.scenes << std::setw(27) << row_name(row)
-            << std::setw(13) << text(of(m.removed)) << std::setw(13) << text(row.paper.removed) << std::setw(15)
-            << text(of(m.total)) << std::setw(8) << number_text(m.total.empty() ? kNone : median(m.total), 2) << std::setw(8)
-            << number_text(m.total.empty() ? kNone : percentile(m.total, 90), 2) << std::setw(14) << text(row.paper.total)
-            << std::setw(14) << text(of(m.task)) << std::setw(13) << text(row.paper.task) << std::setw(14) << text(of(m.motion))
-            << std::setw(14) << text(row.paper.motion) << std::setw(7) << number_text(iterations.mean, 2) << std::setw(6)
-            << number_text(row.paper.iterations.mean, 2) << std::setw(7) << number_text(of(m.sequences).mean, 2) << std::setw(12)
-            << text(row.paper.sequences) << std::setw(8) << number_text(success, 0) << std::setw(7) << number_text(row.paper.success, 0)
-            << number_text(m.checks.empty() ? kNone : median(m.checks), 0) << "\n";
-  print_phases(m);
-  for (const auto& [reason, count] : m.failures) std::cout << "      failed " << count << "x: " << reason << "\n";
+  print_row(row, m, widths);
+  if (verbose) print_phases(m);
+  for (const auto& [reason, count] : m.failures) std::cout << fitted("      failed " + std::to_string(count) + "x: " + reason) << "\n";
   auto figure = [&](const std::vector<double>& v) {
     nlohmann::ordered_json f = {{"mean", mean(v)}, {"std", stddev(v)}, {"median", median(v)}};
     return v.empty() ? nlohmann::ordered_json(nullptr) : f;
@@ -482,6 +523,79 @@ void write_csv(const std::filesystem::path& file, const std::vector<Record>& rec
   io::write_text_file(file, csv.str(), "CSV file");
 }
 
+// A row's colour in the plots: one per planner and initial exploration limit.
+const char* colour_of(const Row& row) {
+  if (row.planner == "traversability_graph") return "#e7298a";
+  if (row.planner == "exhaustive") return "#66a61e";
+  if (row.initial_limit == "nodecol") return "#d95f02";
+  if (row.initial_limit == "objects") return "#7570b3";
+  return "#1b9e77";
+}
+
+// One SVG of every table: per table, success rates (ours; the paper's hatched), then
+// |O_r| and the time of each solved run as box plots with the paper's means as
+// diamonds, and each row's unsolved runs as a red cross with their count.
+void write_svg(const std::filesystem::path& file, const std::vector<Row>& rows, const std::map<std::string, Measured>& measured) {
+  std::vector<std::string> tables;
+  for (const Row& row : rows) {
+    if (std::find(tables.begin(), tables.end(), row.table) == tables.end()) tables.push_back(row.table);
+  }
+  const double left = 70, slot = 64, panel_h = 150, gap = 75, title_h = 50;
+  std::size_t widest = 1;
+  for (const std::string& t : tables) {
+    widest = std::max<std::size_t>(widest, std::count_if(rows.begin(), rows.end(), [&](const Row& r) { return r.table == t; }));
+  }
+  const double panel_w = std::max(360.0, slot * double(widest));
+  SvgPlot plot(left + panel_w + 30, double(tables.size()) * (title_h + 25 + 3 * (panel_h + gap)));
+  double top = 0;
+  for (const std::string& t : tables) {
+    std::vector<const Row*> in;
+    for (const Row& row : rows) {
+      if (row.table == t) in.push_back(&row);
+    }
+    const auto m = [&](const Row* row) -> const Measured& { return measured.at(row_key(row->scenes, row->planner, row->initial_limit)); };
+    plot.text(left, top + 20, "Table " + t + " (Tian et al., T-RO 2023): ours beside the paper's");
+    plot.legend(left, top + 38, "hatch", "paper's success rate");
+    plot.legend(left + 160, top + 38, "diamond", "paper's mean");
+    plot.legend(left + 270, top + 38, "cross", "unsolved runs (count)");
+    top += title_h + 25;
+    std::vector<double> removed, times;
+    for (const Row* row : in) {
+      removed.insert(removed.end(), m(row).removed.begin(), m(row).removed.end());
+      times.insert(times.end(), m(row).total.begin(), m(row).total.end());
+      if (!std::isnan(row->paper.removed.mean)) removed.push_back(row->paper.removed.mean);
+      if (!std::isnan(row->paper.total.mean)) times.push_back(row->paper.total.mean);
+    }
+    const SvgPlot::Panel rate = plot.panel(left, top, panel_w, panel_h, 100, "success rate", "%");
+    const SvgPlot::Panel objects = plot.panel(left, top + panel_h + gap, panel_w, panel_h, removed.empty() ? 1.0 : *std::max_element(removed.begin(), removed.end()),
+                                              "|O_r|, objects moved (target included), solved runs");
+    const SvgPlot::Panel time = plot.panel_for(left, top + 2 * (panel_h + gap), panel_w, panel_h, times, "planning time of solved runs, s");
+    for (std::size_t k = 0; k < in.size(); ++k) {
+      const Row& row = *in[k];
+      const Measured& mk = m(&row);
+      const double x = left + slot * (double(k) + 0.5), w = slot * 0.55;
+      plot.bar(rate, x - w / 2, w / 2, success_of(mk) >= 0 ? success_of(mk) : 0.0, colour_of(row));
+      if (!std::isnan(row.paper.success)) plot.bar(rate, x, w / 2, row.paper.success, "hatch", colour_of(row));
+      plot.box(objects, x, w, mk.removed, colour_of(row));
+      if (!std::isnan(row.paper.removed.mean)) plot.diamond(objects, x, row.paper.removed.mean);
+      plot.box(time, x, w, mk.total, colour_of(row));
+      if (!std::isnan(row.paper.total.mean)) plot.diamond(time, x, row.paper.total.mean);
+      for (const SvgPlot::Panel* p : {&objects, &time}) plot.unsolved(*p, x, mk.runs - mk.solved);
+      // Two short lines under each: the scenes ("shelf12", "min2") and the planner.
+      const std::string scenes = row.scenes.find('-') == std::string::npos ? row.scenes : row.scenes.substr(row.scenes.find('-') + 1);
+      const std::string planner = !row.initial_limit.empty()                 ? "L=" + row.initial_limit
+                                  : row.planner == "traversability_graph" ? std::string("trav.graph")
+                                                                          : row.planner;
+      for (const SvgPlot::Panel* p : {&rate, &objects, &time}) {
+        plot.x_label(*p, x, scenes);
+        plot.text(x, p->bottom() + 30, planner, "middle");
+      }
+    }
+    top += 3 * (panel_h + gap);
+  }
+  plot.write(file);
+}
+
 SweepPlan plan_of(const BenchArgs& args, const std::vector<Row>& rows, const std::vector<RunRef>& refs) {
   return {"retrieval", settings_of(args), refs.size(), [&rows, &refs](std::size_t i) {
             const RunRef& ref = refs.at(i);
@@ -503,15 +617,26 @@ int report_retrieval(const BenchArgs& args, const std::vector<Record>& records) 
   }
   std::map<std::string, Measured> measured;
   for (const Row& row : rows) measured[row_key(row.scenes, row.planner, row.initial_limit)] = measured_of(by_row[row_key(row.scenes, row.planner, row.initial_limit)]);
-  header();
+  std::cout << "Tian et al., T-RO 2023: ours beside the paper's. Means over solved runs (" << args.runs << " per scene, "
+            << fixed(args.time_limit, 0) << " s each);\ntimes in s (the paper's: its Python on its machine); succ%: runs solved\n";
   nlohmann::ordered_json json = nlohmann::ordered_json::array();
+  std::string table;
+  NameWidths widths;
   for (const Row& row : rows) {
+    if (row.table != table) {
+      table = row.table;
+      widths = name_widths(rows, table);
+      print_table_header(table, widths);
+    }
     const auto baseline = measured.find(row_key(row.scenes, baseline_of(row.table), ""));
     json.push_back(report_row(row, measured[row_key(row.scenes, row.planner, row.initial_limit)],
-                              baseline == measured.end() || baseline_of(row.table).empty() ? nullptr : &baseline->second, args.runs));
+                              baseline == measured.end() || baseline_of(row.table).empty() ? nullptr : &baseline->second, args.runs,
+                              widths, args.verbosity == Verbosity::verbose));
   }
+  if (args.verbosity != Verbosity::verbose) std::cout << "\n(-v: where each row's time went, phase by phase; the CSV and JSON: every figure)\n";
   if (!args.json.empty()) write_json_file(args.json, json);
   if (!args.csv.empty()) write_csv(args.csv, records);
+  if (!args.svg.empty()) write_svg(args.svg, rows, measured);
   if (!args.ompl_log.empty()) {
     std::vector<OmplLogPlanner> planners;
     for (const Row& row : rows) {

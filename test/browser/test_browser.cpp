@@ -197,3 +197,43 @@ TEST(Browser, ReplayPagesOfRetrievalAndPushingPlansLoadWithoutErrors) {
     EXPECT_EQ(browser.execute("return window.viewerErrors;"), Json::array()) << name;
   }
 }
+
+// The benches' plots render: each SVG, drawn by Chromium into a canvas, is mostly
+// white but well inked (axes, boxes, bars, text), and its screenshot is kept.
+TEST(Browser, BenchPlotsRenderAsDrawings) {
+  const fs::path dir = fresh_dir("plots");
+  const std::string retrieval = kCli + " bench retrieval -q --sizes 12 --scenes 2 --runs 2 --table I --table VI --time-limit 600 --svg " +
+                                (dir / "retrieval.svg").string() + " > /dev/null";
+  ASSERT_EQ(std::system(retrieval.c_str()), 0) << retrieval;
+  fs::create_directories(dir / "shelves");
+  for (const std::string file : {"p01.yaml", "p01-scene.yaml", "p01-guidance.yaml", "p02.yaml", "p02-scene.yaml", "p02-guidance.yaml"}) {
+    std::ifstream in(kSource / "problems/push/shelf10" / file);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t robots = text.find("../../../domains/");  // the robot, from the copy's place
+    if (robots != std::string::npos) text.replace(robots, 17, (kSource / "domains").string() + "/");
+    std::ofstream(dir / "shelves" / file) << text;
+  }
+  const std::string push = kCli + " bench push -q --runs 1 --time-limit 5 --push-scenes " + (dir / "shelves").string() + " --svg " +
+                           (dir / "push.svg").string() + " > /dev/null";
+  ASSERT_EQ(std::system(push.c_str()), 0) << push;
+  WebDriver browser(dir.string());
+  for (const std::string name : {"retrieval", "push"}) {
+    browser.go("file://" + (dir / (name + ".svg")).string());
+    browser.execute(
+        "const svg = document.documentElement; const w = svg.width.baseVal.value, h = svg.height.baseVal.value;"
+        "const image = new Image(); window.ink = undefined;"
+        "image.onload = () => { try { const c = document.createElementNS('http://www.w3.org/1999/xhtml', 'canvas'); c.width = w; c.height = h;"
+        "  const g = c.getContext('2d'); g.fillStyle = 'white'; g.fillRect(0, 0, w, h); g.drawImage(image, 0, 0);"
+        "  const d = g.getImageData(0, 0, w, h).data; let inked = 0;"
+        "  for (let i = 0; i < d.length; i += 4) if (d[i] < 200 || d[i + 1] < 200 || d[i + 2] < 200) ++inked;"
+        "  window.ink = inked / (w * h); } catch (e) { window.ink = -2; } };"
+        "image.onerror = () => { window.ink = -1; };"
+        "image.src = 'data:image/svg+xml;base64,' + btoa(unescape(encodeURIComponent(new XMLSerializer().serializeToString(svg))));");
+    ASSERT_TRUE(browser.wait_for("window.ink !== undefined", 30)) << name;
+    const double ink = browser.execute("return window.ink;").get<double>();
+    EXPECT_GT(ink, 0.01) << name << ": almost blank";
+    EXPECT_LT(ink, 0.6) << name << ": almost filled";
+    EXPECT_GT(browser.execute("return document.querySelectorAll('text').length;").get<int>(), 20) << name;
+    browser.screenshot((dir / (name + ".png")).string());
+  }
+}

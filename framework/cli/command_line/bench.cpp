@@ -219,6 +219,7 @@ BenchCommand declare_retrieval(CLI::App& bench, CommonOptions& common) {
       .time_limit("Seconds per run", 60)
       .json("every row with the paper's figures")
       .csv("one row per run")
+      .svg("per table the success rates, |O_r| and times of each row beside the paper's")
       .sweep();
   c.app->add_option("--table", args.tables,
                     "I (12/16/20 objects, L strategies), V (100 objects, against traversability_graph), VI (known "
