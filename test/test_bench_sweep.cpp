@@ -165,6 +165,31 @@ TEST_F(BenchSweep, TheOmplLogLoadsIntoOmplBenchmarkStatistics) {
   EXPECT_EQ(query.output, rows);
 }
 
+// bench push the same way: three shards, one of them in two child processes, merged,
+// are the unsharded run but for the times. An easy scene every planner solves, so
+// that the time limit is only an outer limit.
+TEST_F(BenchSweep, PushShardsMergeIntoTheUnshardedRun) {
+  fs::create_directories(dir_ / "scenes");
+  std::string problem = test::read_text(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/easy.yaml");
+  problem = test::replaced(problem, "../../domains/", std::string(CLUTTERTAMP_SOURCE_DIR) + "/domains/");
+  problem = test::replaced(problem, "scene: easy-scene.yaml", "scene: " + std::string(CLUTTERTAMP_SOURCE_DIR) + "/problems/push/easy-scene.yaml");
+  std::ofstream(dir_ / "scenes/p01.yaml") << problem;
+  const std::string bench = "bench push -q --runs 2 --time-limit 600 --push-scenes " + at("scenes") + " ";
+  const auto whole = run_cli(bench + "--records " + at("all.jsonl") + " --json " + at("all.json") + " --ompl-log " + at("all.log"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  for (const char* shard : {"0/3 -j 2", "1/3", "2/3"}) {
+    const auto r = run_cli(bench + "--shard " + shard + " --records " + at(std::string("s") + shard[0] + ".jsonl"));
+    ASSERT_EQ(r.exit_code, 0) << shard << ": " << r.output;
+  }
+  const auto merged = run_cli("bench merge -q " + at("s2.jsonl") + " " + at("s0.jsonl") + " " + at("s1.jsonl") + " --json " + at("merged.json"));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  const auto all = nlohmann::json::parse(test::read_text(at("all.json")));
+  EXPECT_EQ(all["planners"].size(), 3u);
+  EXPECT_EQ(all["planners"][0]["runs"], 2);
+  EXPECT_EQ(without_times(nlohmann::json::parse(test::read_text(at("merged.json")))), without_times(all));
+  EXPECT_NE(test::read_text(at("all.log")).find("\n3 planners\nrrt\n"), std::string::npos);
+}
+
 TEST_F(BenchSweep, AShardIsKOfN) {
   for (const char* shard : {"2/2", "1/0", "-1/2", "a/b", "1", "1/2/3"}) {
     const auto r = run_cli("bench retrieval --shard " + std::string(shard));

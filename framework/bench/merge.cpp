@@ -19,7 +19,7 @@ struct Sweepable {
   int (*run)(const BenchArgs&);
   int (*report)(const BenchArgs&, const std::vector<Record>&);
 };
-const Sweepable kSweepable[] = {{"retrieval", retrieval, report_retrieval}};
+const Sweepable kSweepable[] = {{"retrieval", retrieval, report_retrieval}, {"push", push, report_push}};
 
 const Sweepable& sweepable(const nlohmann::ordered_json& bench, const SourceLocation& where) {
   std::string known;

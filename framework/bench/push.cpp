@@ -1,16 +1,24 @@
 // `cluttertamp bench push`: reaching through clutter on the bundled shelf scenes by
 // unguided RRT and KPIECE1 (rtc_ompl) and by guided planning (grtc with each scene's
 // guidance file), several seeds each, beside Papallas & Dogar's Fig. 6.
-#include <fstream>
+#include <algorithm>
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <memory>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
+#include "bench/ompl_log.hpp"
+#include "bench/reports.hpp"
+#include "bench/settings.hpp"
+#include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
+#include "cluttertamp/io/text_file.hpp"
+#include "cluttertamp/version.hpp"
 #include "bench/statistics.hpp"
 #include "bench/svg_plot.hpp"
 #include "cluttertamp/io/problem_io.hpp"
@@ -88,8 +96,9 @@ const char* colour(std::size_t setting) {
   return colours[setting % 3];
 }
 
-// Left: success rate per setting, ours beside the paper's (hatched). Right: mean
-// planning time of solved runs per scene and setting, with 95 % confidence intervals.
+// Left: success rate per setting, ours beside the paper's (hatched). Right: the
+// planning times of solved runs per scene and setting as box plots (a log axis when
+// they span more than a decade), unsolved runs as red crosses with their count.
 void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& scenes, double time_limit,
                const fs::path& file) {
   const double h = 360, top = 30, bottom = 60, left1 = 50, w1 = 220, left2 = 340, w2 = 560;
@@ -106,16 +115,12 @@ void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& sce
     plot.x_label(rate, x + 26, kSettings[s].name);
     plot.text(x + 12, rate.y(ours) - 4, fixed(ours, 0), "middle");
   }
-  // (b) mean time per scene.
-  double max_t = 1e-3;
-  for (const std::string& scene : scenes) {
-    for (const Setting& s : kSettings) {
-      const Summary m = summarise(runs, s.name, scene);
-      max_t = std::max(max_t, mean(m.times) + ci95_half_width(m.times));
-    }
+  // (b) times per scene.
+  std::vector<double> all_times;
+  for (const Run& r : runs) {
+    if (r.solved) all_times.push_back(r.seconds);
   }
-  const SvgPlot::Panel times = plot.panel(left2, top, w2, h - top - bottom, max_t,
-                                          "(b) mean planning time of solved runs, s (95 % CI)");
+  const SvgPlot::Panel times = plot.panel_for(left2, top, w2, h - top - bottom, all_times, "(b) planning time of solved runs, s");
   const double group = w2 / double(std::max<std::size_t>(1, scenes.size()));
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     const double x0 = left2 + double(k) * group;
@@ -124,10 +129,7 @@ void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& sce
       const Summary m = summarise(runs, kSettings[s].name, scenes[k]);
       const double bar = group / 4, x = x0 + bar / 2 + double(s) * bar;
       plot.unsolved(times, x + bar * 0.45, static_cast<int>(m.runs - m.solved));  // a scene never solved still shows
-      if (m.times.empty()) continue;
-      const double t = mean(m.times), ci = ci95_half_width(m.times);
-      plot.bar(times, x, bar * 0.9, t, colour(s));
-      plot.error_bar(times, x + bar * 0.45, t - ci, t + ci);
+      plot.box(times, x + bar * 0.45, bar * 0.8, m.times, colour(s));
     }
   }
   for (std::size_t s = 0; s < std::size(kSettings); ++s) {
@@ -137,9 +139,9 @@ void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& sce
   plot.write(file);
 }
 
-}  // namespace
-
-int push(const BenchArgs& args) {
+// The bench's problem files: pNN.yaml of args.push_scenes, sorted (the scenes and
+// guidance files beside them excluded).
+std::vector<fs::path> problem_files(const BenchArgs& args) {
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(args.push_scenes)) {
     const fs::path& p = entry.path();
@@ -150,51 +152,117 @@ int push(const BenchArgs& args) {
   }
   std::sort(files.begin(), files.end());
   if (files.empty()) throw InputError({args.push_scenes.string(), 0, 0}, "no problem files (*.yaml) in this directory");
+  return files;
+}
 
-  std::ofstream csv;
-  if (!args.csv.empty()) {
-    csv.open(args.csv);
-    if (!csv) throw InputError({args.csv.string(), 0, 0}, "cannot write the CSV file");
-    csv << "scene,planner,seed,solved,time_s,guidance_time_s,propagations,guides,guides_satisfied,reason,guides_skipped\n";
-  }
-  std::vector<Run> runs;
-  std::vector<std::string> scenes;
-  const std::size_t total = files.size() * std::size(kSettings) * static_cast<std::size_t>(args.runs);
-  std::size_t done = 0;
-  for (const fs::path& file : files) {
-    const Problem problem = io::load_problem(file);
-    if (!std::holds_alternative<ReachTask>(problem.task)) {
-      throw InputError({file.string(), 0, 0}, "bench push needs problems with task: {reach: <target>}");
-    }
-    scenes.push_back(problem.name);
-    const fs::path guidance = fs::absolute(file.parent_path() / (file.stem().string() + "-guidance.yaml"));
+// Run i of the sweep: file i / (settings x runs), then setting, then seed.
+struct PushRef {
+  std::size_t file = 0, setting = 0;
+  int run = 0;
+};
+PushRef push_ref(std::size_t i, int runs) {
+  const std::size_t per_file = std::size(kSettings) * static_cast<std::size_t>(runs);
+  return {i / per_file, (i % per_file) / static_cast<std::size_t>(runs), static_cast<int>(i % static_cast<std::size_t>(runs))};
+}
+
+Record record_of(const Run& run, const Result& r) {
+  return {{"problem", run.scene},     {"planner", run.setting},          {"seed", run.seed},
+          {"solved", run.solved},     {"time_s", run.seconds},           {"guidance_time_s", run.guidance_seconds},
+          {"counters", r.counters},   {"reason", run.reason},            {"version", std::string(version())}};
+}
+
+Run run_of(const Record& r) {
+  auto count = [&](const char* name) {
+    const auto& c = r.at("counters");
+    return c.contains(name) ? c[name].get<std::uint64_t>() : std::uint64_t{0};
+  };
+  return {r.at("problem").get<std::string>(), r.at("planner").get<std::string>(), r.at("seed").get<std::uint64_t>(),
+          r.at("solved").get<bool>(), number(r, "time_s"), number(r, "guidance_time_s"), count(counter::propagations),
+          count(counter::guides), count(counter::guides_satisfied), count(counter::guides_skipped), r.at("reason").get<std::string>()};
+}
+
+// Plans the runs it is given, loading each problem file once.
+class PushRunner {
+ public:
+  explicit PushRunner(const BenchArgs& args) : args_(args), files_(problem_files(args)) {}
+
+  Record run(const PushRef& ref) {
+    const Loaded& loaded = load(ref.file);
+    const Setting& setting = kSettings[ref.setting];
     run::RunOptions options;
-    options.time_limit = args.time_limit;
-    const plugin::Registry registry(run::plugin_search_paths(problem, options));
-    for (const Setting& setting : kSettings) {
-      const Problem configured_problem = configured(problem, setting.name, guidance, args);
-      for (int k = 0; k < args.runs; ++k) {
-        options.seed = args.seed + static_cast<std::uint64_t>(k);
-        if (args.verbosity != Verbosity::quiet) {
-          std::cerr << "\r[" << ++done << "/" << total << "] " << problem.name << ": " << setting.name << ", seed "
-                    << *options.seed << "          " << std::flush;
-        }
-        const Result r = run::plan(configured_problem, registry, options).result;
-        Run run{problem.name, setting.name, *options.seed, r.solved, r.time.total,
-                setting.name == "guided" ? r.time.task_planning : 0.0, counter(r, counter::propagations),
-                counter(r, counter::guides), counter(r, counter::guides_satisfied), counter(r, counter::guides_skipped), r.reason};
-        if (csv) {
-          csv << run.scene << ',' << run.setting << ',' << run.seed << ',' << run.solved << ',' << run.seconds << ','
-              << run.guidance_seconds << ',' << run.propagations << ',' << run.guides << ',' << run.guides_satisfied
-              << ',' << csv_field(run.reason) << ',' << run.guides_skipped << "\n";
-        }
-        runs.push_back(std::move(run));
-      }
-    }
+    options.time_limit = args_.time_limit;
+    options.seed = args_.seed + static_cast<std::uint64_t>(ref.run);
+    const Result r = run::plan(configured(loaded.problem, setting.name, loaded.guidance, args_), *loaded.registry, options).result;
+    const Run run{loaded.problem.name, setting.name, *options.seed, r.solved, r.time.total,
+                  setting.name == "guided" ? r.time.task_planning : 0.0, counter(r, counter::propagations),
+                  counter(r, counter::guides), counter(r, counter::guides_satisfied), counter(r, counter::guides_skipped), r.reason};
+    return record_of(run, r);
   }
-  if (args.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(70, ' ') << "\r";
 
-  std::cout << "Reaching through clutter on " << files.size() << " scenes (" << args.push_scenes.string() << "), "
+ private:
+  struct Loaded {
+    Problem problem;
+    fs::path guidance;
+    std::unique_ptr<plugin::Registry> registry;
+  };
+  const Loaded& load(std::size_t file) {
+    if (loaded_.first == file && loaded_.second) return *loaded_.second;
+    auto l = std::make_unique<Loaded>();
+    l->problem = io::load_problem(files_.at(file));
+    if (!std::holds_alternative<ReachTask>(l->problem.task)) {
+      throw InputError({files_[file].string(), 0, 0}, "bench push needs problems with task: {reach: <target>}");
+    }
+    l->guidance = fs::absolute(files_[file].parent_path() / (files_[file].stem().string() + "-guidance.yaml"));
+    run::RunOptions options;
+    l->registry = std::make_unique<plugin::Registry>(run::plugin_search_paths(l->problem, options));
+    loaded_ = {file, std::move(l)};
+    return *loaded_.second;
+  }
+
+  const BenchArgs& args_;
+  std::vector<fs::path> files_;
+  std::pair<std::size_t, std::unique_ptr<Loaded>> loaded_{0, nullptr};
+};
+
+void write_csv(const fs::path& file, const std::vector<Run>& runs) {
+  std::ostringstream csv;
+  csv << "scene,planner,seed,solved,time_s,guidance_time_s,propagations,guides,guides_satisfied,reason,guides_skipped\n";
+  for (const Run& run : runs) {
+    csv << run.scene << ',' << run.setting << ',' << run.seed << ',' << run.solved << ',' << run.seconds << ',' << run.guidance_seconds
+        << ',' << run.propagations << ',' << run.guides << ',' << run.guides_satisfied << ',' << csv_field(run.reason) << ','
+        << run.guides_skipped << "\n";
+  }
+  io::write_text_file(file, csv.str(), "CSV file");
+}
+
+}  // namespace
+
+int push(const BenchArgs& args) {
+  const std::size_t files = problem_files(args).size();
+  const std::size_t total = files * std::size(kSettings) * static_cast<std::size_t>(args.runs);
+  std::optional<PushRunner> runner;  // made on the first run: a parent of -j runs none
+  const SweepPlan plan{"push", settings_of(args), total, [&](std::size_t i) {
+                         const PushRef ref = push_ref(i, args.runs);
+                         return "problem " + std::to_string(ref.file + 1) + " of " + std::to_string(files) + ", " +
+                                kSettings[ref.setting].name + ", seed " + std::to_string(args.seed + static_cast<std::uint64_t>(ref.run));
+                       }};
+  const std::vector<Record> records = run_sweep(plan, args.sweep, args.verbosity, [&](std::size_t i) {
+    if (!runner) runner.emplace(args);
+    return runner->run(push_ref(i, args.runs));
+  });
+  if (!args.report) return run::ExitCode::solved;
+  return report_push(args, records);
+}
+
+int report_push(const BenchArgs& args, const std::vector<Record>& records) {
+  std::vector<Run> runs;
+  std::vector<std::string> scenes;  // in the order of the runs
+  for (const Record& r : records) {
+    runs.push_back(run_of(r));
+    if (std::find(scenes.begin(), scenes.end(), runs.back().scene) == scenes.end()) scenes.push_back(runs.back().scene);
+  }
+  if (!args.csv.empty()) write_csv(args.csv, runs);
+  std::cout << "Reaching through clutter on " << scenes.size() << " scenes (" << args.push_scenes.string() << "), "
             << args.runs << " seeds each, " << fixed(args.time_limit, 0) << " s per run, reached within "
             << fixed(args.goal_distance, 3) << " m and " << fixed(args.goal_heading, 2) << " rad, steering "
             << fixed(args.steer, 2) << "\n\n";
@@ -263,6 +331,17 @@ int push(const BenchArgs& args) {
   json["goal_p_values"] = p_values;
   if (!args.json.empty()) write_json_file(args.json, json);
   if (!args.svg.empty()) write_svg(runs, scenes, args.time_limit, args.svg);
+  if (!args.ompl_log.empty()) {
+    std::vector<OmplLogPlanner> planners;
+    for (const Setting& s : kSettings) {
+      OmplLogPlanner p{s.name, {}};
+      for (const Record& r : records) {
+        if (r.at("planner") == s.name) p.runs.push_back(&r);
+      }
+      planners.push_back(std::move(p));
+    }
+    write_ompl_log(args.ompl_log, {"cluttertamp_bench_push", settings_of(args).dump(2), args.seed, args.time_limit}, planners);
+  }
   return goal_exit_code(args.check_goals, met);
 }
 

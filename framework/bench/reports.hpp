@@ -14,4 +14,8 @@ namespace cluttertamp::bench {
 /// Tables I, V and VI of Tian et al. from `bench retrieval` records; exit code 0.
 int report_retrieval(const BenchArgs& args, const std::vector<Record>& records);
 
+/// Fig. 6 of Papallas & Dogar from `bench push` records; with check_goals, exit code 1
+/// when guided planning does not beat RRT and KPIECE on success rate.
+int report_push(const BenchArgs& args, const std::vector<Record>& records);
+
 }  // namespace cluttertamp::bench

@@ -264,8 +264,9 @@ BenchCommand declare_push(CLI::App& bench, CommonOptions& common) {
       .time_limit("Seconds per run", 60)
       .json("the summary with per-scene figures")
       .csv("one row per run")
-      .svg("success rates beside the paper's and mean times per scene")
-      .goals("guided planning beats RRT and KPIECE on success rate");
+      .svg("success rates beside the paper's and the times per scene")
+      .goals("guided planning beats RRT and KPIECE on success rate")
+      .sweep();
   args.push_scenes = source_file("problems/push/shelf10");
   c.app->add_option("--push-scenes", args.push_scenes,
                     "Directory of reach problems pNN.yaml, each with its guidance pNN-guidance.yaml (else: generated)")
