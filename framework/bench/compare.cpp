@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
+#include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
 #include "bench/statistics.hpp"
 #include "bench/svg_plot.hpp"
@@ -174,7 +175,7 @@ int compare(const CompareArgs& args) {
       problem.planner.parameters.set("prune", setting.prune);
       for (int k = 0; k < args.runs; ++k) {
         options.seed = args.seed + static_cast<std::uint64_t>(k);
-        if (args.verbosity != Verbosity::quiet) {
+        if (progress_shown(args.verbosity)) {
           std::cerr << "\r[" << ++done << "/" << total << "] " << problem.name << ": " << setting.label() << ", seed "
                     << *options.seed << "          " << std::flush;
         }
@@ -192,7 +193,7 @@ int compare(const CompareArgs& args) {
       rows.push_back(std::move(row));
     }
   }
-  if (args.verbosity != Verbosity::quiet) std::cerr << "\r" << std::string(70, ' ') << "\r";
+  if (progress_shown(args.verbosity)) std::cerr << "\r" << std::string(70, ' ') << "\r";
 
   int name_width = 12;  // the longest problem name and a space
   for (const Row& r : rows) name_width = std::max(name_width, static_cast<int>(r.problem.size()) + 1);

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
+#include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
 #include "cluttertamp/run/shelf_runs.hpp"
 #include "bench/measures.hpp"
@@ -102,9 +103,9 @@ std::vector<std::pair<std::uint64_t, Scene>> tables(const BenchArgs& args, int o
       }
     }
     out.emplace_back(seed, std::move(scene));
-    if (args.verbosity != Verbosity::quiet) std::cerr << "\r  tables: " << out.size() << " of " << args.instances << " (seed " << seed << ")" << std::flush;
+    if (progress_shown(args.verbosity)) std::cerr << "\r  tables: " << out.size() << " of " << args.instances << " (seed " << seed << ")" << std::flush;
   }
-  if (args.verbosity != Verbosity::quiet) std::cerr << "\n";
+  if (progress_shown(args.verbosity)) std::cerr << "\n";
   return out;
 }
 
@@ -147,9 +148,9 @@ int mobile(const BenchArgs& args) {
         rows.push_back({s.parameter, scene_seed, r, result.solved, seconds, result.moved_objects.size(), iterations,
                         result.reason});
       }
-      if (args.verbosity != Verbosity::quiet) std::cerr << "\r  " << s.label << ": table " << i + 1 << " of " << instances.size() << std::flush;
+      if (progress_shown(args.verbosity)) std::cerr << "\r  " << s.label << ": table " << i + 1 << " of " << instances.size() << std::flush;
     }
-    if (args.verbosity != Verbosity::quiet) std::cerr << "\n";
+    if (progress_shown(args.verbosity)) std::cerr << "\n";
   }
 
   std::cout << "Mobile manipulation (Tian et al., Table III): " << robot->name() << ", " << instances.size() << " generated tables of "

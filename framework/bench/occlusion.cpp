@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
+#include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
 #include "cluttertamp/run/shelf_runs.hpp"
 #include "bench/measures.hpp"
@@ -72,11 +73,11 @@ int occlusion(const BenchArgs& args) {
                           counter(result, counter::final_sequence), counter(result, counter::iterations),
                           counter(result, counter::observed_initially), counter(result, counter::found_by_touch), result.reason});
         }
-        if (args.verbosity != Verbosity::quiet) {
+        if (progress_shown(args.verbosity)) {
           std::cerr << "\r  " << layout << ", " << n << " objects: scene " << s + 1 << " of " << args.instances << std::flush;
         }
       }
-      if (args.verbosity != Verbosity::quiet) std::cerr << "\n";
+      if (progress_shown(args.verbosity)) std::cerr << "\n";
     }
   }
 

@@ -45,6 +45,8 @@ Shard parse_shard(const std::string& text, const std::string& option) {
   return shard;
 }
 
+bool progress_shown(Verbosity verbosity) { return verbosity != Verbosity::quiet && isatty(STDERR_FILENO) == 1; }
+
 double number(const Record& record, const char* key, double otherwise) {
   const auto it = record.find(key);
   return it == record.end() || !it->is_number() ? otherwise : it->get<double>();
@@ -103,7 +105,7 @@ class RecordsStream {
 class Progress {
  public:
   Progress(std::size_t total, Verbosity verbosity)
-      : total_(total), shown_(verbosity != Verbosity::quiet && isatty(STDERR_FILENO) == 1), start_(std::chrono::steady_clock::now()) {}
+      : total_(total), shown_(progress_shown(verbosity)), start_(std::chrono::steady_clock::now()) {}
   ~Progress() { clear(); }
 
   void show(std::size_t done, std::size_t failed, const std::string& doing) {

@@ -58,6 +58,10 @@ Records read_records(const std::vector<std::filesystem::path>& files, Verbosity 
 /// Writes `records` as one records file of `plan` (shard `shard`), whole.
 void write_records(const std::filesystem::path& file, const SweepPlan& plan, const Shard& shard, const std::vector<Record>& records);
 
+/// Whether progress lines go to stderr: on a terminal, unless `verbosity` is quiet (a
+/// log file gets no carriage-return lines).
+bool progress_shown(Verbosity verbosity);
+
 /// A number from a record: `key`'s value, or `otherwise` when absent or null.
 double number(const Record& record, const char* key, double otherwise = 0.0);
 
