@@ -385,7 +385,12 @@ std::string fitted(std::string line) {
   return line;
 }
 
-std::string number_text(double v, int digits);
+std::string number_text(double v, int digits) {
+  if (std::isnan(v)) return "-";
+  char out[32];
+  std::snprintf(out, sizeof out, "%.*f", digits, v);
+  return out;
+}
 
 void print_table_header(const std::string& table, const NameWidths& w) {
   std::ostringstream line;
@@ -409,12 +414,6 @@ void print_row(const Row& row, const Measured& m, const NameWidths& w) {
   std::cout << line.str() << "\n";
 }
 
-std::string number_text(double v, int digits) {
-  if (std::isnan(v)) return "-";
-  char out[32];
-  std::snprintf(out, sizeof out, "%.*f", digits, v);
-  return out;
-}
 
 // Per run, every phase's time and collision checks (the motion planner's by how each
 // query ended), most checks first: where the time went, without a profiler.
