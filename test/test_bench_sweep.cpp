@@ -190,6 +190,107 @@ TEST_F(BenchSweep, PushShardsMergeIntoTheUnshardedRun) {
   EXPECT_NE(test::read_text(at("all.log")).find("\n3 planners\nrrt\n"), std::string::npos);
 }
 
+// bench occlusion the same way: two shards, one of them in two child processes, merged,
+// are the unsharded run but for the times, in its JSON, CSV and OMPL log.
+TEST_F(BenchSweep, OcclusionShardsMergeIntoTheUnshardedRun) {
+  const std::string bench = "bench occlusion -q --sizes 8 --sizes 12 --scenes 1 --runs 2 --occlusion-layout columns --time-limit 600 ";
+  const auto whole = run_cli(bench + "--records " + at("all.jsonl") + " --json " + at("all.json") + " --csv " + at("all.csv"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const auto first = run_cli(bench + "--shard 0/2 -j 2 --records " + at("s0.jsonl"));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const auto second = run_cli(bench + "--shard 1/2 --records " + at("s1.jsonl"));
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const auto all = records(at("all.jsonl"));
+  ASSERT_EQ(all.size(), 5u);  // the header and 2 sizes x 1 shelf x 2 seeds
+  EXPECT_EQ(all[0]["bench"], "occlusion");
+  EXPECT_EQ(all[1]["objects"], 8);
+  EXPECT_EQ(all[3]["objects"], 12);
+  EXPECT_EQ(all[2]["seed"], 1);
+  const auto merged = run_cli("bench merge -q " + at("s1.jsonl") + " " + at("s0.jsonl") + " --json " + at("merged.json") + " --csv " +
+                              at("merged.csv") + " --ompl-log " + at("merged.log"));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  const auto table = nlohmann::json::parse(test::read_text(at("all.json")));
+  ASSERT_EQ(table["sizes"].size(), 2u);
+  EXPECT_EQ(table["sizes"][1]["runs"], 2);
+  EXPECT_EQ(without_times(nlohmann::json::parse(test::read_text(at("merged.json")))), without_times(table));
+  EXPECT_EQ(test::read_text(at("merged.csv")).substr(0, 40), test::read_text(at("all.csv")).substr(0, 40));
+  EXPECT_NE(test::read_text(at("merged.log")).find("\n2 planners\ncolumns8/occlusion\n"), std::string::npos);
+  // A size a layout cannot hold is refused before any run, in a shard too.
+  const auto odd = run_cli("bench occlusion -q --sizes 10 --occlusion-layout columns --shard 1/2");
+  EXPECT_EQ(odd.exit_code, 2) << odd.output;
+  EXPECT_NE(odd.output.find("not a multiple of 4"), std::string::npos) << odd.output;
+}
+
+// bench mobile the same way. The tables are chosen before the runs, and the records'
+// settings carry the chosen seeds (a child of -j plans on them without choosing again).
+TEST_F(BenchSweep, MobileShardsMergeIntoTheUnshardedRun) {
+  const std::string bench = "bench mobile -q --seed 0 --scenes 2 --runs 1 --time-limit 3000 --mobile-tables random ";
+  const auto whole = run_cli(bench + "--records " + at("all.jsonl") + " --json " + at("all.json"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const auto first = run_cli(bench + "--shard 0/2 -j 2 --records " + at("s0.jsonl"));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const auto second = run_cli(bench + "--shard 1/2 --records " + at("s1.jsonl"));
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const auto all = records(at("all.jsonl"));
+  ASSERT_EQ(all.size(), 7u);  // the header and 3 limits x 2 tables x 1 seed
+  EXPECT_EQ(all[0]["settings"]["mobile_table_seeds"], nlohmann::json::parse("[0, 1]"));
+  EXPECT_EQ(all[1]["parameters"]["initial_L"], "one");
+  EXPECT_EQ(all[2]["scene_seed"], 1);
+  EXPECT_EQ(all[6]["parameters"]["initial_L"], "objects");
+  const auto merged = run_cli("bench merge -q " + at("s1.jsonl") + " " + at("s0.jsonl") + " --json " + at("merged.json"));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  const auto table = nlohmann::json::parse(test::read_text(at("all.json")));
+  EXPECT_EQ(table["table_seeds"], nlohmann::json::parse("[0, 1]"));
+  EXPECT_EQ(table["strategies"][0]["runs"], 2);
+  EXPECT_EQ(without_times(nlohmann::json::parse(test::read_text(at("merged.json")))), without_times(table));
+}
+
+// A sweep file's runs the same way: shards merged are the unsharded run; every planner
+// of the grid is checked before any run, so a misspelt one is bad input at once.
+TEST_F(BenchSweep, ASweepFileRunsAsASweep) {
+  const std::string problem = std::string(CLUTTERTAMP_SOURCE_DIR) + "/problems/default.yaml";
+  std::ofstream(dir_ / "sweep.yaml") << "version: 1\n"
+                                     << "problems: [" << problem << "]\n"
+                                     << "planners:\n"
+                                     << "  - plugin: retrieval_graph\n"
+                                     << "    grid: {initial_L: [one, objects]}\n"
+                                     << "  - {plugin: exhaustive, parameters: {max_removals: 3}}\n"
+                                     << "seeds: 2\n"
+                                     << "time_limit: 600\n";
+  const std::string bench = "bench sweep -q " + at("sweep.yaml") + " ";
+  const auto whole = run_cli(bench + "--records " + at("all.jsonl") + " --json " + at("all.json") + " --csv " + at("all.csv"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  EXPECT_NE(whole.output.find("retrieval_graph[initial_L=objects]"), std::string::npos) << whole.output;
+  const auto first = run_cli(bench + "--shard 0/2 -j 2 --records " + at("s0.jsonl"));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const auto second = run_cli(bench + "--shard 1/2 --records " + at("s1.jsonl"));
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const auto all = records(at("all.jsonl"));
+  ASSERT_EQ(all.size(), 7u);  // the header and 3 planners x 2 seeds
+  EXPECT_EQ(all[0]["settings"]["sweep"]["planners"].size(), 3u);
+  EXPECT_EQ(all[3]["planner"], "retrieval_graph[initial_L=objects]");
+  EXPECT_EQ(all[3]["parameters"], "{initial_L: objects}");
+  EXPECT_EQ(all[6]["planner"], "exhaustive");
+  EXPECT_EQ(all[6]["seed"], 1);
+  for (std::size_t k = 1; k < all.size(); ++k) {
+    EXPECT_TRUE(all[k]["solved"].get<bool>()) << all[k].dump();
+    EXPECT_EQ(all[k]["exit_code"], 0);
+  }
+  const auto merged = run_cli("bench merge -q " + at("s1.jsonl") + " " + at("s0.jsonl") + " --json " + at("merged.json"));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  const auto table = nlohmann::json::parse(test::read_text(at("all.json")));
+  ASSERT_EQ(table["rows"].size(), 3u);
+  EXPECT_EQ(table["rows"][2]["runs"], 2);
+  EXPECT_EQ(without_times(nlohmann::json::parse(test::read_text(at("merged.json")))), without_times(table));
+
+  std::ofstream(dir_ / "misspelt.yaml") << "version: 1\nproblems: [" << problem << "]\nplanners: [{plugin: retrieval_grap}]\n";
+  const auto misspelt = run_cli("bench sweep -q " + at("misspelt.yaml") + " --records " + at("m.jsonl"));
+  EXPECT_EQ(misspelt.exit_code, 2) << misspelt.output;
+  EXPECT_NE(misspelt.output.find("misspelt.yaml:3:"), std::string::npos) << misspelt.output;
+  EXPECT_NE(misspelt.output.find("did you mean 'retrieval_graph'"), std::string::npos) << misspelt.output;
+  EXPECT_FALSE(fs::exists(at("m.jsonl")));
+}
+
 TEST_F(BenchSweep, AShardIsKOfN) {
   for (const char* shard : {"2/2", "1/0", "-1/2", "a/b", "1", "1/2/3"}) {
     const auto r = run_cli("bench retrieval --shard " + std::string(shard));

@@ -236,6 +236,43 @@ TEST_F(Cli, ValidateReportsEveryMisspeltPluginWithTheNearName) {
   EXPECT_NE(r.output.find("misspelt.yaml:6:"), std::string::npos) << r.output;
 }
 
+// A problem whose scene had an error was reported without its plugins' errors: those
+// came one run later. Now each check runs on the parts that read.
+TEST_F(Cli, ValidateChecksThePluginsOfAProblemWhoseOtherFilesHaveErrors) {
+  const fs::path problem = dir_ / "bad_scene.yaml";
+  std::ofstream(problem) << "version: 1\n"
+                         << "scene: " << test::data("scenes/bad_many.yaml").string() << "\n"
+                         << "robot: {description: " << CLUTTERTAMP_SOURCE_DIR << "/domains/robots/ur10_ag95.yaml}\n"
+                         << "task: {retrieve: a}\n"
+                         << "planner: {plugin: retrieval_graph, time_limit: 5}\n"
+                         << "plugins: {grasp_sampler: grasp_sid, motion_sampler: motion_ompl}\n";
+  const CliRun r = run("validate " + problem.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(test::data("scenes/bad_many.yaml").string() + ":6:89: error:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("bad_scene.yaml:6:26: error:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'grasp_sid' (did you mean 'grasp_side'?)"), std::string::npos) << r.output;
+  // The planner's needs are checked on the plugins block, which read whole.
+  EXPECT_NE(r.output.find("planner 'retrieval_graph' needs a placement_sampler"), std::string::npos) << r.output;
+  // plan refuses the same problem as bad input.
+  EXPECT_EQ(plan(problem).exit_code, 2);
+
+  // A plugins block with an error of its own: the names that read are still checked, and
+  // no kind is called missing for the choice that did not read.
+  const fs::path broken = dir_ / "bad_plugins.yaml";
+  std::ofstream(broken) << "version: 1\n"
+                        << "scene: " << test::data("scenes/good.yaml").string() << "\n"
+                        << "robot: {description: " << CLUTTERTAMP_SOURCE_DIR << "/domains/robots/ur10_ag95.yaml}\n"
+                        << "task: {retrieve: a}\n"
+                        << "planner: {plugin: retrieval_graph, time_limit: 5}\n"
+                        << "plugins: {grasp_sampler: [1, 2], motion_sampler: motion_omp, placement_sampler: "
+                           "placement_region}\n";
+  const CliRun b = run("validate " + broken.string());
+  EXPECT_EQ(b.exit_code, 2) << b.output;
+  EXPECT_NE(b.output.find("bad_plugins.yaml:6:26: error:"), std::string::npos) << b.output;
+  EXPECT_NE(b.output.find("'motion_omp' (did you mean 'motion_ompl'?)"), std::string::npos) << b.output;
+  EXPECT_EQ(b.output.find("needs a grasp_sampler"), std::string::npos) << b.output;
+}
+
 TEST_F(Cli, BadNumbersOnTheCommandLineAreBadInput) {
   const std::string problem_file = problem("solve").string();
   for (const char* option : {"--seed -1", "--seed 99999999999999999999", "--seed 1.5", "--time-limit nan",

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/io/sweep_file.hpp"
 #include "cluttertamp/stream/stream_task.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "test_support.hpp"
@@ -186,6 +187,74 @@ TEST(ProblemIo, AMisspeltTargetSuggestsTheNearObjectNames) {
   EXPECT_TRUE(test::has_error(d, 4, 0, "names 'aa', which is not an object of scene")) << d.str();
   EXPECT_TRUE(test::has_error(d, 4, 0, "(did you mean 'a'")) << d.str();
   std::filesystem::remove(file);
+}
+
+}  // namespace
+}  // namespace cluttertamp
+
+namespace cluttertamp {
+namespace {
+
+std::filesystem::path written(const std::string& name, const std::string& text) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / name;
+  std::ofstream(file) << text;
+  return file;
+}
+
+// A grid is every combination of its lists (in file order, the last varying fastest), each a
+// planner with the fixed parameters under it; seeds count from 0 or are listed.
+TEST(SweepFile, AGridIsEveryCombinationOfItsLists) {
+  const std::string problem = std::string(CLUTTERTAMP_SOURCE_DIR) + "/problems/default.yaml";
+  const io::SweepSpec spec = io::load_sweep_file(written("grid_sweep.yaml", "version: 1\n"
+                                                                           "problems: [" + problem + "]\n"
+                                                                           "planners:\n"
+                                                                           "  - plugin: retrieval_graph\n"
+                                                                           "    parameters: {grasp_orders: 3}\n"
+                                                                           "    grid: {initial_L: [one, objects], area_margin: [0.1, 0.2, 0.3]}\n"
+                                                                           "  - {plugin: exhaustive, name: ex}\n"
+                                                                           "seeds: [4, 8]\n"
+                                                                           "time_limit: 30\n"));
+  ASSERT_EQ(spec.planners.size(), 7u);
+  EXPECT_EQ(spec.planners[0].label, "retrieval_graph[initial_L=one,area_margin=0.1]");
+  EXPECT_EQ(spec.planners[1].label, "retrieval_graph[initial_L=one,area_margin=0.2]");
+  EXPECT_EQ(spec.planners[5].label, "retrieval_graph[initial_L=objects,area_margin=0.3]");
+  EXPECT_EQ(spec.planners[5].parameters.get_double("area_margin", 0), 0.3);
+  EXPECT_EQ(spec.planners[5].parameters.get_int("grasp_orders", 0), 3);
+  EXPECT_EQ(spec.planners[6].label, "ex");
+  EXPECT_EQ(spec.planners[6].parameters.size(), 0u);
+  EXPECT_EQ(spec.seeds, (std::vector<std::uint64_t>{4, 8}));
+  EXPECT_EQ(spec.time_limit, 30.0);
+  EXPECT_EQ(spec.runs(), 14u);
+  const io::SweepSpec counted = io::load_sweep_file(
+      written("count_sweep.yaml", "version: 1\nproblems: [" + problem + "]\nplanners: [{plugin: exhaustive}]\nseeds: 3\n"));
+  EXPECT_EQ(counted.seeds, (std::vector<std::uint64_t>{0, 1, 2}));
+  EXPECT_FALSE(counted.time_limit);
+}
+
+TEST(SweepFile, EveryMistakeIsReportedWhereItStands) {
+  const Diagnostics d = test::expect_input_error([] {
+    io::load_sweep_file(written("bad_sweep.yaml", "version: 1\n"
+                                                  "problems: [no/such.yaml]\n"
+                                                  "planners:\n"
+                                                  "  - {plugin: a, grid: {x: 3}}\n"
+                                                  "  - {plugin: b, parameters: {x: 1}, grid: {x: [1, 2]}}\n"
+                                                  "  - {plugin: c, speed: 2}\n"
+                                                  "  - {plugin: c}\n"
+                                                  "seeds: [1, -2, 1]\n"
+                                                  "time_limit: -1\n"
+                                                  "extra: 1\n"));
+  });
+  EXPECT_TRUE(test::has_error(d, 2, 12, "problem file 'no/such.yaml' does not exist")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 4, 27, "planner #1 grid 'x' must be a non-empty list of values"));
+  EXPECT_TRUE(test::has_error(d, 5, 5, "planner #2: 'x' is both a fixed parameter and a grid axis"));
+  EXPECT_TRUE(test::has_error(d, 6, 17, "unknown key 'speed' in planner #3"));
+  EXPECT_TRUE(test::has_error(d, 7, 5, "two planners are called 'c'"));
+  EXPECT_TRUE(test::has_error(d, 8, 12, "a seed must not be negative"));
+  EXPECT_TRUE(test::has_error(d, 8, 16, "seed 1 is listed twice"));
+  EXPECT_TRUE(test::has_error(d, 9, 13, "time_limit must be positive"));
+  EXPECT_TRUE(test::has_error(d, 10, 1, "unknown key 'extra' in the sweep"));
+  EXPECT_TRUE(test::has_error(test::expect_input_error([] { io::load_sweep_file(written("empty_sweep.yaml", "")); }), 1, 1,
+                              "the sweep file is empty"));
 }
 
 }  // namespace

@@ -19,7 +19,9 @@ struct Sweepable {
   int (*run)(const BenchArgs&);
   int (*report)(const BenchArgs&, const std::vector<Record>&);
 };
-const Sweepable kSweepable[] = {{"retrieval", retrieval, report_retrieval}, {"push", push, report_push}};
+const Sweepable kSweepable[] = {
+    {"retrieval", retrieval, report_retrieval}, {"push", push, report_push}, {"occlusion", occlusion, report_occlusion},
+    {"mobile", mobile, report_mobile}, {"sweep", file_sweep, report_file_sweep}};
 
 const Sweepable& sweepable(const nlohmann::ordered_json& bench, const SourceLocation& where) {
   std::string known;

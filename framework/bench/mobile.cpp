@@ -1,8 +1,8 @@
 // `cluttertamp bench mobile`: retrieval_graph with a mobile manipulator on generated
 // tables reachable from every side, for the three initial exploration limits, beside
-// Tian et al.'s Table III.
+// Tian et al.'s Table III. The tables are chosen first; the runs on them are a sweep.
+#include <algorithm>
 #include <chrono>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -12,7 +12,13 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
+#include "bench/ompl_log.hpp"
+#include "bench/reports.hpp"
+#include "bench/settings.hpp"
+#include "bench/svg_plot.hpp"
 #include "bench/sweep.hpp"
+#include "cluttertamp/io/text_file.hpp"
+#include "cluttertamp/version.hpp"
 #include "cluttertamp/bench/bench.hpp"
 #include "cluttertamp/run/shelf_runs.hpp"
 #include "bench/measures.hpp"
@@ -109,58 +115,198 @@ std::vector<std::pair<std::uint64_t, Scene>> tables(const BenchArgs& args, int o
   return out;
 }
 
+// The bench's robot, registry and samplers: grasps from every side, the base first
+// placed behind each (Section V-B).
+struct MobileSetup {
+  std::shared_ptr<const robot::RobotDescription> robot;
+  plugin::Registry registry;
+  plugin::Samplers samplers;
+
+  explicit MobileSetup(const BenchArgs& args)
+      : robot(std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot))),
+        registry(plugin::Registry::default_search_paths()),
+        samplers(run::shipped_samplers(registry)) {
+    Parameters grasp;
+    grasp.set("spread", 180.0);
+    grasp.set("directions", std::int64_t{18});
+    grasp.set("base_distance", 0.6);
+    samplers.set(registry.create<plugin::GraspSampler>("grasp_side", grasp, {"bench mobile", 0, 0}));
+  }
+};
+
+int objects_of(const BenchArgs& args) { return args.sizes.empty() ? 20 : args.sizes.front(); }
+
+Scene table_of(const BenchArgs& args, std::uint64_t seed) {
+  scenes::TableSpec spec;
+  spec.objects = objects_of(args);
+  try {
+    return scenes::generate_table_scene(spec, seed);
+  } catch (const std::runtime_error& e) {
+    throw InputError({"--sizes", 0, 0}, std::to_string(spec.objects) + " objects: " + e.what());
+  }
+}
+
+// Run i of the sweep: strategy, then table, then seed.
+struct MobileRef {
+  std::size_t strategy = 0, table = 0;
+  int run = 0;
+};
+MobileRef ref_of(std::size_t i, const BenchArgs& args) {
+  const std::size_t runs = static_cast<std::size_t>(args.runs), per_strategy = args.mobile_table_seeds.size() * runs;
+  return {i / per_strategy, (i % per_strategy) / runs, static_cast<int>(i % runs)};
+}
+
+// Plans the runs it is given, generating each table once.
+class MobileRunner {
+ public:
+  explicit MobileRunner(const BenchArgs& args) : args_(args), setup_(args) {
+    for (const Strategy& s : kStrategies) {
+      Parameters p;
+      p.set("initial_L", std::string(s.parameter));
+      p.set("area_margin", 0.3);
+      p.set("grasp_orders", std::int64_t{3});  // a table has no board above: the carry may lift the target over objects
+      planners_.push_back(setup_.registry.create<plugin::TaskPlanner>("retrieval_graph", p, {"bench mobile", 0, 0}));
+    }
+  }
+
+  Record run(const MobileRef& ref) {
+    const std::uint64_t scene_seed = args_.mobile_table_seeds.at(ref.table);
+    if (!table_ || table_->first != scene_seed) table_.emplace(scene_seed, table_of(args_, scene_seed));
+    const auto seed = static_cast<std::uint64_t>(ref.run);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Result r = run::plan_scene(table_->second, setup_.robot, *planners_.at(ref.strategy), setup_.samplers, seed, args_.time_limit);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return {{"problem", table_->second.name},
+            {"scene_seed", scene_seed},
+            {"planner", "retrieval_graph"},
+            {"parameters", {{"initial_L", kStrategies[ref.strategy].parameter}}},
+            {"seed", seed},
+            {"solved", r.solved},
+            {"time_s", seconds},
+            {"task_s", r.time.task_planning},
+            {"motion_s", r.time.motion_planning},
+            {"removed", r.moved_objects.size()},
+            {"counters", r.counters},
+            {"reason", r.reason},
+            {"version", std::string(version())}};
+  }
+
+ private:
+  const BenchArgs& args_;
+  MobileSetup setup_;
+  std::vector<std::shared_ptr<plugin::TaskPlanner>> planners_;
+  std::optional<std::pair<std::uint64_t, Scene>> table_;
+};
+
+Row row_of(const Record& r) {
+  const auto& counters = r.at("counters");
+  return {r.at("parameters").at("initial_L").get<std::string>(),
+          r.at("scene_seed").get<std::uint64_t>(),
+          static_cast<int>(r.at("seed").get<std::uint64_t>()),
+          r.at("solved").get<bool>(),
+          number(r, "time_s"),
+          r.at("removed").get<std::size_t>(),
+          counters.contains(counter::iterations) ? counters[counter::iterations].get<std::uint64_t>() : 0,
+          r.at("reason").get<std::string>()};
+}
+
+void write_csv(const std::filesystem::path& file, const std::vector<Row>& rows) {
+  std::ostringstream csv;
+  csv << "initial_L,scene_seed,run,solved,time_s,removed,iterations,reason\n";
+  for (const Row& r : rows) {
+    csv << r.strategy << "," << r.scene_seed << "," << r.run << "," << (r.solved ? 1 : 0) << "," << r.seconds << "," << r.removed
+        << "," << r.iterations << "," << csv_field(r.reason) << "\n";
+  }
+  io::write_text_file(file, csv.str(), "CSV file");
+}
+
+// Success rates per strategy (the paper's hatched), then |O_r| and the time of each
+// solved run as box plots with the paper's means as diamonds, unsolved runs as red crosses.
+void write_svg(const std::filesystem::path& file, const std::vector<Row>& rows, const std::string& title) {
+  const double left = 70, slot = 110, panel_h = 150, top = 75;
+  const double panel_w = slot * double(std::size(kStrategies));
+  SvgPlot plot(3 * (panel_w + left) + 20, top + panel_h + 70);
+  plot.text(left, 20, title);
+  plot.legend(left, 38, "hatch", "paper's success rate");
+  plot.legend(left + 160, 38, "diamond", "paper's mean");
+  plot.legend(left + 270, 38, "cross", "unsolved runs (count)");
+  std::vector<Measures> in;
+  std::vector<double> removed{1.0}, times;
+  for (const Strategy& s : kStrategies) {
+    Measures& m = in.emplace_back();
+    for (const Row& r : rows) {
+      if (r.strategy == s.parameter) m.add(r.solved, double(r.removed), r.seconds, double(r.iterations));
+    }
+    removed.insert(removed.end(), m.removed.begin(), m.removed.end());
+    removed.push_back(s.paper.removed);
+    times.insert(times.end(), m.seconds.begin(), m.seconds.end());
+    times.push_back(s.paper.seconds);
+  }
+  const SvgPlot::Panel rate = plot.panel(left, top, panel_w, panel_h, 100, "success rate", "%");
+  const SvgPlot::Panel objects = plot.panel(2 * left + panel_w, top, panel_w, panel_h, *std::max_element(removed.begin(), removed.end()),
+                                            "|O_r| (target included), solved runs");
+  const SvgPlot::Panel time = plot.panel_for(3 * left + 2 * panel_w, top, panel_w, panel_h, times, "planning time of solved runs, s");
+  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3"};
+  for (std::size_t k = 0; k < std::size(kStrategies); ++k) {
+    const Strategy& s = kStrategies[k];
+    const Measures& m = in[k];
+    const double offset = slot * (double(k) + 0.5), w = slot * 0.45;
+    plot.bar(rate, rate.left + offset - w / 2, w / 2, m.success(), colours[k]);
+    plot.bar(rate, rate.left + offset, w / 2, s.paper.success, "hatch", colours[k]);
+    plot.box(objects, objects.left + offset, w, m.removed, colours[k]);
+    plot.diamond(objects, objects.left + offset, s.paper.removed);
+    plot.box(time, time.left + offset, w, m.seconds, colours[k]);
+    plot.diamond(time, time.left + offset, s.paper.seconds);
+    for (const SvgPlot::Panel* p : {&rate, &objects, &time}) {
+      plot.x_label(*p, p->left + offset, s.label);
+      if (p != &rate) plot.unsolved(*p, p->left + offset, m.runs - m.solved);
+    }
+  }
+  plot.write(file);
+}
+
 }  // namespace
 
-int mobile(const BenchArgs& args) {
-  const auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
-  const plugin::Registry registry(plugin::Registry::default_search_paths());
-  // Grasps from every side, the base first placed behind each (Section V-B).
-  plugin::Samplers samplers = run::shipped_samplers(registry);
-  Parameters grasp;
-  grasp.set("spread", 180.0);
-  grasp.set("directions", std::int64_t{18});
-  grasp.set("base_distance", 0.6);
-  samplers.set(registry.create<plugin::GraspSampler>("grasp_side", grasp, {"bench mobile", 0, 0}));
-  const int objects = args.sizes.empty() ? 20 : args.sizes.front();
-  std::vector<std::pair<std::uint64_t, Scene>> instances;
-  try {
-    instances = tables(args, objects, robot, registry, samplers);
-  } catch (const TableUndecided& e) {
-    std::cerr << "\nbench mobile: table seed " << e.seed << ": " << e.check << " was not decided within the time limit ("
-              << args.time_limit << " s); the tables chosen must not depend on this machine's speed, so the bench stops here. "
-              << "Give a larger --time-limit, or --mobile-tables random.\n";
-    return run::ExitCode::no_plan;
-  }
-  std::vector<Row> rows;
-  for (const Strategy& s : kStrategies) {
-    Parameters p;
-    p.set("initial_L", std::string(s.parameter));
-    p.set("area_margin", 0.3);
-    p.set("grasp_orders", std::int64_t{3});  // a table has no board above: the carry may lift the target over objects
-    const auto planner = registry.create<plugin::TaskPlanner>("retrieval_graph", p, {"bench mobile", 0, 0});
-    for (std::size_t i = 0; i < instances.size(); ++i) {
-      const auto& [scene_seed, scene] = instances[i];
-      for (int r = 0; r < args.runs; ++r) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const Result result = run::plan_scene(scene, robot, *planner, samplers, static_cast<std::uint64_t>(r), args.time_limit);
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const std::uint64_t iterations = result.counters.count(counter::iterations) ? result.counters.at(counter::iterations) : 0;
-        rows.push_back({s.parameter, scene_seed, r, result.solved, seconds, result.moved_objects.size(), iterations,
-                        result.reason});
+int mobile(const BenchArgs& given) {
+  BenchArgs args = given;
+  if (args.mobile_table_seeds.empty()) {  // a child of -j is given the parent's choice
+    const MobileSetup setup(args);
+    try {
+      for (auto& [seed, scene] : tables(args, objects_of(args), setup.robot, setup.registry, setup.samplers)) {
+        args.mobile_table_seeds.push_back(seed);
       }
-      if (progress_shown(args.verbosity)) std::cerr << "\r  " << s.label << ": table " << i + 1 << " of " << instances.size() << std::flush;
+    } catch (const TableUndecided& e) {
+      std::cerr << "\nbench mobile: table seed " << e.seed << ": " << e.check << " was not decided within the time limit ("
+                << args.time_limit << " s); the tables chosen must not depend on this machine's speed, so the bench stops here. "
+                << "Give a larger --time-limit, or --mobile-tables random.\n";
+      return run::ExitCode::no_plan;
     }
-    if (progress_shown(args.verbosity)) std::cerr << "\n";
   }
+  const std::size_t total = std::size(kStrategies) * args.mobile_table_seeds.size() * static_cast<std::size_t>(args.runs);
+  const SweepPlan plan{"mobile", settings_of(args), total, [&](std::size_t i) {
+                         const MobileRef ref = ref_of(i, args);
+                         return std::string(kStrategies[ref.strategy].label) + ", table " + std::to_string(ref.table + 1) + " of " +
+                                std::to_string(args.mobile_table_seeds.size()) + ", seed " + std::to_string(ref.run);
+                       }};
+  return run_and_report(
+      plan, args, [&] { return std::make_unique<MobileRunner>(args); },
+      [&](MobileRunner& runner, std::size_t i) { return runner.run(ref_of(i, args)); }, report_mobile);
+}
 
-  std::cout << "Mobile manipulation (Tian et al., Table III): " << robot->name() << ", " << instances.size() << " generated tables of "
+int report_mobile(const BenchArgs& args, const std::vector<Record>& records) {
+  std::vector<Row> rows;
+  for (const Record& r : records) rows.push_back(row_of(r));
+  const int objects = objects_of(args);
+  const std::string robot = io::load_robot_description(args.robot).name();
+  const std::size_t tables = args.mobile_table_seeds.size();
+  std::cout << "Mobile manipulation (Tian et al., Table III): " << robot << ", " << tables << " generated tables of "
             << objects << " objects"
             << (args.mobile_tables == "fig9" ? " like the paper's Fig. 9 (one object in the way from some side, two or more "
                                                "from the robot's: fewest to move 2, target included)"
                                              : " (random)")
             << ", " << args.runs << " run(s) each, " << args.time_limit << " s per run\n\n";
-  if (static_cast<int>(instances.size()) < args.instances) {
-    std::cout << "Only " << instances.size() << " of " << args.instances << " tables qualified within "
+  if (static_cast<int>(tables) < args.instances) {
+    std::cout << "Only " << tables << " of " << args.instances << " tables qualified within "
               << 50 * args.instances << " seeds.\n";
   }
   bool goals_met = true;
@@ -182,20 +328,28 @@ int mobile(const BenchArgs& args) {
   print_measures(std::cout, headers, columns);
   std::cout << "The paper's figures are for a PR2 on its own tables and machine.\n"
             << "goal (L = 1): |O_r| <= 2.2 and median <= 1 s: " << (goals_met ? "met" : "NOT met") << "\n";
-  if (!args.csv.empty()) {
-    std::ofstream csv(args.csv);
-    csv << "initial_L,scene_seed,run,solved,time_s,removed,iterations,reason\n";
-    for (const Row& r : rows) {
-      csv << r.strategy << "," << r.scene_seed << "," << r.run << "," << (r.solved ? 1 : 0) << "," << r.seconds << "," << r.removed
-          << "," << r.iterations << "," << csv_field(r.reason) << "\n";
-    }
-    if (!csv) throw InputError({args.csv.string(), 0, 0}, "cannot write the CSV file");
-  }
+  if (!args.csv.empty()) write_csv(args.csv, rows);
   if (!args.json.empty()) {
-    write_json_file(args.json, nlohmann::ordered_json{{"bench", "mobile"}, {"robot", robot->name()}, {"objects", objects},
-                                                      {"tables", instances.size()}, {"table_selection", args.mobile_tables},
+    write_json_file(args.json, nlohmann::ordered_json{{"bench", "mobile"}, {"robot", robot}, {"objects", objects},
+                                                      {"tables", tables}, {"table_seeds", args.mobile_table_seeds},
+                                                      {"table_selection", args.mobile_tables},
                                                       {"runs", args.runs}, {"time_limit_s", args.time_limit},
                                                       {"strategies", summary}});
+  }
+  if (!args.svg.empty()) {
+    write_svg(args.svg, rows, "Table III (Tian et al., T-RO 2023): " + robot + ", " + std::to_string(tables) + " tables of " +
+                                  std::to_string(objects) + " objects, ours beside the paper's");
+  }
+  if (!args.ompl_log.empty()) {
+    std::vector<OmplLogPlanner> planners;
+    for (const Strategy& s : kStrategies) {
+      OmplLogPlanner p{"table" + std::to_string(objects) + "/retrieval_graph[initial_L=" + s.parameter + "]", {}};
+      for (const Record& r : records) {
+        if (r.at("parameters").at("initial_L") == s.parameter) p.runs.push_back(&r);
+      }
+      planners.push_back(std::move(p));
+    }
+    write_ompl_log(args.ompl_log, {"cluttertamp_bench_mobile", settings_of(args).dump(2), args.seed, args.time_limit}, planners);
   }
   return goal_exit_code(args.check_goals, goals_met);
 }

@@ -240,18 +240,14 @@ void write_csv(const fs::path& file, const std::vector<Run>& runs) {
 int push(const BenchArgs& args) {
   const std::size_t files = problem_files(args).size();
   const std::size_t total = files * std::size(kSettings) * static_cast<std::size_t>(args.runs);
-  std::optional<PushRunner> runner;  // made on the first run: a parent of -j runs none
   const SweepPlan plan{"push", settings_of(args), total, [&](std::size_t i) {
                          const PushRef ref = push_ref(i, args.runs);
                          return "problem " + std::to_string(ref.file + 1) + " of " + std::to_string(files) + ", " +
                                 kSettings[ref.setting].name + ", seed " + std::to_string(args.seed + static_cast<std::uint64_t>(ref.run));
                        }};
-  const std::vector<Record> records = run_sweep(plan, args.sweep, args.verbosity, [&](std::size_t i) {
-    if (!runner) runner.emplace(args);
-    return runner->run(push_ref(i, args.runs));
-  });
-  if (!args.report) return run::ExitCode::solved;
-  return report_push(args, records);
+  return run_and_report(
+      plan, args, [&] { return std::make_unique<PushRunner>(args); },
+      [&](PushRunner& runner, std::size_t i) { return runner.run(push_ref(i, args.runs)); }, report_push);
 }
 
 int report_push(const BenchArgs& args, const std::vector<Record>& records) {

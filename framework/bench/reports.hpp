@@ -18,4 +18,16 @@ int report_retrieval(const BenchArgs& args, const std::vector<Record>& records);
 /// when guided planning does not beat RRT and KPIECE on success rate.
 int report_push(const BenchArgs& args, const std::vector<Record>& records);
 
+/// Table III of Tian et al. from `bench mobile` records; with check_goals, exit code 1
+/// when L = 1 moves more than 2.2 objects on average or its median time is above 1 s.
+int report_mobile(const BenchArgs& args, const std::vector<Record>& records);
+
+/// The rows of `bench sweep` (a sweep file's runs); with check_goals, exit code 1 when
+/// a run was not solved.
+int report_file_sweep(const BenchArgs& args, const std::vector<Record>& records);
+
+/// Table II of Tian et al. from `bench occlusion` records; with check_goals, exit code 1
+/// when a size's success rate is below 95 % or its median time above 1 s.
+int report_occlusion(const BenchArgs& args, const std::vector<Record>& records);
+
 }  // namespace cluttertamp::bench

@@ -650,14 +650,13 @@ int report_retrieval(const BenchArgs& args, const std::vector<Record>& records) 
 int retrieval(const BenchArgs& args) {
   const std::vector<Row> rows = rows_of(args);
   const std::vector<RunRef> refs = runs_of(rows, args.runs);
-  std::optional<Runner> runner;  // made on the first run: a parent of -j runs none
-  const std::vector<Record> records = run_sweep(plan_of(args, rows, refs), args.sweep, args.verbosity, [&](std::size_t i) {
-    if (!runner) runner.emplace(args);
-    const RunRef& ref = refs.at(i);
-    return runner->run(rows[ref.row], ref.instance, ref.run);
-  });
-  if (!args.report) return run::ExitCode::solved;
-  return report_retrieval(args, records);
+  return run_and_report(
+      plan_of(args, rows, refs), args, [&] { return std::make_unique<Runner>(args); },
+      [&](Runner& runner, std::size_t i) {
+        const RunRef& ref = refs.at(i);
+        return runner.run(rows[ref.row], ref.instance, ref.run);
+      },
+      report_retrieval);
 }
 
 }  // namespace cluttertamp::bench

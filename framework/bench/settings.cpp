@@ -36,9 +36,14 @@ void each_setting(Args& a, Visit&& visit) {
   visit("fit_to_robot", a.fit_to_robot);
   visit("table_v_width", a.table_v_width);
   visit("mobile_tables", a.mobile_tables);
+  visit("mobile_table_seeds", a.mobile_table_seeds);
+  visit("sweep_file", a.sweep_file);
   visit("occlusion_layouts", a.occlusion_layouts);
   visit("runs", a.runs);
 }
+
+// Settings that records written before them do not have; reading those, they keep their defaults.
+bool added_later(const std::string& name) { return name == "mobile_table_seeds" || name == "sweep_file"; }
 
 nlohmann::ordered_json to_json(const fs::path& p) { return p.empty() ? std::string() : fs::absolute(p).lexically_normal().string(); }
 template <class T>
@@ -64,6 +69,7 @@ BenchArgs args_of(const nlohmann::ordered_json& settings, const SourceLocation& 
   BenchArgs args;
   each_setting(args, [&](const char* name, auto& field) {
     const auto it = settings.find(name);
+    if (it == settings.end() && added_later(name)) return;  // records of an earlier version: the default
     if (it == settings.end()) throw InputError(where, std::string("the settings have no '") + name + "'");
     try {
       from_json(*it, field);

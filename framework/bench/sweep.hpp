@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,19 @@ using RunOne = std::function<Record(std::size_t index)>;
 /// progress line. Throws InputError / std::runtime_error as the runs do; a child that
 /// fails is reported with the end of its output.
 std::vector<Record> run_sweep(const SweepPlan& plan, const SweepOptions& options, Verbosity verbosity, const RunOne& run_one);
+
+/// A bench's runs and report: run_sweep with the runner that `make()` returns (a
+/// pointer, made on the first run: the parent of -j runs none, so makes none), each run
+/// `run(runner, i)`; then `report(args, records)`, or 0 in a child of -j (args.report false).
+template <class Make, class Run, class Report>
+int run_and_report(const SweepPlan& plan, const BenchArgs& args, Make&& make, Run&& run, Report&& report) {
+  decltype(make()) runner;
+  const std::vector<Record> records = run_sweep(plan, args.sweep, args.verbosity, [&](std::size_t i) {
+    if (!runner) runner = make();
+    return run(*runner, i);
+  });
+  return args.report ? report(args, records) : 0;
+}
 
 /// The records of `files` (records files of one sweep: same bench, settings and run
 /// count), in index order, with the header of the first. Throws InputError naming the

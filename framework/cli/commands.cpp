@@ -341,26 +341,31 @@ int validate(const ValidateArgs& args) {
   for (const fs::path& file : args.files) {
     try {
       if (io::detect_file_kind(file) == io::FileKind::problem) {
-        const Problem problem = io::load_problem(file);
-        for (const Diagnostic& w : check_pddl_task(problem)) {
-          if (args.verbosity != Verbosity::quiet) std::cerr << w.str() << "\n";
-        }
-        // Every error of the file in one run: the plugins' and the start's.
+        // Every error of the problem's files, its plugins' and its start's in one run:
+        // each check runs on the parts that read without error.
         Diagnostics errors;
+        const io::ProblemReading reading = io::read_problem(file, errors);
+        const Problem& problem = reading.problem;
+        if (reading.whole) {
+          for (const Diagnostic& w : check_pddl_task(problem)) {
+            if (args.verbosity != Verbosity::quiet) std::cerr << w.str() << "\n";
+          }
+        }
         if (!args.skip_plugins) {
           run::RunOptions options;
           options.plugin_paths = args.plugin_paths;
           const plugin::Registry registry(run::plugin_search_paths(problem, options));
+          const run::ProblemPart part = reading.whole           ? run::ProblemPart::whole
+                                        : reading.plugins_whole ? run::ProblemPart::plugins
+                                                                : run::ProblemPart::some_plugins;
+          run::create_plugins(problem, registry, errors, part);
+        }
+        if (reading.whole) {
           try {
-            run::create_plugins(problem, registry);
+            run::check_start_configuration(problem);
           } catch (const InputError& e) {
             errors.append(e.diagnostics());
           }
-        }
-        try {
-          run::check_start_configuration(problem);
-        } catch (const InputError& e) {
-          errors.append(e.diagnostics());
         }
         errors.throw_if_any();
         if (args.verbosity != Verbosity::quiet) {

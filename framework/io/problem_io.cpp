@@ -61,6 +61,7 @@ class ProblemReader {
  public:
   ProblemReader(const fs::path& path, Diagnostics& diagnostics) : file_(path, diagnostics), diagnostics_(diagnostics) {}
   Problem read();
+  bool plugins_whole() const { return plugins_whole_; }
 
  private:
   bool symbolic_task(const MapReader& top) const;
@@ -78,6 +79,7 @@ class ProblemReader {
   Diagnostics& diagnostics_;
   Problem problem_;
   bool scene_ok_ = false;
+  bool plugins_whole_ = false;
   YAML::Node retrieve_node_;
 };
 
@@ -110,8 +112,10 @@ Problem ProblemReader::read() {
   }
   read_robot(symbolic ? top.optional("robot") : top.required("robot"));
   read_task(top.required("task"));
+  const std::size_t before_plugins = diagnostics_.size();
   read_planner(top.required("planner"));
   if (top.has("plugins")) read_plugins(top.optional("plugins"));
+  plugins_whole_ = diagnostics_.size() == before_plugins;
   check_target();
   return problem_;
 }
@@ -308,25 +312,39 @@ void ProblemReader::check_target() {
 
 }  // namespace
 
-Problem load_problem(const fs::path& file) {
+ProblemReading read_problem(const fs::path& file, Diagnostics& errors) {
   Diagnostics diagnostics;
   ProblemReader reader(file, diagnostics);
-  Problem problem = reader.read();
-  diagnostics.throw_if_any();
+  ProblemReading reading{reader.read(), false, reader.plugins_whole()};
+  Problem& problem = reading.problem;
   // A pddl task's files are parsed here, once: every error is a load error, and
-  // whoever plans or checks the problem reads the same parse.
-  if (auto* task = std::get_if<PddlTask>(&problem.task)) {
-    task->parsed = stream::parse_task(*task);
-    if (task->parsed->streams) {
+  // whoever plans or checks the problem reads the same parse. They are parsed only when
+  // the problem file named them without error.
+  auto* task = std::get_if<PddlTask>(&problem.task);
+  if (task && diagnostics.empty()) {
+    try {
+      task->parsed = stream::parse_task(*task);
+    } catch (const InputError& e) {
+      diagnostics.append(e.diagnostics());
+    }
+    if (task->parsed && task->parsed->streams) {
       std::set<std::string> bound;  // PDDL names ignore case
       for (const auto& [name, choice] : problem.streams) bound.insert(pddl::lower_name(name));
       stream::check_streams_bound(*task->parsed->streams, [&](const std::string& s) { return bound.count(s) > 0; },
                                   diagnostics);
       stream::check_bindings_declared(*task->parsed->streams, problem.streams, diagnostics);
-      diagnostics.throw_if_any();
     }
   }
-  return problem;
+  reading.whole = diagnostics.empty() && (!task || task->parsed);
+  errors.append(diagnostics);
+  return reading;
+}
+
+Problem load_problem(const fs::path& file) {
+  Diagnostics errors;
+  ProblemReading reading = read_problem(file, errors);
+  errors.throw_if_any();
+  return std::move(reading.problem);
 }
 
 FileKind detect_file_kind(const fs::path& file) {

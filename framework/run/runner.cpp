@@ -82,18 +82,29 @@ std::string memory_limit_reason() {
   return mib ? "memory limit reached (" + std::to_string(mib) + " MiB)" : std::string("memory limit reached (out of memory)");
 }
 
-Plugins create_plugins(const Problem& problem, const plugin::Registry& registry) {
+Plugins create_plugins(const Problem& problem, const plugin::Registry& registry, Diagnostics& errors,
+                       ProblemPart read) {
   Plugins plugins;
-  Diagnostics errors;
   plugins.samplers = create_samplers(registry, problem, errors);
-  collecting(errors, [&] {
-    plugins.planner =
-        registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters, problem.planner.where);
-  });
-  if (plugins.planner) {
-    check_required_kinds(problem, *plugins.planner, plugins.samplers, registry, errors);
-    collecting(errors, [&] { plugins.planner->check_inputs(problem); });
+  if (!problem.planner.name.empty()) {
+    collecting(errors, [&] {
+      plugins.planner =
+          registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters, problem.planner.where);
+    });
   }
+  if (plugins.planner && read != ProblemPart::some_plugins) {
+    check_required_kinds(problem, *plugins.planner, plugins.samplers, registry, errors);
+    // The planner's own checks read the rest of the problem: they judge only a whole one.
+    if (read == ProblemPart::whole) {
+      collecting(errors, [&] { plugins.planner->check_inputs(problem); });
+    }
+  }
+  return plugins;
+}
+
+Plugins create_plugins(const Problem& problem, const plugin::Registry& registry) {
+  Diagnostics errors;
+  Plugins plugins = create_plugins(problem, registry, errors, ProblemPart::whole);
   errors.throw_if_any();
   return plugins;
 }

@@ -216,8 +216,14 @@ TEST(Browser, BenchPlotsRenderAsDrawings) {
   const std::string push = kCli + " bench push -q --runs 1 --time-limit 5 --push-scenes " + (dir / "shelves").string() + " --svg " +
                            (dir / "push.svg").string() + " > /dev/null";
   ASSERT_EQ(std::system(push.c_str()), 0) << push;
+  const std::string occlusion = kCli + " bench occlusion -q --sizes 8 --sizes 12 --scenes 2 --runs 1 --time-limit 600 --svg " +
+                                (dir / "occlusion.svg").string() + " > /dev/null";
+  ASSERT_EQ(std::system(occlusion.c_str()), 0) << occlusion;
+  const std::string mobile = kCli + " bench mobile -q --seed 0 --scenes 2 --runs 1 --mobile-tables random --time-limit 3000 --svg " +
+                             (dir / "mobile.svg").string() + " > /dev/null";
+  ASSERT_EQ(std::system(mobile.c_str()), 0) << mobile;
   WebDriver browser(dir.string());
-  for (const std::string name : {"retrieval", "push"}) {
+  for (const std::string name : {"retrieval", "push", "occlusion", "mobile"}) {
     browser.go("file://" + (dir / (name + ".svg")).string());
     browser.execute(
         "const svg = document.documentElement; const w = svg.width.baseVal.value, h = svg.height.baseVal.value;"

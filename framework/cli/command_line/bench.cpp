@@ -300,6 +300,8 @@ BenchCommand declare_occlusion(CLI::App& bench, CommonOptions& common) {
       .time_limit("Seconds per run", 60)
       .json("the table with the paper's figures")
       .csv("one row per run")
+      .svg("per layout the success rates, |O_r| and times of each size beside the paper's")
+      .sweep()
       .goals("success >= 95 % and a median time <= 1 s for every size");
   c.app->add_option("--occlusion-layout", args.occlusion_layouts,
                     "'columns' (each object hidden by the one in front) and/or 'random' (Table I shelves seen from the "
@@ -326,6 +328,8 @@ BenchCommand declare_mobile(CLI::App& bench, CommonOptions& common) {
       .time_limit("Seconds per run, and the outer limit of each table's check", 60)
       .json("the summary")
       .csv("one row per run")
+      .svg("the success rates, |O_r| and times of each initial limit beside the paper's")
+      .sweep()
       .goals("L = 1 moves at most 2.2 objects on average (target included) with a median time <= 1 s");
   c.app->add_option("--mobile-tables", args.mobile_tables,
                     "fig9 keeps the generated tables where, as in the paper's Fig. 9, one object is in the way from some "
@@ -333,6 +337,22 @@ BenchCommand declare_mobile(CLI::App& bench, CommonOptions& common) {
       ->capture_default_str()
       ->check(CLI::IsMember({"fig9", "random"}));
   BenchOptions(*c.app, args).robot("Robot description (a mobile manipulator)", "domains/robots/pr2_mobile.yaml");
+  return c;
+}
+
+// `bench sweep FILE`: the runs a sweep file lists.
+BenchCommand declare_file_sweep(CLI::App& bench, CommonOptions& common) {
+  BenchCommand c = add_bench(bench, common, "sweep",
+                             "Every problem of a sweep file with every planner of its parameter grid and every seed "
+                             "(docs/file-formats.md, \"Sweep files\")",
+                             bench::file_sweep);
+  c.app->add_option("file", c.args->sweep_file, "The sweep file (YAML)")->required()->check(CLI::ExistingFile);
+  BenchOptions(*c.app, *c.args)
+      .json("a row per problem and planner")
+      .csv("one row per run")
+      .svg("the success rate and times of every row")
+      .sweep()
+      .goals("every run solved");
   return c;
 }
 
@@ -381,7 +401,7 @@ Command declare_bench(CLI::App& app, CommonOptions& common) {
   bench->require_subcommand(1);
   auto benches = std::make_shared<std::vector<BenchCommand>>();
   for (auto declare : {declare_collision, declare_pddl, declare_samplers, declare_retrieval, declare_physics, declare_push,
-                       declare_occlusion, declare_mobile, declare_merge, declare_worker}) {
+                       declare_occlusion, declare_mobile, declare_file_sweep, declare_merge, declare_worker}) {
     benches->push_back(declare(*bench, common));
   }
   return {bench, [benches, &common] {

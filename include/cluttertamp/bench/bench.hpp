@@ -84,6 +84,10 @@ struct BenchArgs {
   bool fit_to_robot = false;
   double table_v_width = 0.0;            ///< bench retrieval: Table V cabinet width, m; 0: ShelfSpec's
   std::string mobile_tables = "fig9";    ///< bench mobile: "fig9" (Tian et al.'s Fig. 9 tables) or "random"
+  /// bench mobile: the seeds of the tables chosen (by mobile_tables); empty: not chosen
+  /// yet (the bench chooses them first and hands them to its shards' child processes)
+  std::vector<std::uint64_t> mobile_table_seeds;
+  std::filesystem::path sweep_file;      ///< bench sweep: the sweep file (io::load_sweep_file)
   std::vector<std::string> occlusion_layouts;  ///< bench occlusion: "columns", "random" (default both)
   Verbosity verbosity = Verbosity::normal;
   int runs = 3;                          ///< runs per instance (seeds seed, seed + 1, ...)
@@ -128,6 +132,11 @@ CLUTTERTAMP_API int sweep_worker(const std::filesystem::path& settings_file, con
 /// The exit code of a bench that ran: 1 when `goals_met` is false and the user asked
 /// for --check-goals, else 0.
 CLUTTERTAMP_API int goal_exit_code(bool check_goals, bool goals_met);
+
+/// Every problem of a sweep file (args.sweep_file) with every planner of its grid and
+/// every seed: a row per problem and planner (success, median time, |O_r|, steps);
+/// goal: every run solved.
+CLUTTERTAMP_API int file_sweep(const BenchArgs& args);
 
 /// FK, IK, collision and sweep query times; goals: the speed goals it prints.
 CLUTTERTAMP_API int collision(const BenchArgs& args);

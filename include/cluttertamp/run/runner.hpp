@@ -53,6 +53,23 @@ struct Plugins {
 /// every one that is missing (with the near names that exist) or rejects its parameters.
 CLUTTERTAMP_API Plugins create_plugins(const Problem& problem, const plugin::Registry& registry);
 
+/// How much of a problem the plugin checks may judge.
+enum class ProblemPart {
+  /// The whole problem read without error: every check runs.
+  whole,
+  /// Only its `planner` and `plugins` blocks read without error: each named plugin is
+  /// created and configured, and the planner says which kinds it needs, but it is not
+  /// asked to check the problem's other inputs (they did not read).
+  plugins,
+  /// Some plugin choices did not read: the ones that did are created and configured.
+  some_plugins,
+};
+
+/// create_plugins that adds every error to `errors` instead of throwing; `read` says
+/// how much of the problem read (io::ProblemReading), and so which checks can run.
+CLUTTERTAMP_API Plugins create_plugins(const Problem& problem, const plugin::Registry& registry, Diagnostics& errors,
+                                       ProblemPart read);
+
 /// Throws InputError, one error per contact, when a retrieval problem's robot starts in
 /// collision: its initial configuration touching a movable object (located at the
 /// object), a fixed body (at the body, naming the links) or itself (at the robot). No
