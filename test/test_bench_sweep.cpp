@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -289,6 +290,45 @@ TEST_F(BenchSweep, ASweepFileRunsAsASweep) {
   EXPECT_NE(misspelt.output.find("misspelt.yaml:3:"), std::string::npos) << misspelt.output;
   EXPECT_NE(misspelt.output.find("did you mean 'retrieval_graph'"), std::string::npos) << misspelt.output;
   EXPECT_FALSE(fs::exists(at("m.jsonl")));
+}
+
+// compare the same way: two shards merged are the unsharded run, in its JSON and CSV
+// but the times; its OMPL log has a planner per row.
+TEST_F(BenchSweep, CompareShardsMergeIntoTheUnshardedRun) {
+  const std::string compare = "compare -q " + std::string(CLUTTERTAMP_SOURCE_DIR) + "/problems/stacked/stacked4.yaml --runs 2 --time-limit 600 ";
+  const auto whole = run_cli(compare + "--records " + at("all.jsonl") + " --json " + at("all.json") + " --csv " + at("all.csv") +
+                             " --ompl-log " + at("all.log"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  EXPECT_NE(whole.output.find("incremental, all movable"), std::string::npos) << whole.output;
+  const auto first = run_cli(compare + "--shard 0/2 -j 2 --records " + at("s0.jsonl"));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const auto second = run_cli(compare + "--shard 1/2 --records " + at("s1.jsonl"));
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const auto all = records(at("all.jsonl"));
+  ASSERT_EQ(all.size(), 9u);  // the header and 4 settings x 2 seeds
+  EXPECT_EQ(all[0]["bench"], "compare");
+  EXPECT_EQ(all[1]["parameters"]["algorithm"], "adaptive");
+  EXPECT_EQ(all[2]["seed"], 1);
+  EXPECT_EQ(all[8]["parameters"]["prune"], false);
+  const auto merged = run_cli("bench merge -q " + at("s1.jsonl") + " " + at("s0.jsonl") + " --json " + at("merged.json") + " --csv " +
+                              at("merged.csv"));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  const auto table = nlohmann::json::parse(test::read_text(at("all.json")));
+  ASSERT_EQ(table.size(), 4u);
+  EXPECT_EQ(table[3]["runs"], 2);
+  EXPECT_EQ(without_times(nlohmann::json::parse(test::read_text(at("merged.json")))), without_times(table));
+  // The CSV's rows are the same runs in the same order (the time column aside).
+  auto cells = [](const std::string& csv) {
+    std::vector<std::string> rows;
+    std::istringstream in(csv);
+    for (std::string line; std::getline(in, line);) {
+      const std::size_t time = line.find(',', line.find(',', line.find(',', line.find(',', line.find(',', line.find(',') + 1) + 1) + 1) + 1) + 1);
+      rows.push_back(line.substr(0, time) + line.substr(line.find(',', time + 1)));
+    }
+    return rows;
+  };
+  EXPECT_EQ(cells(test::read_text(at("merged.csv"))), cells(test::read_text(at("all.csv"))));
+  EXPECT_NE(test::read_text(at("all.log")).find("\n4 planners\nstacked4/stream_planner[algorithm=adaptive,prune=true]\n"), std::string::npos);
 }
 
 TEST_F(BenchSweep, AShardIsKOfN) {

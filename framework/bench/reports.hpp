@@ -22,6 +22,11 @@ int report_push(const BenchArgs& args, const std::vector<Record>& records);
 /// when L = 1 moves more than 2.2 objects on average or its median time is above 1 s.
 int report_mobile(const BenchArgs& args, const std::vector<Record>& records);
 
+/// `compare`'s runs as a sweep (CompareArgs in BenchArgs), and Table IV from its records;
+/// with check_goals, exit code 1 when a run was not solved.
+int compare_runs(const BenchArgs& args);
+int report_compare(const BenchArgs& args, const std::vector<Record>& records);
+
 /// The rows of `bench sweep` (a sweep file's runs); with check_goals, exit code 1 when
 /// a run was not solved.
 int report_file_sweep(const BenchArgs& args, const std::vector<Record>& records);

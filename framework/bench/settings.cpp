@@ -38,20 +38,33 @@ void each_setting(Args& a, Visit&& visit) {
   visit("mobile_tables", a.mobile_tables);
   visit("mobile_table_seeds", a.mobile_table_seeds);
   visit("sweep_file", a.sweep_file);
+  visit("problems", a.problems);
+  visit("plugin_paths", a.plugin_paths);
   visit("occlusion_layouts", a.occlusion_layouts);
   visit("runs", a.runs);
 }
 
 // Settings that records written before them do not have; reading those, they keep their defaults.
-bool added_later(const std::string& name) { return name == "mobile_table_seeds" || name == "sweep_file"; }
+bool added_later(const std::string& name) {
+  return name == "mobile_table_seeds" || name == "sweep_file" || name == "problems" || name == "plugin_paths";
+}
 
 nlohmann::ordered_json to_json(const fs::path& p) { return p.empty() ? std::string() : fs::absolute(p).lexically_normal().string(); }
+nlohmann::ordered_json to_json(const std::vector<fs::path>& paths) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const fs::path& p : paths) out.push_back(to_json(p));
+  return out;
+}
 template <class T>
 nlohmann::ordered_json to_json(const T& value) {
   return value;
 }
 
 void from_json(const nlohmann::ordered_json& j, fs::path& p) { p = j.get<std::string>(); }
+void from_json(const nlohmann::ordered_json& j, std::vector<fs::path>& paths) {
+  paths.clear();
+  for (const auto& p : j) paths.emplace_back(p.get<std::string>());
+}
 template <class T>
 void from_json(const nlohmann::ordered_json& j, T& value) {
   value = j.get<T>();

@@ -19,19 +19,6 @@ struct BenchCommand {
   std::function<int(BenchArgs&)> run;
 };
 
-CLI::Validator shard_validator() {
-  return CLI::Validator(
-      [](const std::string& text) {
-        try {
-          bench::parse_shard(text);
-          return std::string();
-        } catch (const InputError& e) {
-          const std::string message = e.what();
-          return message.substr(message.find("error: ") == std::string::npos ? 0 : message.find("error: ") + 7);
-        }
-      },
-      "K/N");
-}
 
 // The options several benches take, worded the same in each; each bench declares only
 // those that apply to it, so that any other is an error.
@@ -89,21 +76,9 @@ class BenchOptions {
     app_.add_option("--svg", args_.svg, "Also plot " + what + " (SVG) to this file");
     return *this;
   }
-  /// --shard, -j and --records: the bench runs as a sweep (see `bench merge`).
+  /// --shard, -j, --records and --ompl-log: the bench runs as a sweep (see `bench merge`).
   BenchOptions& sweep() {
-    app_.add_option_function<std::string>(
-            "--shard", [args = &args_](const std::string& text) { args->sweep.shard = bench::parse_shard(text); },
-            "Run only shard K of N (K from 0): the runs i with i % N == K; write them with --records and report the "
-            "shards together with 'bench merge'")
-        ->type_name("K/N")
-        ->check(shard_validator());
-    app_.add_option("-j,--jobs", args_.sweep.jobs, "Runs at once, each in a child process of its own (results as with -j 1)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 1024));
-    app_.add_option("--records", args_.sweep.records,
-                    "Also write every run as a JSON Lines record to this file (FILE.partial while running), for 'bench merge'");
-    app_.add_option("--ompl-log", args_.ompl_log,
-                    "Also write the runs in OMPL's benchmark log format, for ompl_benchmark_statistics and Planner Arena");
+    add_sweep_options(app_, args_.sweep, args_.ompl_log);
     return *this;
   }
   /// --check-goals for a bench whose report says whether the paper's (or our) goals were met.

@@ -6,6 +6,7 @@
 #include <functional>
 #include <sstream>
 
+#include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/core/memory_limit.hpp"
 
 namespace cluttertamp::cli {
@@ -109,6 +110,36 @@ CLI::Validator count_validator() {
 
 std::filesystem::path source_file(const std::string& relative) {
   return std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / relative;
+}
+
+CLI::Validator shard_validator() {
+  return CLI::Validator(
+      [](const std::string& text) {
+        try {
+          bench::parse_shard(text);
+          return std::string();
+        } catch (const InputError& e) {
+          const std::string message = e.what();
+          return message.substr(message.find("error: ") == std::string::npos ? 0 : message.find("error: ") + 7);
+        }
+      },
+      "K/N");
+}
+
+void add_sweep_options(CLI::App& app, bench::SweepOptions& sweep, std::filesystem::path& ompl_log) {
+  app.add_option_function<std::string>(
+         "--shard", [&sweep](const std::string& text) { sweep.shard = bench::parse_shard(text); },
+         "Run only shard K of N (K from 0): the runs i with i % N == K; write them with --records and report the "
+         "shards together with 'bench merge'")
+      ->type_name("K/N")
+      ->check(shard_validator());
+  app.add_option("-j,--jobs", sweep.jobs, "Runs at once, each in a child process of its own (results as with -j 1)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
+  app.add_option("--records", sweep.records,
+                 "Also write every run as a JSON Lines record to this file (FILE.partial while running), for 'bench merge'");
+  app.add_option("--ompl-log", ompl_log,
+                 "Also write the runs in OMPL's benchmark log format, for ompl_benchmark_statistics and Planner Arena");
 }
 
 }  // namespace cluttertamp::cli

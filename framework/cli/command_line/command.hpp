@@ -60,6 +60,11 @@ CLI::Validator finite_non_negative();
 CLI::Validator finite_range(double low, double high);
 /// A whole number from 0 to 2^64 - 1, without a sign (CLI11 reads "-1" as 2^64 - 1).
 CLI::Validator count_validator();
+/// "K/N" with 0 <= K < N (bench::parse_shard).
+CLI::Validator shard_validator();
+/// --shard K/N, -j N, --records FILE and --ompl-log FILE: a command that runs as a
+/// sweep (docs/commands.md, "Sweeps").
+void add_sweep_options(CLI::App& app, bench::SweepOptions& sweep, std::filesystem::path& ompl_log);
 /// A bundled file of the source tree (the default of some options).
 std::filesystem::path source_file(const std::string& relative);
 

@@ -19,14 +19,19 @@ Command declare_compare(CLI::App& app, CommonOptions& common) {
   compare->add_option("--csv", args->csv, "Also write every run as CSV to this file");
   compare->add_option("--svg", args->svg, "Also plot median time against object count (SVG) to this file");
   compare->add_flag("--check-goals", args->check_goals, "Exit code 1 when a run was not solved (else 0 whenever the comparison ran)");
+  add_sweep_options(*compare, args->sweep, args->ompl_log);
   add_plugin_paths(*compare, args->plugin_paths);
   add_memory_limit(*compare, common);
   add_verbosity(*compare, args->verbosity, "Same output as the default");
-  return {compare, [args] {
+  return {compare, [args, &common] {
             // A sweep's results are never lost to an unwritable path found at its end.
             if (args->json) io::check_writable(*args->json, "JSON file (--json)");
             if (args->csv) io::check_writable(*args->csv, "CSV file (--csv)");
             if (args->svg) io::check_writable(*args->svg, "SVG file (--svg)");
+            if (!args->sweep.records.empty()) io::check_writable(args->sweep.records, "records file (--records)");
+            if (!args->ompl_log.empty()) io::check_writable(args->ompl_log, "OMPL benchmark log (--ompl-log)");
+            args->sweep.package_paths = common.package_paths;
+            args->sweep.memory_limit_mib = common.memory_limit_mib;
             return bench::compare(*args);
           }};
 }

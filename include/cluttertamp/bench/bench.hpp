@@ -88,6 +88,8 @@ struct BenchArgs {
   /// yet (the bench chooses them first and hands them to its shards' child processes)
   std::vector<std::uint64_t> mobile_table_seeds;
   std::filesystem::path sweep_file;      ///< bench sweep: the sweep file (io::load_sweep_file)
+  std::vector<std::filesystem::path> problems;      ///< compare: its stream problems
+  std::vector<std::filesystem::path> plugin_paths;  ///< compare: searched before each problem's own
   std::vector<std::string> occlusion_layouts;  ///< bench occlusion: "columns", "random" (default both)
   Verbosity verbosity = Verbosity::normal;
   int runs = 3;                          ///< runs per instance (seeds seed, seed + 1, ...)
@@ -108,6 +110,8 @@ struct CompareArgs {
   std::vector<std::filesystem::path> plugin_paths;
   Verbosity verbosity = Verbosity::normal;
   bool check_goals = false;  ///< exit code 1 when a run was not solved
+  SweepOptions sweep;        ///< --shard, -j, --records: compare runs as a sweep
+  std::filesystem::path ompl_log;  ///< OMPL's benchmark log of the runs; empty: none
 };
 /// {adaptive, incremental} x {pruned, all movable} on each problem, `runs` seeds each:
 /// a table beside Tian et al.'s Table IV; goal: every run solved.
