@@ -41,13 +41,13 @@ std::vector<nlohmann::json> records(const fs::path& file) {
   return out;
 }
 
-// `j` without what the clock measured (keys of times: "..._s", "seconds", "time..."):
+// `j` without what the clock measured (keys of times: "..._s", "...seconds...", "...time..."):
 // what must be the same for the same runs, however they were spread.
 nlohmann::json without_times(nlohmann::json j) {
   if (j.is_object()) {
     nlohmann::json out = nlohmann::json::object();
     for (auto& [key, value] : j.items()) {
-      const bool time = key == "seconds" || key.find("time") != std::string::npos || (key.size() > 2 && key.substr(key.size() - 2) == "_s");
+      const bool time = key.find("seconds") != std::string::npos || key.find("time") != std::string::npos || (key.size() > 2 && key.substr(key.size() - 2) == "_s");
       if (!time) out[key] = without_times(value);
     }
     return out;
@@ -329,6 +329,37 @@ TEST_F(BenchSweep, CompareShardsMergeIntoTheUnshardedRun) {
   };
   EXPECT_EQ(cells(test::read_text(at("merged.csv"))), cells(test::read_text(at("all.csv"))));
   EXPECT_NE(test::read_text(at("all.log")).find("\n4 planners\nstacked4/stream_planner[algorithm=adaptive,prune=true]\n"), std::string::npos);
+}
+
+// bench pddl the same way: three shards of the test tree merged are the unsharded run;
+// a refused file is refused by the merged report too (exit code 2, after the rest).
+TEST_F(BenchSweep, PddlShardsMergeIntoTheUnshardedRun) {
+  fs::create_directories(dir_ / "tree");
+  fs::copy(test::data("pddl/gripper"), dir_ / "tree/gripper");
+  fs::copy(test::data("pddl/blocks"), dir_ / "tree/blocks");
+  std::ofstream(dir_ / "tree/blocks/p0-broken.pddl") << "(define (problem broken) (:domain blocks)";
+  const std::string bench = "bench pddl -q --instances " + at("tree") + " --per-domain 2 --runs 1 --parse-objects 0 "
+                            "--search lama-first --search astar-lmcut ";
+  const auto whole = run_cli(bench + "--records " + at("all.jsonl") + " --json " + at("all.json"));
+  ASSERT_EQ(whole.exit_code, 2) << whole.output;
+  EXPECT_NE(whole.output.find("p0-broken.pddl:1:"), std::string::npos) << whole.output;
+  for (const char* shard : {"0/3 -j 2", "1/3", "2/3"}) {
+    const auto r = run_cli(bench + "--shard " + shard + " --records " + at(std::string("s") + shard[0] + ".jsonl"));
+    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 2) << shard << ": " << r.output;
+  }
+  const auto all = records(at("all.jsonl"));
+  ASSERT_EQ(all.size(), 9u);  // the header and 4 instances x 2 searches
+  EXPECT_EQ(all[1]["problem"], "blocks/p0-broken");
+  EXPECT_NE(all[1]["reason"].get<std::string>().find("input refused"), std::string::npos);
+  EXPECT_EQ(all[4]["planner"], "astar-lmcut");
+  for (std::size_t k = 3; k < all.size(); ++k) EXPECT_TRUE(all[k]["valid"].get<bool>()) << all[k].dump();
+  const auto merged = run_cli("bench merge -q " + at("s2.jsonl") + " " + at("s0.jsonl") + " " + at("s1.jsonl") + " --json " +
+                              at("merged.json") + " --svg " + at("merged.svg"));
+  EXPECT_EQ(merged.exit_code, 2) << merged.output;
+  EXPECT_NE(merged.output.find("p0-broken.pddl:1:"), std::string::npos) << merged.output;
+  EXPECT_EQ(without_times(nlohmann::json::parse(test::read_text(at("merged.json")))),
+            without_times(nlohmann::json::parse(test::read_text(at("all.json")))));
+  EXPECT_EQ(test::read_text(at("merged.svg")).rfind("<svg", 0), 0u);
 }
 
 TEST_F(BenchSweep, AShardIsKOfN) {

@@ -8,13 +8,19 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
+#include "bench/reports.hpp"
+#include "bench/settings.hpp"
+#include "bench/svg_plot.hpp"
+#include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
+#include "cluttertamp/version.hpp"
 #include "bench/statistics.hpp"
 #include "cluttertamp/io/text_file.hpp"
 #include "cluttertamp/pddl/parser.hpp"
@@ -307,64 +313,200 @@ double parse_seconds(int objects, int runs) {
   return median(seconds);
 }
 
-int pddl(const BenchArgs& args) {
+namespace {
+
+Record record_of(const Run& r, const std::string& refused) {
+  return {{"problem", r.instance},
+          {"domain_folder", r.domain_folder},
+          {"domain_file", r.domain.string()},
+          {"problem_file", r.problem.string()},
+          {"planner", r.search},
+          {"solved", r.solved},
+          {"valid", r.valid},
+          {"reason", r.reason},
+          {"refused", refused},
+          {"cost", r.cost},
+          {"plan_length", r.length},
+          {"expanded", r.expanded},
+          {"evaluated", r.evaluated},
+          {"ground_s", r.ground_s},
+          {"search_s", r.search_s},
+          {"time_s", r.total_s},
+          {"runs", r.runs},
+          {"version", std::string(version())}};
+}
+
+Run run_of(const Record& r) {
+  Run run;
+  run.instance = r.at("problem").get<std::string>();
+  run.domain_folder = r.at("domain_folder").get<std::string>();
+  run.domain = r.at("domain_file").get<std::string>();
+  run.problem = r.at("problem_file").get<std::string>();
+  run.search = r.at("planner").get<std::string>();
+  run.solved = r.at("solved").get<bool>();
+  run.valid = r.at("valid").get<bool>();
+  run.reason = r.at("reason").get<std::string>();
+  run.cost = number(r, "cost");
+  run.length = r.at("plan_length").get<std::size_t>();
+  run.expanded = r.at("expanded").get<std::uint64_t>();
+  run.evaluated = r.at("evaluated").get<std::uint64_t>();
+  run.ground_s = number(r, "ground_s");
+  run.search_s = number(r, "search_s");
+  run.total_s = number(r, "time_s");
+  run.runs = r.at("runs").get<int>();
+  return run;
+}
+
+std::vector<std::string> searches_of(const BenchArgs& args) {
+  return args.searches.empty() ? std::vector<std::string>{"lama-first", "astar-lmcut"} : args.searches;
+}
+
+// The instances of the tree with a domain file; a .pddl file with no domain file beside
+// it is no problem of this tree (a domain under another name, a stream file): said,
+// and left out.
+std::vector<Pair> pairs_of(const BenchArgs& args) {
   std::vector<Pair> pairs = instances(args.pddl_instances, args.per_domain);
-  // A .pddl file with no domain file beside it is no problem of this tree (a domain
-  // under another name, a stream file): said, and left out.
   const auto lone = std::stable_partition(pairs.begin(), pairs.end(), [](const Pair& p) { return !p.domain.empty(); });
   for (auto it = lone; it != pairs.end(); ++it) {
     if (args.verbosity != Verbosity::quiet) std::cerr << "skipped " << it->problem.string() << ": no domain file found beside it\n";
   }
   pairs.erase(lone, pairs.end());
   if (pairs.empty()) throw InputError({args.pddl_instances.string(), 0, 0}, "no PDDL problem files found here or in its folders");
-  const std::map<std::string, double> reference = reference_costs(args.reference_costs);
-  const std::vector<std::string> searches = args.searches.empty() ? std::vector<std::string>{"lama-first", "astar-lmcut"} : args.searches;
-  std::vector<Run> rows;
-  std::vector<std::string> refused;  // files that are not read: bad input
-  std::cout << std::left << std::setw(34) << "instance" << std::setw(14) << "search" << std::right << std::setw(8)
-            << "solved" << std::setw(8) << "cost" << std::setw(11) << "expanded" << std::setw(12) << "ground s"
-            << std::setw(12) << "search s" << std::setw(12) << "total s" << "\n";
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const Pair& pair = pairs[k];
-    const std::string name = pair.domain_folder + "/" + pair.problem.stem().string();
-    std::optional<pddl::Domain> domain;
-    std::optional<pddl::Problem> problem;
-    std::string error;
+  return pairs;
+}
+
+// Runs run i: instance i / searches with search i % searches, parsing each instance once.
+class PddlRunner {
+ public:
+  PddlRunner(const BenchArgs& args, std::vector<Pair> pairs) : args_(args), pairs_(std::move(pairs)), searches_(searches_of(args)) {}
+
+  Record run(std::size_t i) {
+    const Pair& pair = pairs_.at(i / searches_.size());
+    if (parsed_ != i / searches_.size()) parse(i / searches_.size());
+    Run row;
+    if (error_.empty()) {
+      row = measure(pair, *domain_, *problem_, searches_[i % searches_.size()], args_, parse_s_);
+    } else {
+      row.reason = "input refused: " + error_.substr(0, error_.find('\n'));  // the located line, not the excerpt
+    }
+    row.instance = pair.domain_folder + "/" + pair.problem.stem().string();
+    row.domain_folder = pair.domain_folder;
+    row.search = searches_[i % searches_.size()];
+    row.domain = pair.domain;
+    row.problem = pair.problem;
+    return record_of(row, error_);
+  }
+
+ private:
+  void parse(std::size_t k) {
+    parsed_ = k;
+    domain_.reset();
+    problem_.reset();
+    error_.clear();
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      domain = pddl::load_domain(pair.domain);
-      problem = pddl::load_problem(pair.problem, *domain);
+      domain_ = pddl::load_domain(pairs_[k].domain);
+      problem_ = pddl::load_problem(pairs_[k].problem, *domain_);
     } catch (const InputError& e) {
-      error = e.what();
+      error_ = e.what();
+    }
+    parse_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  const BenchArgs& args_;
+  std::vector<Pair> pairs_;
+  std::vector<std::string> searches_;
+  std::size_t parsed_ = static_cast<std::size_t>(-1);
+  std::optional<pddl::Domain> domain_;
+  std::optional<pddl::Problem> problem_;
+  std::string error_;
+  double parse_s_ = 0;
+};
+
+const char* colour_of(std::size_t search) {
+  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e"};
+  return colours[search % std::size(colours)];
+}
+
+// Per domain folder: the share of instances each search solved with a valid plan, and
+// the total times of those as box plots (unsolved instances as red crosses).
+void write_svg(const fs::path& file, const std::vector<Run>& rows, const std::vector<std::string>& searches) {
+  std::vector<std::string> folders;
+  for (const Run& r : rows) {
+    if (std::find(folders.begin(), folders.end(), r.domain_folder) == folders.end()) folders.push_back(r.domain_folder);
+  }
+  const double left = 70, slot = std::max(40.0, 24.0 * double(searches.size())), panel_h = 170, top = 40;
+  const double panel_w = std::max(400.0, slot * double(folders.size()));
+  SvgPlot plot(std::max(left + panel_w + 30, left + 130 * double(searches.size() + 1) + 30), top + 2 * (panel_h + 75) + 20);
+  std::vector<double> times;
+  for (const Run& r : rows) {
+    if (r.valid) times.push_back(r.total_s);
+  }
+  const SvgPlot::Panel coverage = plot.panel(left, top, panel_w, panel_h, 100, "instances solved, valid plans", "%");
+  const SvgPlot::Panel time = plot.panel_for(left, top + panel_h + 75, panel_w, panel_h, times, "time of solved instances (parse, ground, search), s");
+  for (std::size_t f = 0; f < folders.size(); ++f) {
+    const double x0 = left + slot * double(f), bar = slot * 0.8 / double(searches.size());
+    for (std::size_t s = 0; s < searches.size(); ++s) {
+      int total = 0, solved = 0;
+      std::vector<double> seconds;
+      for (const Run& r : rows) {
+        if (r.domain_folder != folders[f] || r.search != searches[s]) continue;
+        ++total;
+        if (r.valid) {
+          ++solved;
+          seconds.push_back(r.total_s);
+        }
+      }
+      const double x = x0 + slot * 0.1 + bar * (double(s) + 0.5);
+      plot.bar(coverage, x - bar * 0.4, bar * 0.8, total ? 100.0 * solved / total : 0.0, colour_of(s));
+      plot.box(time, x, bar * 0.8, seconds, colour_of(s));
+      plot.unsolved(time, x, total - solved);
+    }
+    const std::string name = folders[f].size() > 9 ? folders[f].substr(0, 8) + "~" : folders[f];
+    for (const SvgPlot::Panel* p : {&coverage, &time}) plot.x_label(*p, x0 + slot / 2, name);
+  }
+  for (std::size_t s = 0; s < searches.size(); ++s) plot.legend(left + 130 * double(s), top + 2 * (panel_h + 75) + 5, colour_of(s), searches[s]);
+  plot.legend(left + 130 * double(searches.size()), top + 2 * (panel_h + 75) + 5, "cross", "unsolved (count)");
+  plot.write(file);
+}
+
+}  // namespace
+
+int pddl(const BenchArgs& args) {
+  std::vector<Pair> pairs = pairs_of(args);
+  reference_costs(args.reference_costs);  // a bad file is bad input before any run
+  const std::vector<std::string> searches = searches_of(args);
+  const SweepPlan plan{"pddl", settings_of(args), pairs.size() * searches.size(), [&](std::size_t i) {
+                         const Pair& pair = pairs[i / searches.size()];
+                         return pair.domain_folder + "/" + pair.problem.stem().string() + ", " + searches[i % searches.size()];
+                       }};
+  return run_and_report(
+      plan, args, [&] { return std::make_unique<PddlRunner>(args, pairs); },
+      [](PddlRunner& runner, std::size_t i) { return runner.run(i); }, report_pddl);
+}
+
+int report_pddl(const BenchArgs& args, const std::vector<Record>& records) {
+  std::vector<Run> rows;
+  std::vector<std::string> refused;  // files that are not read: bad input
+  for (const Record& r : records) {
+    rows.push_back(run_of(r));
+    const std::string error = r.at("refused").get<std::string>();
+    if (!error.empty() && std::find(refused.begin(), refused.end(), error) == refused.end()) {
       refused.push_back(error);
       std::cerr << error << "\n";
     }
-    const double parse_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (const std::string& algorithm : searches) {
-      Run row;
-      if (error.empty()) {
-        row = measure(pair, *domain, *problem, algorithm, args, parse_s);
-      } else {
-        row.reason = "input refused: " + error.substr(0, error.find('\n'));  // the located line, not the excerpt
-      }
-      row.instance = name;
-      row.domain_folder = pair.domain_folder;
-      row.search = algorithm;
-      row.domain = pair.domain;
-      row.problem = pair.problem;
-      std::cout << std::left << std::setw(34) << name << std::setw(14) << algorithm << std::right << std::setw(8)
-                << (row.valid ? "yes" : row.solved ? "INVALID" : "no") << std::setw(8)
-                << (row.solved ? std::to_string(static_cast<long>(row.cost)) : "-") << std::setw(11) << row.expanded
-                << std::setw(12) << fixed(row.ground_s, 4) << std::setw(12) << fixed(row.search_s, 4) << std::setw(12)
-                << fixed(row.total_s, 4) << "\n";
-      if (args.verbosity != Verbosity::quiet && pairs.size() > 1) {
-        std::cerr << "[" << k + 1 << "/" << pairs.size() << "] " << name << " " << algorithm << ": "
-                  << (row.valid ? "solved" : row.reason) << "\n";
-      }
-      rows.push_back(std::move(row));
-    }
   }
-  score(rows, reference);
+  std::cout << std::left << std::setw(30) << "instance" << std::setw(13) << "search" << std::right << std::setw(8) << "solved"
+            << std::setw(7) << "cost" << std::setw(10) << "expanded" << std::setw(10) << "ground s" << std::setw(10) << "search s"
+            << std::setw(10) << "total s" << "\n";
+  for (const Run& row : rows) {
+    std::cout << std::left << std::setw(30) << row.instance << std::setw(13) << row.search << std::right << std::setw(8)
+              << (row.valid ? "yes" : row.solved ? "INVALID" : "no") << std::setw(7)
+              << (row.solved ? std::to_string(static_cast<long>(row.cost)) : "-") << std::setw(10) << row.expanded << std::setw(10)
+              << fixed(row.ground_s, 4) << std::setw(10) << fixed(row.search_s, 4) << std::setw(10) << fixed(row.total_s, 4) << "\n";
+  }
+  score(rows, reference_costs(args.reference_costs));
+  const std::vector<std::string> searches = searches_of(args);
   nlohmann::ordered_json runs = nlohmann::ordered_json::array(), summary = nlohmann::ordered_json::array();
   for (const Run& r : rows) {
     runs.push_back({{"instance", r.instance},
@@ -402,6 +544,7 @@ int pddl(const BenchArgs& args) {
     write_csv(args.csv, rows);
     std::cout << "wrote " << args.csv.string() << "\n";
   }
+  if (!args.svg.empty()) write_svg(args.svg, rows, searches);
   const bool invalid = std::any_of(rows.begin(), rows.end(), [](const Run& r) { return r.solved && !r.valid; });
   if (!refused.empty()) {
     std::cerr << refused.size() << " problem file(s) refused (bad input, listed above)\n";

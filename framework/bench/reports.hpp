@@ -27,6 +27,11 @@ int report_mobile(const BenchArgs& args, const std::vector<Record>& records);
 int compare_runs(const BenchArgs& args);
 int report_compare(const BenchArgs& args, const std::vector<Record>& records);
 
+/// `bench pddl`'s tables from its records: per instance and search, per domain folder
+/// (coverage, IPC quality score); exit code 2 when a file was refused, 3 when a plan
+/// failed validation.
+int report_pddl(const BenchArgs& args, const std::vector<Record>& records);
+
 /// The rows of `bench sweep` (a sweep file's runs); with check_goals, exit code 1 when
 /// a run was not solved.
 int report_file_sweep(const BenchArgs& args, const std::vector<Record>& records);

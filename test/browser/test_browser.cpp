@@ -222,8 +222,10 @@ TEST(Browser, BenchPlotsRenderAsDrawings) {
   const std::string mobile = kCli + " bench mobile -q --seed 0 --scenes 2 --runs 1 --mobile-tables random --time-limit 3000 --svg " +
                              (dir / "mobile.svg").string() + " > /dev/null";
   ASSERT_EQ(std::system(mobile.c_str()), 0) << mobile;
+  const std::string pddl = kCli + " bench pddl -q --per-domain 2 --runs 1 --parse-objects 0 --svg " + (dir / "pddl.svg").string() + " > /dev/null";
+  ASSERT_EQ(std::system(pddl.c_str()), 0) << pddl;
   WebDriver browser(dir.string());
-  for (const std::string name : {"retrieval", "push", "occlusion", "mobile"}) {
+  for (const std::string name : {"retrieval", "push", "occlusion", "mobile", "pddl"}) {
     browser.go("file://" + (dir / (name + ".svg")).string());
     browser.execute(
         "const svg = document.documentElement; const w = svg.width.baseVal.value, h = svg.height.baseVal.value;"

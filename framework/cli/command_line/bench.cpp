@@ -158,7 +158,9 @@ BenchCommand declare_pddl(CLI::App& bench, CommonOptions& common) {
       .runs("Runs per instance and search (the times are their medians)", 3)
       .time_limit("Seconds per search, parsing and grounding included", 60)
       .json("every run and the per-folder summary")
-      .csv("one row per instance and search");
+      .csv("one row per instance and search")
+      .svg("per domain folder the coverage and times of each search")
+      .sweep();
   args.pddl_instances = source_file("test/data/pddl");
   c.app->add_option("--instances", args.pddl_instances,
                     "A folder of problem files, or a folder of such folders (the IPC layout); each problem's domain is "
