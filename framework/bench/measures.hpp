@@ -77,11 +77,18 @@ struct Measures {
 };
 
 /// The table: a row per measure, a column per entry of `columns` (Measures::cells).
-inline void print_measures(std::ostream& out, const std::vector<std::string>& headers,
+inline void print_measures(std::ostream& to, const std::vector<std::string>& headers,
                            const std::vector<std::vector<std::string>>& columns, int width = 26) {
+  std::ostringstream out;  // lines without the last column's padding (within 100 columns for three columns)
+  const auto end_line = [&] {
+    std::string line = out.str();
+    line.erase(line.find_last_not_of(' ') + 1);
+    to << line << "\n";
+    out.str("");
+  };
   out << std::left << std::setw(26) << "measure";
   for (const std::string& h : headers) out << std::setw(width) << h;
-  out << "\n";
+  end_line();
   const bool both = !columns.empty() && columns.front().size() == 6;  // moved in total and final sequence
   std::vector<std::string> labels{"|O_r| (target included)", "time, mean (s)", "time, median (s)", "# iteration", "success rate (%)"};
   if (both) {
@@ -89,11 +96,11 @@ inline void print_measures(std::ostream& out, const std::vector<std::string>& he
     labels.insert(labels.begin() + 1, "|O_r| final sequence");
   }
   for (std::size_t k = 0; k < labels.size(); ++k) {
-    out << std::setw(26) << labels[k];
+    out << std::left << std::setw(26) << labels[k];
     for (const auto& c : columns) out << std::setw(width) << c[k];
-    out << "\n";
+    end_line();
   }
-  out << "\nMeasures other than the success rate are over solved runs; the paper gives means only.\n";
+  to << "\nMeasures other than the success rate are over solved runs; the paper gives means only.\n";
 }
 
 }  // namespace cluttertamp::bench
