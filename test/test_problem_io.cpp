@@ -255,6 +255,16 @@ TEST(SweepFile, EveryMistakeIsReportedWhereItStands) {
   EXPECT_TRUE(test::has_error(d, 10, 1, "unknown key 'extra' in the sweep"));
   EXPECT_TRUE(test::has_error(test::expect_input_error([] { io::load_sweep_file(written("empty_sweep.yaml", "")); }), 1, 1,
                               "the sweep file is empty"));
+  // A problem twice; an entry of 10,000 planners repeated by aliases.
+  const std::string problem = std::string(CLUTTERTAMP_SOURCE_DIR) + "/problems/default.yaml";
+  std::string big = "version: 1\nproblems: [" + problem + ", " + problem + "]\nplanners:\n  - &p {plugin: a, grid: {x: [";
+  for (int i = 0; i < 100; ++i) big += (i ? ", " : "") + std::to_string(i);
+  big += "], y: [";
+  for (int i = 0; i < 100; ++i) big += (i ? ", " : "") + std::to_string(i);
+  big += "]}}\n  - *p\n  - *p\n";
+  const Diagnostics many = test::expect_input_error([&] { io::load_sweep_file(written("alias_sweep.yaml", big)); });
+  EXPECT_TRUE(test::has_error(many, 2, 0, "is listed twice")) << many.str();
+  EXPECT_TRUE(test::has_error(many, 4, 3, "planners make more than 10000 planners in all")) << many.str();
 }
 
 }  // namespace

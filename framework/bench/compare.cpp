@@ -271,7 +271,8 @@ int compare(const CompareArgs& given) {
   return compare_runs(args);
 }
 
-int compare_runs(const BenchArgs& args) {
+int compare_runs(const BenchArgs& given) {
+  const BenchArgs args = with_absolute_paths(given);
   std::vector<Problem> problems = load_problems(args);
   std::vector<RowRef> rows = rows_of(problems);
   const std::size_t runs = static_cast<std::size_t>(args.runs);

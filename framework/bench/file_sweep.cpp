@@ -205,7 +205,8 @@ void write_csv(const fs::path& file, const std::vector<Record>& records) {
 
 }  // namespace
 
-int file_sweep(const BenchArgs& args) {
+int file_sweep(const BenchArgs& given) {
+  const BenchArgs args = with_absolute_paths(given);
   const io::SweepSpec spec = io::load_sweep_file(args.sweep_file);
   check_plugins(spec);
   nlohmann::ordered_json settings = settings_of(args);

@@ -50,7 +50,12 @@ int merge(const MergeArgs& m) {
     SweepPlan plan{bench.name, records.header["settings"], records.header["runs"].get<std::size_t>(), {}};
     write_records(m.records, plan, Shard{}, records.runs);
   }
-  return bench.report(args, records.runs);
+  try {
+    return bench.report(args, records.runs);
+  } catch (const nlohmann::json::exception& e) {  // a record without a field its report reads, or of another type
+    throw InputError(where, "a record of these files is not one that bench " + records.header["bench"].dump() +
+                                " writes: " + e.what());
+  }
 }
 
 int sweep_worker(const std::filesystem::path& settings_file, const SweepOptions& sweep) {

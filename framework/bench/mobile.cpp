@@ -177,6 +177,7 @@ class MobileRunner {
     const Result r = run::plan_scene(table_->second, setup_.robot, *planners_.at(ref.strategy), setup_.samplers, seed, args_.time_limit);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return {{"problem", table_->second.name},
+            {"robot", setup_.robot->name()},
             {"scene_seed", scene_seed},
             {"planner", "retrieval_graph"},
             {"parameters", {{"initial_L", kStrategies[ref.strategy].parameter}}},
@@ -297,7 +298,8 @@ int report_mobile(const BenchArgs& args, const std::vector<Record>& records) {
   std::vector<Row> rows;
   for (const Record& r : records) rows.push_back(row_of(r));
   const int objects = objects_of(args);
-  const std::string robot = io::load_robot_description(args.robot).name();
+  // The robot as the records name it: a merge needs no robot file (none ran: its file's name).
+  const std::string robot = records.empty() ? args.robot.stem().string() : records.front().at("robot").get<std::string>();
   const std::size_t tables = args.mobile_table_seeds.size();
   std::cout << "Mobile manipulation (Tian et al., Table III): " << robot << ", " << tables << " generated tables of "
             << objects << " objects"

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
+#include "bench/ompl_log.hpp"
 #include "bench/reports.hpp"
 #include "bench/settings.hpp"
 #include "bench/svg_plot.hpp"
@@ -472,7 +473,8 @@ void write_svg(const fs::path& file, const std::vector<Run>& rows, const std::ve
 
 }  // namespace
 
-int pddl(const BenchArgs& args) {
+int pddl(const BenchArgs& given) {
+  const BenchArgs args = with_absolute_paths(given);
   std::vector<Pair> pairs = pairs_of(args);
   reference_costs(args.reference_costs);  // a bad file is bad input before any run
   const std::vector<std::string> searches = searches_of(args);
@@ -545,6 +547,17 @@ int report_pddl(const BenchArgs& args, const std::vector<Record>& records) {
     std::cout << "wrote " << args.csv.string() << "\n";
   }
   if (!args.svg.empty()) write_svg(args.svg, rows, searches);
+  if (!args.ompl_log.empty()) {
+    std::vector<OmplLogPlanner> planners;
+    for (const std::string& search : searches) {
+      OmplLogPlanner p{search, {}};
+      for (const Record& r : records) {
+        if (r.at("planner") == search) p.runs.push_back(&r);
+      }
+      planners.push_back(std::move(p));
+    }
+    write_ompl_log(args.ompl_log, {"cluttertamp_bench_pddl", settings_of(args).dump(2), 0, args.time_limit}, planners);
+  }
   const bool invalid = std::any_of(rows.begin(), rows.end(), [](const Run& r) { return r.solved && !r.valid; });
   if (!refused.empty()) {
     std::cerr << refused.size() << " problem file(s) refused (bad input, listed above)\n";

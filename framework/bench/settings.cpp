@@ -49,7 +49,9 @@ bool added_later(const std::string& name) {
   return name == "mobile_table_seeds" || name == "sweep_file" || name == "problems" || name == "plugin_paths";
 }
 
-nlohmann::ordered_json to_json(const fs::path& p) { return p.empty() ? std::string() : fs::absolute(p).lexically_normal().string(); }
+fs::path absolute_path(const fs::path& p) { return p.empty() ? p : fs::absolute(p).lexically_normal(); }
+
+nlohmann::ordered_json to_json(const fs::path& p) { return absolute_path(p).string(); }
 nlohmann::ordered_json to_json(const std::vector<fs::path>& paths) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const fs::path& p : paths) out.push_back(to_json(p));
@@ -90,6 +92,25 @@ BenchArgs args_of(const nlohmann::ordered_json& settings, const SourceLocation& 
       throw InputError(where, std::string("the settings' '") + name + "' is of the wrong type: " + it->dump());
     }
   });
+  return args;
+}
+
+namespace {
+
+// Makes every path field it is shown absolute, and leaves the other fields.
+struct MakeAbsolute {
+  void operator()(const char*, fs::path& p) const { p = absolute_path(p); }
+  void operator()(const char*, std::vector<fs::path>& paths) const {
+    for (fs::path& p : paths) p = absolute_path(p);
+  }
+  template <class T>
+  void operator()(const char*, T&) const {}
+};
+
+}  // namespace
+
+BenchArgs with_absolute_paths(BenchArgs args) {
+  each_setting(args, MakeAbsolute{});
   return args;
 }
 

@@ -20,4 +20,9 @@ nlohmann::ordered_json settings_of(const BenchArgs& args);
 /// `where` naming a field that is missing or of the wrong type.
 BenchArgs args_of(const nlohmann::ordered_json& settings, const SourceLocation& where);
 
+/// `args` with the paths of its settings made absolute, as settings_of writes them: what
+/// a bench records (problem files, instances) is then the same in this process, in its
+/// child processes and in every shard, wherever each was started.
+BenchArgs with_absolute_paths(BenchArgs args);
+
 }  // namespace cluttertamp::bench

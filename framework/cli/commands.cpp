@@ -351,7 +351,7 @@ int validate(const ValidateArgs& args) {
             if (args.verbosity != Verbosity::quiet) std::cerr << w.str() << "\n";
           }
         }
-        if (!args.skip_plugins) {
+        if (!args.skip_plugins && reading.plugin_paths_whole) {
           run::RunOptions options;
           options.plugin_paths = args.plugin_paths;
           const plugin::Registry registry(run::plugin_search_paths(problem, options));

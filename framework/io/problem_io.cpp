@@ -62,6 +62,7 @@ class ProblemReader {
   ProblemReader(const fs::path& path, Diagnostics& diagnostics) : file_(path, diagnostics), diagnostics_(diagnostics) {}
   Problem read();
   bool plugins_whole() const { return plugins_whole_; }
+  bool plugin_paths_whole() const { return plugin_paths_whole_; }
 
  private:
   bool symbolic_task(const MapReader& top) const;
@@ -72,6 +73,7 @@ class ProblemReader {
   void read_plugins(const YAML::Node& node);
   void read_kind_choice(const YAML::Node& key_node, const YAML::Node& value);
   void read_plugin_paths(const YAML::Node& paths);
+  void read_plugin_path_list(const YAML::Node& paths);
   void read_stream_bindings(const YAML::Node& streams);
   void check_target();
 
@@ -80,6 +82,7 @@ class ProblemReader {
   Problem problem_;
   bool scene_ok_ = false;
   bool plugins_whole_ = false;
+  bool plugin_paths_whole_ = true;
   YAML::Node retrieve_node_;
 };
 
@@ -264,6 +267,12 @@ void ProblemReader::read_kind_choice(const YAML::Node& key_node, const YAML::Nod
 }
 
 void ProblemReader::read_plugin_paths(const YAML::Node& paths) {
+  const std::size_t before = diagnostics_.size();
+  read_plugin_path_list(paths);
+  plugin_paths_whole_ = diagnostics_.size() == before;
+}
+
+void ProblemReader::read_plugin_path_list(const YAML::Node& paths) {
   if (auto list = file_.strings(paths, "plugins paths")) {
     for (std::size_t i = 0; i < list->size(); ++i) {
       const fs::path dir = file_.resolve((*list)[i]);
@@ -315,7 +324,7 @@ void ProblemReader::check_target() {
 ProblemReading read_problem(const fs::path& file, Diagnostics& errors) {
   Diagnostics diagnostics;
   ProblemReader reader(file, diagnostics);
-  ProblemReading reading{reader.read(), false, reader.plugins_whole()};
+  ProblemReading reading{reader.read(), false, reader.plugins_whole(), reader.plugin_paths_whole()};
   Problem& problem = reading.problem;
   // A pddl task's files are parsed here, once: every error is a load error, and
   // whoever plans or checks the problem reads the same parse. They are parsed only when

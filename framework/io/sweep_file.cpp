@@ -1,5 +1,6 @@
 #include "cluttertamp/io/sweep_file.hpp"
 
+#include <algorithm>
 #include <set>
 
 #include "io/yaml_reader.hpp"
@@ -11,7 +12,7 @@ namespace {
 using detail::MapReader;
 using detail::YamlFile;
 
-// More planners than this from one grid is a mistake, not a sweep (the product of its lists).
+// More planners than this (a grid's combinations, or all of them) is a mistake, not a sweep.
 constexpr std::size_t kMaxGridPoints = 10000;
 constexpr std::int64_t kMaxSeeds = 100000;
 
@@ -24,7 +25,11 @@ void read_problems(const YamlFile& file, const YAML::Node& node, SweepSpec& spec
   for (const YAML::Node& item : node) {
     const auto name = file.string(item, "problem file");
     if (!name) continue;
-    const std::filesystem::path path = file.resolve(*name);
+    const std::filesystem::path path = file.resolve(*name).lexically_normal();
+    if (std::find(spec.problems.begin(), spec.problems.end(), path) != spec.problems.end()) {
+      file.error(item, "problem file '" + *name + "' is listed twice");
+      continue;
+    }
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error)) {
       file.error(item, "problem file '" + *name + "' does not exist (" + path.string() + ")");
@@ -152,7 +157,14 @@ SweepSpec load_sweep_file(const std::filesystem::path& file) {
         yaml.error(planners, "planners must be a list of {plugin: NAME, parameters: {...}, grid: {...}}");
       } else if (planners.IsDefined()) {
         std::size_t number = 0;
-        for (const YAML::Node& item : planners) read_planner(yaml, item, ++number, spec);
+        for (const YAML::Node& item : planners) {
+          read_planner(yaml, item, ++number, spec);
+          if (spec.planners.size() > kMaxGridPoints) {  // aliases can repeat a large entry
+            yaml.error(planners, "planners make more than " + std::to_string(kMaxGridPoints) + " planners in all");
+            spec.planners.clear();
+            break;
+          }
+        }
       }
       std::set<std::string> labels;
       for (const SweepPlanner& p : spec.planners) {

@@ -37,12 +37,12 @@ void collecting(Diagnostics& errors, Make&& make) {
   }
 }
 
-// A kind the planner cannot plan without that the problem leaves empty is bad input,
+// A kind the planner cannot plan without that the problem does not name is bad input,
 // found before planning (the planner would only fail with a reason).
 void check_required_kinds(const Problem& problem, const plugin::TaskPlanner& planner, const plugin::Samplers& samplers,
                           const plugin::Registry& registry, Diagnostics& errors) {
   for (const std::string& kind : planner.required_kinds()) {
-    if (samplers.get(kind)) continue;
+    if (samplers.get(kind) || problem.samplers.count(kind)) continue;  // named: its own error says what is wrong
     std::string found;
     for (const plugin::PluginDescriptor& d : registry.plugins()) {
       if (d.kind == kind) found += (found.empty() ? "" : ", ") + d.name;
@@ -86,7 +86,7 @@ Plugins create_plugins(const Problem& problem, const plugin::Registry& registry,
                        ProblemPart read) {
   Plugins plugins;
   plugins.samplers = create_samplers(registry, problem, errors);
-  if (!problem.planner.name.empty()) {
+  if (read == ProblemPart::whole || !problem.planner.name.empty()) {  // a part read may leave it unnamed
     collecting(errors, [&] {
       plugins.planner =
           registry.create<plugin::TaskPlanner>(problem.planner.name, problem.planner.parameters, problem.planner.where);

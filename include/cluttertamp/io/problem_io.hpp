@@ -22,6 +22,9 @@ struct ProblemReading {
   bool whole = false;
   /// No error in the `planner` and `plugins` blocks: the plugin choices are the file's.
   bool plugins_whole = false;
+  /// No error in `plugins: paths:` (or none given): every directory the file names for
+  /// plugins is known, so a plugin not found is not found.
+  bool plugin_paths_whole = true;
 };
 
 /// load_problem that collects every error into `errors` instead of throwing, so that a
