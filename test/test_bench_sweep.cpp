@@ -41,13 +41,16 @@ std::vector<nlohmann::json> records(const fs::path& file) {
   return out;
 }
 
-// `j` without what the clock measured (keys of times: "..._s", "...seconds...", "...time..."):
+// `j` without what the clock measured (keys of times: "..._s", "...seconds...", "...time...",
+// "...median...", rates "..._hz"):
 // what must be the same for the same runs, however they were spread.
 nlohmann::json without_times(nlohmann::json j) {
   if (j.is_object()) {
     nlohmann::json out = nlohmann::json::object();
     for (auto& [key, value] : j.items()) {
-      const bool time = key.find("seconds") != std::string::npos || key.find("time") != std::string::npos || (key.size() > 2 && key.substr(key.size() - 2) == "_s");
+      const auto ends_with = [&key](const std::string& tail) { return key.size() > tail.size() && key.substr(key.size() - tail.size()) == tail; };
+      const bool time = key.find("seconds") != std::string::npos || key.find("time") != std::string::npos ||
+                        key.find("median") != std::string::npos || ends_with("_s") || ends_with("_hz");
       if (!time) out[key] = without_times(value);
     }
     return out;
@@ -362,6 +365,56 @@ TEST_F(BenchSweep, PddlShardsMergeIntoTheUnshardedRun) {
   EXPECT_EQ(test::read_text(at("merged.svg")).rfind("<svg", 0), 0u);
 }
 
+// The timing benches as sweeps: a run is one timed batch (collision: 50 configurations
+// of each query, samplers: one shelf, physics: 10 pushes). Shards (one of them in child
+// processes) merged give the unsharded run's counts; only the times may differ.
+TEST_F(BenchSweep, TimingBenchesShardAndMerge) {
+  const std::map<std::string, std::pair<std::string, std::size_t>> benches{
+      {"collision", {"--samples 1000", 20}}, {"samplers", {"--samples 2000", 2}}, {"physics", {"", 5}}};
+  for (const auto& [name, setup] : benches) {
+    SCOPED_TRACE(name);
+    const std::string bench = "bench " + name + " -q " + setup.first + " ";
+    const auto whole = run_cli(bench + "--records " + at(name + ".jsonl") + " --json " + at(name + ".json") + " --svg " + at(name + ".svg"));
+    ASSERT_EQ(whole.exit_code, 0) << whole.output;
+    const auto first = run_cli(bench + "--shard 0/2 -j 2 --records " + at(name + "0.jsonl"));
+    ASSERT_EQ(first.exit_code, 0) << first.output;
+    const auto second = run_cli(bench + "--shard 1/2 --records " + at(name + "1.jsonl"));
+    ASSERT_EQ(second.exit_code, 0) << second.output;
+    const auto all = records(at(name + ".jsonl"));
+    ASSERT_EQ(all.size(), setup.second + 1);
+    EXPECT_EQ(all[0]["bench"], name);
+    EXPECT_EQ(all[1]["planner"], name);
+    EXPECT_FALSE(all[1]["host"].get<std::string>().empty());
+    const auto merged = run_cli("bench merge -q " + at(name + "1.jsonl") + " " + at(name + "0.jsonl") + " --json " + at(name + "m.json") +
+                                " --svg " + at(name + "m.svg"));
+    ASSERT_EQ(merged.exit_code, 0) << merged.output;
+    const auto table = nlohmann::json::parse(test::read_text(at(name + ".json")));
+    EXPECT_EQ(without_times(nlohmann::json::parse(test::read_text(at(name + "m.json")))), without_times(table));
+    EXPECT_EQ(test::read_text(at(name + ".svg")).rfind("<svg", 0), 0u);
+    EXPECT_NE(test::read_text(at(name + "m.svg")).find("goal"), std::string::npos);
+  }
+  // The counts a batch of each bench reports: the same for the same seed however run.
+  const auto collision = nlohmann::json::parse(test::read_text(at("collision.json")));
+  EXPECT_EQ(collision["results"][0]["calls"], 1000);
+  EXPECT_EQ(collision["ik_reachable"]["poses"], 1000);
+  const auto physics = nlohmann::json::parse(test::read_text(at("physics.json")));
+  EXPECT_EQ(physics["pushes"], 50);
+  // Records timed elsewhere merge too, and the report says whose speeds it mixes.
+  std::string shard = test::read_text(at("physics1.jsonl"));
+  for (std::size_t host = shard.find("\"host\":\""); host != std::string::npos; host = shard.find("\"host\":\"", host + 1)) {
+    const std::size_t value = host + 8, end = shard.find('"', value);
+    shard.replace(value, end - value, "elsewhere");
+  }
+  std::ofstream(at("physics1e.jsonl")) << shard;
+  const auto mixed = run_cli("bench merge " + at("physics0.jsonl") + " " + at("physics1e.jsonl"));
+  EXPECT_EQ(mixed.exit_code, 0) << mixed.output;
+  EXPECT_NE(mixed.output.find("Timed on 2 machines ("), std::string::npos) << mixed.output;
+  EXPECT_NE(mixed.output.find("elsewhere"), std::string::npos) << mixed.output;
+  const auto samplers = nlohmann::json::parse(test::read_text(at("samplers.json")));
+  ASSERT_EQ(samplers.size(), 4u);
+  EXPECT_EQ(samplers[0]["calls"].get<int>() + samplers[1]["calls"].get<int>(), 2 * 20);  // every object of the 2 shelves
+}
+
 TEST_F(BenchSweep, AShardIsKOfN) {
   for (const char* shard : {"2/2", "1/0", "-1/2", "a/b", "1", "1/2/3"}) {
     const auto r = run_cli("bench retrieval --shard " + std::string(shard));
@@ -373,10 +426,10 @@ TEST_F(BenchSweep, AShardIsKOfN) {
 
 // Each bench takes only its own options, with the defaults it uses in its --help.
 TEST_F(BenchSweep, EachBenchTakesOnlyItsOwnOptions) {
-  const auto stray = run_cli("bench collision --svg " + at("x.svg") + " --table V");
+  const auto stray = run_cli("bench collision --ompl-log " + at("x.log") + " --table V");
   EXPECT_EQ(stray.exit_code, 2) << stray.output;
-  EXPECT_NE(stray.output.find("--svg"), std::string::npos) << stray.output;
-  EXPECT_FALSE(fs::exists(at("x.svg")));
+  EXPECT_NE(stray.output.find("--ompl-log"), std::string::npos) << stray.output;
+  EXPECT_FALSE(fs::exists(at("x.log")));
   EXPECT_EQ(run_cli("bench").exit_code, 2);
   EXPECT_EQ(run_cli("bench nonsense").exit_code, 2);
   EXPECT_EQ(run_cli("bench mobile --sizes 20 30").exit_code, 2);  // one table size

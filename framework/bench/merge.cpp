@@ -22,7 +22,8 @@ struct Sweepable {
 const Sweepable kSweepable[] = {
     {"retrieval", retrieval, report_retrieval}, {"push", push, report_push}, {"occlusion", occlusion, report_occlusion},
     {"mobile", mobile, report_mobile}, {"sweep", file_sweep, report_file_sweep},
-    {"compare", compare_runs, report_compare}, {"pddl", pddl, report_pddl}};
+    {"compare", compare_runs, report_compare}, {"pddl", pddl, report_pddl},
+    {"collision", collision, report_collision}, {"samplers", samplers, report_samplers}, {"physics", physics, report_physics}};
 
 const Sweepable& sweepable(const nlohmann::ordered_json& bench, const SourceLocation& where) {
   std::string known;

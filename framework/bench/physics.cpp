@@ -1,74 +1,132 @@
 // `cluttertamp bench physics`: how much faster than real time the pushing physics
-// runs on a generated shelf (issue goal: at least 20 times for 10 objects).
+// runs on a generated shelf (issue goal: at least 20 times for 10 objects). A sweep
+// whose run b is batch b of the pushes (see timing.hpp).
 #include <chrono>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <random>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/json_file.hpp"
-#include "cluttertamp/bench/bench.hpp"
+#include "bench/reports.hpp"
+#include "bench/settings.hpp"
 #include "bench/statistics.hpp"
+#include "bench/sweep.hpp"
+#include "bench/timing.hpp"
+#include "cluttertamp/bench/bench.hpp"
 #include "cluttertamp/physics/push_world.hpp"
 #include "cluttertamp/run/runner.hpp"
 #include "cluttertamp/scenes/shelf_generator.hpp"
+#include "cluttertamp/version.hpp"
 
 namespace cluttertamp::bench {
 
 namespace {
 constexpr double kGoal = 20.0;      // times real time
+constexpr int kGoalObjects = 10;    // the goal is for this many objects
 constexpr double kDuration = 1.0;   // s of each control
 constexpr std::size_t kBatch = 10;  // controls per timed batch
-}  // namespace
 
-int physics(const BenchArgs& args) {
+std::size_t batch_count(const BenchArgs& args) { return std::max<std::size_t>(5 * kBatch, args.samples / 100) / kBatch; }
+
+scenes::ShelfSpec spec_of(const BenchArgs& args) {
   scenes::ShelfSpec spec;
   spec.objects = args.objects;
-  const Scene scene = scenes::generate_shelf_scene(spec, args.seed);
-  const WorldState initial = WorldState::initial(scene);
-  const physics::PushWorld world(scene, initial);
-  const Eigen::Vector3d size = scenes::cabinet_size(spec);
-  std::mt19937_64 rng(args.seed);
-  auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  return spec;
+}
 
-  // Pushes into the clutter from the open side: the gripper starts just inside the
-  // front, heading in, and moves forward (5 to 15 cm/s) with a little sideways drift
-  // and turn for kDuration.
-  const std::size_t n = std::max<std::size_t>(5 * kBatch, args.samples / 100);
-  std::vector<double> factors;
-  std::size_t touching = 0, fallen = 0;
-  for (std::size_t start = 0; start + kBatch <= n; start += kBatch) {
-    std::vector<std::pair<physics::PushState, physics::PushControl>> batch;
-    for (std::size_t i = 0; i < kBatch; ++i) {
+// The shelf and every push, made from the seed alone (the same in every process of a
+// sweep); batch b of the pushes simulated and timed.
+class PhysicsRunner {
+ public:
+  explicit PhysicsRunner(const BenchArgs& args)
+      : args_(args), scene_(scenes::generate_shelf_scene(spec_of(args), args.seed)), initial_(WorldState::initial(scene_)),
+        world_(scene_, initial_) {
+    // Pushes into the clutter from the open side: the gripper starts just inside the
+    // front, heading in, and moves forward (5 to 15 cm/s) with a little sideways drift
+    // and turn for kDuration.
+    const scenes::ShelfSpec spec = spec_of(args);
+    const Eigen::Vector3d size = scenes::cabinet_size(spec);
+    std::mt19937_64 rng(args.seed);
+    auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+    for (std::size_t i = 0; i < batch_count(args) * kBatch; ++i) {
       const Eigen::Vector3d gripper(spec.front + 0.03, uniform(-size.y() / 2 + 0.08, size.y() / 2 - 0.08), uniform(-0.3, 0.3));
-      batch.push_back({world.state_of(initial, gripper),
-                       physics::PushControl{{uniform(0.05, 0.15), uniform(-0.03, 0.03), uniform(-0.2, 0.2)}, kDuration}});
+      pushes_.push_back({world_.state_of(initial_, gripper),
+                         physics::PushControl{{uniform(0.05, 0.15), uniform(-0.03, 0.03), uniform(-0.2, 0.2)}, kDuration}});
     }
+  }
+
+  Record run(std::size_t b) {
+    std::size_t touching = 0, fallen = 0;
     const auto t0 = std::chrono::steady_clock::now();
-    for (const auto& [state, control] : batch) {
-      const physics::PushOutcome out = world.propagate(state, control);
+    for (std::size_t i = b * kBatch; i < (b + 1) * kBatch; ++i) {
+      const physics::PushOutcome out = world_.propagate(pushes_[i].first, pushes_[i].second);
       touching += !out.touched.empty();
       fallen += !out.fallen.empty();
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    factors.push_back(double(kBatch) * kDuration / wall);
+    return {{"problem", scene_.name},
+            {"objects", scene_.objects.size()},
+            {"planner", "physics"},
+            {"seed", args_.seed},
+            {"batch", b},
+            {"rate_hz", 1.0 / world_.settings().time_step},
+            {"pushes", kBatch},
+            {"touching", touching},
+            {"dropping", fallen},
+            {"real_time_factor", double(kBatch) * kDuration / wall},
+            {"host", host_name()},
+            {"version", std::string(version())}};
   }
+
+ private:
+  const BenchArgs& args_;
+  Scene scene_;
+  WorldState initial_;
+  physics::PushWorld world_;
+  std::vector<std::pair<physics::PushState, physics::PushControl>> pushes_;
+};
+
+}  // namespace
+
+int physics(const BenchArgs& args) {
+  return run_timed_batches<PhysicsRunner>("physics", args, batch_count(args), "batch", report_physics);
+}
+
+int report_physics(const BenchArgs& args, const std::vector<Record>& records) {
+  std::vector<double> factors;
+  std::size_t pushes = 0, touching = 0, fallen = 0;
+  for (const Record& r : records) {
+    factors.push_back(r.at("real_time_factor").get<double>());
+    pushes += r.at("pushes").get<std::size_t>();
+    touching += r.at("touching").get<std::size_t>();
+    fallen += r.at("dropping").get<std::size_t>();
+  }
+  const std::string scene = records.empty() ? std::string("no scene") : records.front().at("problem").get<std::string>();
+  const double rate = records.empty() ? 0.0 : records.front().at("rate_hz").get<double>();
   const double factor = median(factors);
-  const bool met = spec.objects != 10 || factor >= kGoal;
-  std::cout << "pushing physics (Bullet, " << 1.0 / world.settings().time_step << " Hz) on a " << scene.objects.size()
-            << "-cylinder shelf (" << scene.name << "): " << factors.size() * kBatch << " pushes of " << kDuration
-            << " s from the open side, " << touching << " touching objects, " << fallen << " dropping one\n";
-  std::cout << "median speed: " << std::fixed << std::setprecision(1) << factor << " x real time";
-  if (spec.objects == 10) std::cout << " (goal >= " << kGoal << ": " << (met ? "met" : "NOT met") << ")";
+  const bool has_goal = args.objects == kGoalObjects;
+  const bool met = !has_goal || (!factors.empty() && factor >= kGoal);
+  std::cout << "pushing physics (Bullet, " << rate << " Hz) on a " << args.objects << "-cylinder shelf (" << scene << "):\n"
+            << pushes << " pushes of " << kDuration << " s from the open side, " << touching << " touching objects, " << fallen
+            << " dropping one\n";
+  std::cout << "median speed over batches of " << kBatch << " pushes: " << std::fixed << std::setprecision(1) << factor << " x real time";
+  if (has_goal) std::cout << " (goal >= " << kGoal << ": " << (met ? "met" : "NOT met") << ")";
   std::cout << "\n";
+  if (const std::string note = hosts_note(records); !note.empty()) std::cout << note << "\n";
   if (!args.json.empty()) {
-    nlohmann::ordered_json json{{"scene", scene.name},   {"objects", scene.objects.size()},
-                                {"pushes", factors.size() * kBatch}, {"touching", touching},
-                                {"dropping", fallen},     {"median_real_time_factor", factor},
-                                {"goal", kGoal}};
-    write_json_file(args.json, json);
+    write_json_file(args.json, nlohmann::ordered_json{{"scene", scene}, {"objects", args.objects}, {"pushes", pushes},
+                                                      {"touching", touching}, {"dropping", fallen},
+                                                      {"median_real_time_factor", factor}, {"goal", kGoal},
+                                                      {"goal_applies", has_goal}});
+  }
+  if (!args.svg.empty()) {
+    write_timing_svg(args.svg,
+                     "bench physics: Bullet on " + scene + ", times real time per batch of " + std::to_string(kBatch) + " pushes (" +
+                         std::to_string(touching) + " of " + std::to_string(pushes) + " touching objects)",
+                     "times real time", {{"pushes", factors, has_goal ? kGoal : 0.0}}, true);
   }
   return goal_exit_code(args.check_goals, met);
 }

@@ -40,4 +40,10 @@ int report_file_sweep(const BenchArgs& args, const std::vector<Record>& records)
 /// when a size's success rate is below 95 % or its median time above 1 s.
 int report_occlusion(const BenchArgs& args, const std::vector<Record>& records);
 
+/// The speed benches from their records (timed batches, see timing.hpp); with
+/// check_goals, exit code 1 when a speed goal the report lists is missed.
+int report_collision(const BenchArgs& args, const std::vector<Record>& records);
+int report_samplers(const BenchArgs& args, const std::vector<Record>& records);
+int report_physics(const BenchArgs& args, const std::vector<Record>& records);
+
 }  // namespace cluttertamp::bench

@@ -135,6 +135,12 @@ void SvgPlot::diamond(const Panel& p, double x, double value, const std::string&
         << number(y + r) << " " << number(x - r) << "," << number(y) << "' fill='white' stroke='" << colour << "' stroke-width='1.5'/>\n";
 }
 
+void SvgPlot::goal(const Panel& p, double x, double width, double value) {
+  const double y = p.y(p.log ? value : std::clamp(value, 0.0, p.y_max));
+  body_ << "<line x1='" << number(x - width / 2) << "' y1='" << number(y) << "' x2='" << number(x + width / 2) << "' y2='" << number(y)
+        << "' stroke='#d62728' stroke-width='2' stroke-dasharray='5,3'/>\n";
+}
+
 void SvgPlot::unsolved(const Panel& p, double x, int count) {
   if (count <= 0) return;
   const double y = p.top + 6, r = 4;
@@ -182,6 +188,9 @@ void SvgPlot::legend(double x, double y, const std::string& colour, const std::s
   } else if (colour == "cross") {
     body_ << "<path d='M" << number(x + 1) << "," << number(y - 8) << " L" << number(x + 9) << "," << number(y) << " M" << number(x + 1)
           << "," << number(y) << " L" << number(x + 9) << "," << number(y - 8) << "' stroke='#d62728' stroke-width='2'/>\n";
+  } else if (colour == "goal") {
+    body_ << "<line x1='" << number(x) << "' y1='" << number(y - 4) << "' x2='" << number(x + 12) << "' y2='" << number(y - 4)
+          << "' stroke='#d62728' stroke-width='2' stroke-dasharray='5,3'/>\n";
   } else {
     if (colour == "hatch") hatched_ = true;
     body_ << "<rect x='" << number(x) << "' y='" << number(y - 9) << "' width='10' height='10' fill='"

@@ -54,6 +54,8 @@ class SvgPlot {
   void box(const Panel& p, double x, double width, const std::vector<double>& values, const std::string& colour);
   /// A hollow diamond at (pixel x, value): a reference figure, such as a paper's mean.
   void diamond(const Panel& p, double x, double value, const std::string& colour = "black");
+  /// A goal at `value`: a dashed red line `width` pixels wide centred at pixel x.
+  void goal(const Panel& p, double x, double width, double value);
   /// `count` runs without a value (unsolved) at pixel x: a red cross over the axis's
   /// top and the count beside it; nothing when 0.
   void unsolved(const Panel& p, double x, int count);
@@ -65,7 +67,7 @@ class SvgPlot {
   /// `text` under the x axis at pixel x.
   void x_label(const Panel& p, double x, const std::string& text);
   /// A coloured square and its name, at pixels (x, y); "hatch" for the hatched fill,
-  /// "diamond" for the reference marker, "cross" for the unsolved marker.
+  /// "diamond" for the reference marker, "cross" for the unsolved marker, "goal" for the goal line.
   void legend(double x, double y, const std::string& colour, const std::string& name);
 
   /// Writes the drawing; throws InputError naming the file when it cannot be written.

@@ -224,8 +224,13 @@ TEST(Browser, BenchPlotsRenderAsDrawings) {
   ASSERT_EQ(std::system(mobile.c_str()), 0) << mobile;
   const std::string pddl = kCli + " bench pddl -q --per-domain 2 --runs 1 --parse-objects 0 --svg " + (dir / "pddl.svg").string() + " > /dev/null";
   ASSERT_EQ(std::system(pddl.c_str()), 0) << pddl;
+  for (const std::string timed : {"collision --samples 1000", "samplers --samples 2000", "physics"}) {
+    const std::string name = timed.substr(0, timed.find(' '));
+    const std::string command = kCli + " bench " + timed + " -q --svg " + (dir / (name + ".svg")).string() + " > /dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  }
   WebDriver browser(dir.string());
-  for (const std::string name : {"retrieval", "push", "occlusion", "mobile", "pddl"}) {
+  for (const std::string name : {"retrieval", "push", "occlusion", "mobile", "pddl", "collision", "samplers", "physics"}) {
     browser.go("file://" + (dir / (name + ".svg")).string());
     browser.execute(
         "const svg = document.documentElement; const w = svg.width.baseVal.value, h = svg.height.baseVal.value;"
@@ -241,7 +246,8 @@ TEST(Browser, BenchPlotsRenderAsDrawings) {
     const double ink = browser.execute("return window.ink;").get<double>();
     EXPECT_GT(ink, 0.01) << name << ": almost blank";
     EXPECT_LT(ink, 0.6) << name << ": almost filled";
-    EXPECT_GT(browser.execute("return document.querySelectorAll('text').length;").get<int>(), 20) << name;
+    const int labels = name == "physics" ? 8 : name == "samplers" || name == "collision" ? 10 : 20;  // one box each
+    EXPECT_GT(browser.execute("return document.querySelectorAll('text').length;").get<int>(), labels) << name;
     browser.screenshot((dir / (name + ".png")).string());
   }
 }

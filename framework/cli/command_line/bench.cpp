@@ -78,7 +78,14 @@ class BenchOptions {
   }
   /// --shard, -j, --records and --ompl-log: the bench runs as a sweep (see `bench merge`).
   BenchOptions& sweep() {
-    add_sweep_options(app_, args_.sweep, args_.ompl_log);
+    add_sweep_options(app_, args_.sweep, &args_.ompl_log);
+    return *this;
+  }
+  /// --shard, -j and --records for a speed bench: its runs are timed batches.
+  BenchOptions& timed_sweep() {
+    add_sweep_options(app_, args_.sweep, nullptr,
+                      "Batches timed at once, each in a child process of its own: they share this machine's cores, so "
+                      "above its idle cores they slow each other (the counts are as with -j 1)");
     return *this;
   }
   /// --check-goals for a bench whose report says whether the paper's (or our) goals were met.
@@ -117,9 +124,11 @@ BenchCommand declare_collision(CLI::App& bench, CommonOptions& common) {
   BenchCommand c = add_bench(bench, common, "collision", "Time FK, IK, collision and sweep queries on a generated shelf", bench::collision);
   BenchOptions(*c.app, *c.args)
       .seed("Seed of the generated shelf and the sampled configurations")
-      .samples("Queries per measurement")
+      .samples("Queries per measurement, timed in batches of 50")
       .objects("Cylinders in the generated shelf", 20)
       .json("the medians")
+      .svg("the times of each query's batches beside its goal")
+      .timed_sweep()
       .goals("the speed goals the report lists");
   BenchOptions(*c.app, *c.args).robot("Robot description (a UR arm: the bench times its analytic IK)", "domains/robots/ur10_ag95.yaml");
   return c;
@@ -132,6 +141,8 @@ BenchCommand declare_samplers(CLI::App& bench, CommonOptions& common) {
       .samples("Queries in all: one generated shelf per 1000")
       .objects("Cylinders in each generated shelf", 20)
       .json("the medians")
+      .svg("the times of each query's calls beside its goal")
+      .timed_sweep()
       .goals("the sampler speed goals the report lists");
   BenchOptions(*c.app, *c.args).robot("Robot description", "domains/robots/ur10_ag95.yaml");
   return c;
@@ -144,6 +155,8 @@ BenchCommand declare_physics(CLI::App& bench, CommonOptions& common) {
       .samples("Simulated pushes: one per 100 (at least five batches)")
       .objects("Cylinders in the generated shelf (the speed goal is for 10)", 10)
       .json("the measurements")
+      .svg("the speed of each batch of pushes beside the goal")
+      .timed_sweep()
       .goals("at least 20 times real time with 10 objects");
   return c;
 }

@@ -126,19 +126,20 @@ CLI::Validator shard_validator() {
       "K/N");
 }
 
-void add_sweep_options(CLI::App& app, bench::SweepOptions& sweep, std::filesystem::path& ompl_log) {
+void add_sweep_options(CLI::App& app, bench::SweepOptions& sweep, std::filesystem::path* ompl_log, const std::string& jobs_help) {
   app.add_option_function<std::string>(
          "--shard", [&sweep](const std::string& text) { sweep.shard = bench::parse_shard(text); },
          "Run only shard K of N (K from 0): the runs i with i % N == K; write them with --records and report the "
          "shards together with 'bench merge'")
       ->type_name("K/N")
       ->check(shard_validator());
-  app.add_option("-j,--jobs", sweep.jobs, "Runs at once, each in a child process of its own (results as with -j 1)")
+  app.add_option("-j,--jobs", sweep.jobs, jobs_help.empty() ? "Runs at once, each in a child process of its own (results as with -j 1)" : jobs_help)
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
   app.add_option("--records", sweep.records,
                  "Also write every run as a JSON Lines record to this file (FILE.partial while running), for 'bench merge'");
-  app.add_option("--ompl-log", ompl_log,
+  if (!ompl_log) return;
+  app.add_option("--ompl-log", *ompl_log,
                  "Also write the runs in OMPL's benchmark log format, for ompl_benchmark_statistics and Planner Arena");
 }
 

@@ -63,8 +63,10 @@ CLI::Validator count_validator();
 /// "K/N" with 0 <= K < N (bench::parse_shard).
 CLI::Validator shard_validator();
 /// --shard K/N, -j N, --records FILE and --ompl-log FILE: a command that runs as a
-/// sweep (docs/commands.md, "Sweeps").
-void add_sweep_options(CLI::App& app, bench::SweepOptions& sweep, std::filesystem::path& ompl_log);
+/// sweep (docs/commands.md, "Sweeps"). Without `ompl_log` no --ompl-log: a speed bench,
+/// whose runs are timed batches and not planning runs. `jobs_help` replaces -j's help.
+void add_sweep_options(CLI::App& app, bench::SweepOptions& sweep, std::filesystem::path* ompl_log,
+                       const std::string& jobs_help = "");
 /// A bundled file of the source tree (the default of some options).
 std::filesystem::path source_file(const std::string& relative);
 

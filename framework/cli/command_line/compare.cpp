@@ -19,7 +19,7 @@ Command declare_compare(CLI::App& app, CommonOptions& common) {
   compare->add_option("--csv", args->csv, "Also write every run as CSV to this file");
   compare->add_option("--svg", args->svg, "Also plot median time against object count (SVG) to this file");
   compare->add_flag("--check-goals", args->check_goals, "Exit code 1 when a run was not solved (else 0 whenever the comparison ran)");
-  add_sweep_options(*compare, args->sweep, args->ompl_log);
+  add_sweep_options(*compare, args->sweep, &args->ompl_log);
   add_plugin_paths(*compare, args->plugin_paths);
   add_memory_limit(*compare, common);
   add_verbosity(*compare, args->verbosity, "Same output as the default");
