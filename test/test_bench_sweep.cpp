@@ -314,8 +314,17 @@ TEST_F(BenchSweep, CompareShardsMergeIntoTheUnshardedRun) {
   EXPECT_EQ(all[2]["seed"], 1);
   EXPECT_EQ(all[8]["parameters"]["prune"], false);
   const auto merged = run_cli("bench merge -q " + at("s1.jsonl") + " " + at("s0.jsonl") + " --json " + at("merged.json") + " --csv " +
-                              at("merged.csv"));
+                              at("merged.csv") + " --svg " + at("merged.svg"));
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  // Its plot: a column per setting with the paper's mean time (Table IV) as a diamond.
+  const std::string svg = test::read_text(at("merged.svg"));
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  for (const char* label : {"Table IV", "adaptive + pruning", "incremental, all movable", "planning time of solved runs", "stacked4"}) {
+    EXPECT_NE(svg.find(label), std::string::npos) << label;
+  }
+  std::size_t diamonds = 0;
+  for (std::size_t p = svg.find("<polygon"); p != std::string::npos; p = svg.find("<polygon", p + 1)) ++diamonds;
+  EXPECT_EQ(diamonds, 1u + 4u);  // the legend's and one per setting
   const auto table = nlohmann::json::parse(test::read_text(at("all.json")));
   ASSERT_EQ(table.size(), 4u);
   EXPECT_EQ(table[3]["runs"], 2);

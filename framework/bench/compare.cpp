@@ -14,6 +14,7 @@
 
 #include "bench/json_file.hpp"
 #include "bench/ompl_log.hpp"
+#include "bench/prose.hpp"
 #include "bench/reports.hpp"
 #include "bench/settings.hpp"
 #include "bench/sweep.hpp"
@@ -21,7 +22,7 @@
 #include "cluttertamp/version.hpp"
 #include "cluttertamp/bench/bench.hpp"
 #include "bench/statistics.hpp"
-#include "bench/svg_plot.hpp"
+#include "bench/table_plot.hpp"
 #include "cluttertamp/io/problem_io.hpp"
 #include "cluttertamp/plugin/registry.hpp"
 #include "cluttertamp/run/runner.hpp"
@@ -82,34 +83,37 @@ double success(const Row& row) {
   return row.runs.empty() ? 0.0 : 100.0 * double(n) / double(row.runs.size());
 }
 
-// Time against object count, one line per setting: median time of all runs
-// (failures count with the time limit they used).
-void write_svg(const std::vector<Row>& rows, const std::filesystem::path& file) {
-  const double left = 60, right = 190, top = 30, bottom = 50, w = 640, h = 400;
-  double max_t = 1e-3, min_x = 1e9, max_x = 0;
-  for (const Row& r : rows) {
-    max_t = std::max(max_t, median(field(r, &Run::seconds, false)));
-    min_x = std::min(min_x, double(r.objects));
-    max_x = std::max(max_x, double(r.objects));
-  }
-  if (max_x <= min_x) max_x = min_x + 1;
-  auto x = [&](double v) { return left + (v - min_x) / (max_x - min_x) * (w - left - right); };
-  const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a"};
-  SvgPlot plot(w, h, 12);
-  const SvgPlot::Panel panel = plot.panel(left, top, w - left - right, h - top - bottom, max_t, "median time (s)", "");
-  plot.text((left + w - right) / 2, h - 10, "objects", "middle");
-  std::map<std::size_t, bool> ticks;
-  for (const Row& r : rows) ticks[r.objects] = true;
-  for (const auto& [n, unused] : ticks) plot.x_label(panel, x(double(n)), std::to_string(n));
+const char* const kColours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a"};
+
+std::size_t setting_index(const Setting& setting) {
   for (std::size_t s = 0; s < std::size(kSettings); ++s) {
-    std::vector<std::pair<double, double>> points;
-    for (const Row& r : rows) {
-      if (r.setting.label() == kSettings[s].label()) points.emplace_back(x(double(r.objects)), median(field(r, &Run::seconds, false)));
-    }
-    plot.line(panel, points, colours[s]);
-    plot.text(w - right + 10, top + 20 * double(s + 1), kSettings[s].label(), "start", colours[s]);
+    if (kSettings[s].label() == setting.label()) return s;
   }
-  plot.write(file);
+  return 0;
+}
+
+// Per problem a column per setting: success, |O_r| and times of the solved runs, the
+// paper's mean time (Table IV) as a diamond where the table prints it.
+void write_svg(const std::vector<Row>& rows, const std::filesystem::path& file) {
+  TablePlot table{"Table IV (Tian et al., T-RO 2023): the stream search focused and unfocused, ours beside the paper's", "|O_r|, solved runs", {}, {}};
+  std::vector<bool> present(std::size(kSettings), false);
+  for (const Row& r : rows) {
+    if (table.groups.empty() || table.groups.back().label != r.problem) table.groups.push_back({r.problem, {}});
+    const std::size_t s = setting_index(r.setting);
+    present[s] = true;
+    PlotColumn column{kColours[s], success(r), field(r, &Run::moved), field(r, &Run::seconds), 0, {}, {}, {}, {}};
+    for (const Run& run : r.runs) column.unsolved += !run.solved;
+    const std::string paper = paper_time(r.objects, r.setting.prune);
+    if (paper != "-") {
+      column.paper_seconds = std::stod(paper[0] == '>' ? paper.substr(1) : paper);
+      if (paper[0] == '>') column.paper_seconds_note = "> " + paper.substr(1);
+    }
+    table.groups.back().columns.push_back(std::move(column));
+  }
+  for (std::size_t s = 0; s < std::size(kSettings); ++s) {
+    if (present[s]) table.series.emplace_back(kColours[s], kSettings[s].label());
+  }
+  write_table_svg(file, {table});
 }
 
 // Why the runs of a row failed: each distinct reason with its count.
@@ -317,8 +321,7 @@ int report_compare(const BenchArgs& args, const std::vector<Record>& records) {
                     {"failure_reasons", reasons(r)}});
   }
   print_failures(rows);
-  std::cout << "Times of solved runs (medians in the JSON); paper: Tian et al. Table IV, mean time (its 4- and 8-object\n"
-               "scenes).\n";
+  std::cout << wrapped("Times of solved runs (medians in the JSON); paper: Tian et al. Table IV, mean time (its 4- and 8-object scenes).");
   if (!args.csv.empty()) write_csv(args.csv, rows);
   if (!args.json.empty()) write_json_file(args.json, json);
   if (!args.svg.empty()) write_svg(rows, args.svg);

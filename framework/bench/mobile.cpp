@@ -13,9 +13,10 @@
 
 #include "bench/json_file.hpp"
 #include "bench/ompl_log.hpp"
+#include "bench/prose.hpp"
 #include "bench/reports.hpp"
 #include "bench/settings.hpp"
-#include "bench/svg_plot.hpp"
+#include "bench/table_plot.hpp"
 #include "bench/sweep.hpp"
 #include "cluttertamp/io/text_file.hpp"
 #include "cluttertamp/version.hpp"
@@ -224,46 +225,18 @@ void write_csv(const std::filesystem::path& file, const std::vector<Row>& rows) 
 // Success rates per strategy (the paper's hatched), then |O_r| and the time of each
 // solved run as box plots with the paper's means as diamonds, unsolved runs as red crosses.
 void write_svg(const std::filesystem::path& file, const std::vector<Row>& rows, const std::string& title) {
-  const double left = 70, slot = 110, panel_h = 150, top = 75;
-  const double panel_w = slot * double(std::size(kStrategies));
-  SvgPlot plot(3 * (panel_w + left) + 20, top + panel_h + 70);
-  plot.text(left, 20, title);
-  plot.legend(left, 38, "hatch", "paper's success rate");
-  plot.legend(left + 160, 38, "diamond", "paper's mean");
-  plot.legend(left + 270, 38, "cross", "unsolved runs (count)");
-  std::vector<Measures> in;
-  std::vector<double> removed{1.0}, times;
-  for (const Strategy& s : kStrategies) {
-    Measures& m = in.emplace_back();
+  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3"};
+  TablePlot table{title, "|O_r| (target included), solved runs", {}, {}};
+  for (std::size_t k = 0; k < std::size(kStrategies); ++k) {
+    const Strategy& s = kStrategies[k];
+    Measures m;
     for (const Row& r : rows) {
       if (r.strategy == s.parameter) m.add(r.solved, double(r.removed), r.seconds, double(r.iterations));
     }
-    removed.insert(removed.end(), m.removed.begin(), m.removed.end());
-    removed.push_back(s.paper.removed);
-    times.insert(times.end(), m.seconds.begin(), m.seconds.end());
-    times.push_back(s.paper.seconds);
+    table.groups.push_back({s.label, {{colours[k], m.success(), m.removed, m.seconds, m.runs - m.solved, s.paper.success, s.paper.removed,
+                                       s.paper.seconds, ""}}});
   }
-  const SvgPlot::Panel rate = plot.panel(left, top, panel_w, panel_h, 100, "success rate", "%");
-  const SvgPlot::Panel objects = plot.panel(2 * left + panel_w, top, panel_w, panel_h, *std::max_element(removed.begin(), removed.end()),
-                                            "|O_r| (target included), solved runs");
-  const SvgPlot::Panel time = plot.panel_for(3 * left + 2 * panel_w, top, panel_w, panel_h, times, "planning time of solved runs, s");
-  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3"};
-  for (std::size_t k = 0; k < std::size(kStrategies); ++k) {
-    const Strategy& s = kStrategies[k];
-    const Measures& m = in[k];
-    const double offset = slot * (double(k) + 0.5), w = slot * 0.45;
-    plot.bar(rate, rate.left + offset - w / 2, w / 2, m.success(), colours[k]);
-    plot.bar(rate, rate.left + offset, w / 2, s.paper.success, "hatch", colours[k]);
-    plot.box(objects, objects.left + offset, w, m.removed, colours[k]);
-    plot.diamond(objects, objects.left + offset, s.paper.removed);
-    plot.box(time, time.left + offset, w, m.seconds, colours[k]);
-    plot.diamond(time, time.left + offset, s.paper.seconds);
-    for (const SvgPlot::Panel* p : {&rate, &objects, &time}) {
-      plot.x_label(*p, p->left + offset, s.label);
-      if (p != &rate) plot.unsolved(*p, p->left + offset, m.runs - m.solved);
-    }
-  }
-  plot.write(file);
+  write_table_svg(file, {table});
 }
 
 }  // namespace
@@ -301,12 +274,13 @@ int report_mobile(const BenchArgs& args, const std::vector<Record>& records) {
   // The robot as the records name it: a merge needs no robot file (none ran: its file's name).
   const std::string robot = records.empty() ? args.robot.stem().string() : records.front().at("robot").get<std::string>();
   const std::size_t tables = args.mobile_table_seeds.size();
-  std::cout << "Mobile manipulation (Tian et al., Table III): " << robot << ", " << tables << " generated tables of "
-            << objects << " objects"
-            << (args.mobile_tables == "fig9" ? " like the paper's Fig. 9 (one object in the way from some side, two or more "
-                                               "from the robot's: fewest to move 2, target included)"
-                                             : " (random)")
-            << ", " << args.runs << " run(s) each, " << args.time_limit << " s per run\n\n";
+  std::ostringstream header;
+  header << "Mobile manipulation (Tian et al., Table III): " << robot << ", " << tables << " generated tables of " << objects << " objects"
+         << (args.mobile_tables == "fig9" ? " like the paper's Fig. 9 (one object in the way from some side, two or more "
+                                            "from the robot's: fewest to move 2, target included)"
+                                          : " (random)")
+         << ", " << args.runs << " run(s) each, " << args.time_limit << " s per run";
+  std::cout << wrapped(header.str()) << "\n";
   if (static_cast<int>(tables) < args.instances) {
     std::cout << "Only " << tables << " of " << args.instances << " tables qualified within "
               << 50 * args.instances << " seeds.\n";

@@ -13,9 +13,10 @@
 #include "bench/json_file.hpp"
 #include "bench/measures.hpp"
 #include "bench/ompl_log.hpp"
+#include "bench/prose.hpp"
 #include "bench/reports.hpp"
 #include "bench/settings.hpp"
-#include "bench/svg_plot.hpp"
+#include "bench/table_plot.hpp"
 #include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
@@ -174,54 +175,24 @@ const char* colour_of(std::size_t size) {
 // sequence |O_r| and the time of each solved run as box plots with the paper's means
 // as diamonds, and each size's unsolved runs as a red cross with their count.
 void write_svg(const std::filesystem::path& file, const std::vector<Run>& runs, const BenchArgs& args) {
-  const std::vector<std::string> layouts = layouts_of(args);
-  const std::vector<int> sizes = sizes_of(args);
-  const double left = 70, slot = 90, panel_h = 150, gap = 60, title_h = 68;
-  const double panel_w = std::max(300.0, slot * double(sizes.size()));
-  SvgPlot plot(3 * (panel_w + left) + 20, double(layouts.size()) * (title_h + panel_h + gap));
-  double top = 0;
-  for (const std::string& layout : layouts) {
-    plot.text(left, top + 20, "Table II (Tian et al., T-RO 2023), " + layout + " shelves: ours beside the paper's");
-    plot.legend(left, top + 38, "hatch", "paper's success rate");
-    plot.legend(left + 160, top + 38, "diamond", "paper's mean");
-    plot.legend(left + 270, top + 38, "cross", "unsolved runs (count)");
-    top += title_h;
-    std::vector<double> removed{1.0}, times;
-    std::vector<Measures> in;
-    for (int n : sizes) {
-      in.push_back(measures_of(runs, layout, n));
-      removed.insert(removed.end(), in.back().final_sequence.begin(), in.back().final_sequence.end());
-      times.insert(times.end(), in.back().seconds.begin(), in.back().seconds.end());
-      if (kTableII.count(n)) {
-        removed.push_back(kTableII.at(n).removed);
-        times.push_back(kTableII.at(n).seconds);
-      }
-    }
-    const SvgPlot::Panel rate = plot.panel(left, top, panel_w, panel_h, 100, "success rate", "%");
-    const SvgPlot::Panel objects = plot.panel(2 * left + panel_w, top, panel_w, panel_h, *std::max_element(removed.begin(), removed.end()),
-                                              "|O_r|, final sequence, solved runs");
-    const SvgPlot::Panel time = plot.panel_for(3 * left + 2 * panel_w, top, panel_w, panel_h, times, "planning time of solved runs, s");
+  std::vector<TablePlot> tables;
+  for (const std::string& layout : layouts_of(args)) {
+    TablePlot& table = tables.emplace_back();
+    table.title = "Table II (Tian et al., T-RO 2023), " + layout + " shelves: ours beside the paper's";
+    table.removed_title = "|O_r|, final sequence, solved runs";
+    const std::vector<int> sizes = sizes_of(args);
     for (std::size_t k = 0; k < sizes.size(); ++k) {
-      const Measures& m = in[k];
-      const auto known = kTableII.find(sizes[k]);
-      const PaperMeasures* paper = known == kTableII.end() ? nullptr : &known->second;
-      const double offset = slot * (double(k) + 0.5), w = slot * 0.5;
-      plot.bar(rate, rate.left + offset - w / 2, w / 2, m.success(), colour_of(k));
-      if (paper) plot.bar(rate, rate.left + offset, w / 2, paper->success, "hatch", colour_of(k));
-      plot.box(objects, objects.left + offset, w, m.final_sequence, colour_of(k));
-      plot.box(time, time.left + offset, w, m.seconds, colour_of(k));
-      if (paper) {
-        plot.diamond(objects, objects.left + offset, paper->removed);
-        plot.diamond(time, time.left + offset, paper->seconds);
+      const Measures m = measures_of(runs, layout, sizes[k]);
+      PlotColumn column{colour_of(k), m.success(), m.final_sequence, m.seconds, m.runs - m.solved, {}, {}, {}, {}};
+      if (const auto paper = kTableII.find(sizes[k]); paper != kTableII.end()) {
+        column.paper_success = paper->second.success;
+        column.paper_removed = paper->second.removed;
+        column.paper_seconds = paper->second.seconds;
       }
-      for (const SvgPlot::Panel* p : {&rate, &objects, &time}) {
-        plot.x_label(*p, p->left + offset, "|O| = " + std::to_string(sizes[k]));
-        if (p != &rate) plot.unsolved(*p, p->left + offset, m.runs - m.solved);
-      }
+      table.groups.push_back({"|O| = " + std::to_string(sizes[k]), {std::move(column)}});
     }
-    top += panel_h + gap;
   }
-  plot.write(file);
+  write_table_svg(file, tables);
 }
 
 // The run's seed is its number on its shelf (0, 1, ...).
@@ -259,9 +230,8 @@ int report_occlusion(const BenchArgs& args, const std::vector<Record>& records) 
   nlohmann::ordered_json summary = nlohmann::ordered_json::array();
   for (const std::string& layout : layouts_of(args)) {
     std::cout << "\n"
-              << (layout == "columns" ? "Columns: each object hidden by the one in front, in columns of 4 (the target needs at least 3 removals)"
-                                      : "Random: Table I shelves seen from the front at the objects' height, the target hidden")
-              << "\n";
+              << wrapped(layout == "columns" ? "Columns: each object hidden by the one in front, in columns of 4 (the target needs at least 3 removals)"
+                                             : "Random: Table I shelves seen from the front at the objects' height, the target hidden");
     std::vector<std::string> headers;
     std::vector<std::vector<std::string>> columns;
     for (int n : sizes_of(args)) {
@@ -276,9 +246,9 @@ int report_occlusion(const BenchArgs& args, const std::vector<Record>& records) 
     }
     print_measures(std::cout, headers, columns, 24);
   }
-  std::cout << "The paper's times are for its implementation and machine; its |O_r| for its own scenes, beside the final "
-               "removal sequence here (the moved objects the plan needed moved: moving one only to look behind it is "
-               "the extra cost the paper describes).\n"
+  std::cout << wrapped("The paper's times are for its implementation and machine; its |O_r| for its own scenes, beside the final "
+                       "removal sequence here (the moved objects the plan needed moved: moving one only to look behind it is "
+                       "the extra cost the paper describes).")
             << "goal: success >= 95 % and median <= 1 s for every size: " << (goals_met ? "met" : "NOT met") << "\n";
   if (!args.csv.empty()) write_csv(args.csv, runs);
   if (!args.json.empty()) {

@@ -13,6 +13,7 @@
 
 #include "bench/json_file.hpp"
 #include "bench/ompl_log.hpp"
+#include "bench/prose.hpp"
 #include "bench/reports.hpp"
 #include "bench/settings.hpp"
 #include "bench/sweep.hpp"
@@ -258,10 +259,10 @@ int report_push(const BenchArgs& args, const std::vector<Record>& records) {
     if (std::find(scenes.begin(), scenes.end(), runs.back().scene) == scenes.end()) scenes.push_back(runs.back().scene);
   }
   if (!args.csv.empty()) write_csv(args.csv, runs);
-  std::cout << "Reaching through clutter on " << scenes.size() << " scenes (" << args.push_scenes.string() << "), "
-            << args.runs << " seeds each, " << fixed(args.time_limit, 0) << " s per run, reached within "
-            << fixed(args.goal_distance, 3) << " m and " << fixed(args.goal_heading, 2) << " rad, steering "
-            << fixed(args.steer, 2) << "\n\n";
+  std::cout << wrapped("Reaching through clutter on " + std::to_string(scenes.size()) + " scenes (" + args.push_scenes.string() + "), " +
+                           std::to_string(args.runs) + " seeds each, " + fixed(args.time_limit, 0) + " s per run, reached within " +
+                           fixed(args.goal_distance, 3) + " m and " + fixed(args.goal_heading, 2) + " rad, steering " + fixed(args.steer, 2))
+            << "\n";
   std::cout << std::left << std::setw(9) << "planner" << std::setw(7) << "runs" << std::setw(9) << "success" << std::setw(14)
             << "paper (300 s)" << std::setw(26) << "mean time s [95% CI]" << std::setw(9) << "median" << "propagations\n";
   nlohmann::ordered_json json{{"scenes", scenes},
@@ -320,9 +321,10 @@ int report_push(const BenchArgs& args, const std::vector<Record>& records) {
             << o.solved << "/" << o.runs << ", Fisher's exact p " << (p < 0.001 ? "< 0.001" : "= " + fixed(p, 3));
     p_values[other] = p;
   }
-  std::cout << "\nPaper: Papallas & Dogar 2020, Fig. 6 (10 scenes x 10 runs, 300 s; guided = GRTC-HITL, a person's "
-               "guidance).\nGoal, guided beats RRT and KPIECE on success rate at equal time limits: "
-            << (met ? "met" : "NOT met") << " (guided " << against.str() << ")\n";
+  std::cout << "\n"
+            << wrapped("Paper: Papallas & Dogar 2020, Fig. 6 (10 scenes x 10 runs, 300 s; guided = GRTC-HITL, a person's guidance).\n"
+                       "Goal, guided beats RRT and KPIECE on success rate at equal time limits: " +
+                       std::string(met ? "met" : "NOT met") + " (guided " + against.str() + ")");
   json["goal_met"] = met;
   json["goal_p_values"] = p_values;
   if (!args.json.empty()) write_json_file(args.json, json);

@@ -374,7 +374,7 @@ NameWidths name_widths(const std::vector<Row>& rows, const std::string& table) {
   for (const Row& row : rows) {
     if (row.table != table) continue;
     w.scenes = std::max(w.scenes, row.scenes.size() + 1);
-    w.planner = std::max(w.planner, row_name(row).size() + 1);
+    w.planner = std::max(w.planner, row_name(row).size());  // a cell's leading space follows it
   }
   return w;
 }
@@ -390,6 +390,14 @@ std::string number_text(double v, int digits) {
   char out[32];
   std::snprintf(out, sizeof out, "%.*f", digits, v);
   return out;
+}
+
+// A table cell: at most 6 characters in its 7 columns (fewer decimals for large
+// values), so that a space always stands before it.
+std::string cell_text(double v, int digits) {
+  std::string text = number_text(v, digits);
+  while (text.size() > 6 && digits > 0) text = number_text(v, --digits);
+  return text;
 }
 
 void print_table_header(const std::string& table, const NameWidths& w) {
@@ -408,8 +416,8 @@ void print_row(const Row& row, const Measured& m, const NameWidths& w) {
   line << std::left << std::setw(static_cast<int>(w.scenes)) << row.scenes << std::setw(static_cast<int>(w.planner)) << row_name(row)
        << std::right;
   for (const Column& c : columns_of(row.table)) {
-    line << std::setw(7) << number_text(c.ours(m), c.digits);
-    if (c.paper) line << std::setw(7) << number_text(c.paper(row.paper), c.digits);
+    line << std::setw(7) << cell_text(c.ours(m), c.digits);
+    if (c.paper) line << std::setw(7) << cell_text(c.paper(row.paper), c.digits);
   }
   std::cout << line.str() << "\n";
 }

@@ -224,13 +224,16 @@ TEST(Browser, BenchPlotsRenderAsDrawings) {
   ASSERT_EQ(std::system(mobile.c_str()), 0) << mobile;
   const std::string pddl = kCli + " bench pddl -q --per-domain 2 --runs 1 --parse-objects 0 --svg " + (dir / "pddl.svg").string() + " > /dev/null";
   ASSERT_EQ(std::system(pddl.c_str()), 0) << pddl;
+  const std::string compare = kCli + " compare -q " + (kSource / "problems/stacked/stacked4.yaml").string() +
+                              " --runs 2 --time-limit 600 --svg " + (dir / "compare.svg").string() + " > /dev/null";
+  ASSERT_EQ(std::system(compare.c_str()), 0) << compare;
   for (const std::string timed : {"collision --samples 1000", "samplers --samples 2000", "physics"}) {
     const std::string name = timed.substr(0, timed.find(' '));
     const std::string command = kCli + " bench " + timed + " -q --svg " + (dir / (name + ".svg")).string() + " > /dev/null";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
   }
   WebDriver browser(dir.string());
-  for (const std::string name : {"retrieval", "push", "occlusion", "mobile", "pddl", "collision", "samplers", "physics"}) {
+  for (const std::string name : {"retrieval", "push", "occlusion", "mobile", "pddl", "compare", "collision", "samplers", "physics"}) {
     browser.go("file://" + (dir / (name + ".svg")).string());
     browser.execute(
         "const svg = document.documentElement; const w = svg.width.baseVal.value, h = svg.height.baseVal.value;"
