@@ -160,11 +160,6 @@ std::string clipped(const std::string& text, std::size_t width) {
   return text.size() < width ? text : text.substr(0, width - 2) + "~";
 }
 
-const char* colour_of(std::size_t k) {
-  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"};
-  return colours[k % std::size(colours)];
-}
-
 // Success rate and the times of solved runs (box plots, unsolved runs as red crosses)
 // per row, rows numbered under the axes and named in a key below.
 void write_svg(const fs::path& file, const std::vector<Row>& rows) {
@@ -181,8 +176,8 @@ void write_svg(const fs::path& file, const std::vector<Row>& rows) {
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const Row& row = rows[k];
     const double offset = slot * (double(k) + 0.5), w = slot * 0.6;
-    plot.bar(rate, rate.left + offset - w / 2, w, row.success(), colour_of(k));
-    plot.box(time, time.left + offset, w, row.solved_values("time_s"), colour_of(k));
+    plot.bar(rate, rate.left + offset - w / 2, w, row.success(), series_colour(k));
+    plot.box(time, time.left + offset, w, row.solved_values("time_s"), series_colour(k));
     plot.unsolved(time, time.left + offset, static_cast<int>(row.runs.size() - row.solved()));
     for (const SvgPlot::Panel* p : {&rate, &time}) plot.x_label(*p, p->left + offset, std::to_string(k + 1));
     plot.text(left, top + panel_h + 55 + line * double(k), std::to_string(k + 1) + ": " + row.problem + " / " + row.planner);

@@ -16,6 +16,7 @@
 #include "bench/prose.hpp"
 #include "bench/reports.hpp"
 #include "bench/settings.hpp"
+#include "bench/svg_plot.hpp"
 #include "bench/table_plot.hpp"
 #include "bench/sweep.hpp"
 #include "cluttertamp/io/text_file.hpp"
@@ -225,7 +226,6 @@ void write_csv(const std::filesystem::path& file, const std::vector<Row>& rows) 
 // Success rates per strategy (the paper's hatched), then |O_r| and the time of each
 // solved run as box plots with the paper's means as diamonds, unsolved runs as red crosses.
 void write_svg(const std::filesystem::path& file, const std::vector<Row>& rows, const std::string& title) {
-  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3"};
   TablePlot table{title, "|O_r| (target included), solved runs", {}, {}};
   for (std::size_t k = 0; k < std::size(kStrategies); ++k) {
     const Strategy& s = kStrategies[k];
@@ -233,7 +233,7 @@ void write_svg(const std::filesystem::path& file, const std::vector<Row>& rows, 
     for (const Row& r : rows) {
       if (r.strategy == s.parameter) m.add(r.solved, double(r.removed), r.seconds, double(r.iterations));
     }
-    table.groups.push_back({s.label, {{colours[k], m.success(), m.removed, m.seconds, m.runs - m.solved, s.paper.success, s.paper.removed,
+    table.groups.push_back({s.label, {{series_colour(k), m.success(), m.removed, m.seconds, m.runs - m.solved, s.paper.success, s.paper.removed,
                                        s.paper.seconds, ""}}});
   }
   write_table_svg(file, {table});

@@ -16,6 +16,7 @@
 #include "bench/prose.hpp"
 #include "bench/reports.hpp"
 #include "bench/settings.hpp"
+#include "bench/svg_plot.hpp"
 #include "bench/table_plot.hpp"
 #include "bench/sweep.hpp"
 #include "cluttertamp/bench/bench.hpp"
@@ -166,11 +167,6 @@ Measures measures_of(const std::vector<Run>& runs, const std::string& layout, in
   return m;
 }
 
-const char* colour_of(std::size_t size) {
-  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e"};
-  return colours[size % std::size(colours)];
-}
-
 // Per layout: success rates by size (the paper's hatched), then the final removal
 // sequence |O_r| and the time of each solved run as box plots with the paper's means
 // as diamonds, and each size's unsolved runs as a red cross with their count.
@@ -183,7 +179,7 @@ void write_svg(const std::filesystem::path& file, const std::vector<Run>& runs, 
     const std::vector<int> sizes = sizes_of(args);
     for (std::size_t k = 0; k < sizes.size(); ++k) {
       const Measures m = measures_of(runs, layout, sizes[k]);
-      PlotColumn column{colour_of(k), m.success(), m.final_sequence, m.seconds, m.runs - m.solved, {}, {}, {}, {}};
+      PlotColumn column{series_colour(k), m.success(), m.final_sequence, m.seconds, m.runs - m.solved, {}, {}, {}, {}};
       if (const auto paper = kTableII.find(sizes[k]); paper != kTableII.end()) {
         column.paper_success = paper->second.success;
         column.paper_removed = paper->second.removed;

@@ -424,11 +424,6 @@ class PddlRunner {
   double parse_s_ = 0;
 };
 
-const char* colour_of(std::size_t search) {
-  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e"};
-  return colours[search % std::size(colours)];
-}
-
 // Per domain folder: the share of instances each search solved with a valid plan, and
 // the total times of those as box plots (unsolved instances as red crosses).
 void write_svg(const fs::path& file, const std::vector<Run>& rows, const std::vector<std::string>& searches) {
@@ -459,14 +454,14 @@ void write_svg(const fs::path& file, const std::vector<Run>& rows, const std::ve
         }
       }
       const double x = x0 + slot * 0.1 + bar * (double(s) + 0.5);
-      plot.bar(coverage, x - bar * 0.4, bar * 0.8, total ? 100.0 * solved / total : 0.0, colour_of(s));
-      plot.box(time, x, bar * 0.8, seconds, colour_of(s));
+      plot.bar(coverage, x - bar * 0.4, bar * 0.8, total ? 100.0 * solved / total : 0.0, series_colour(s));
+      plot.box(time, x, bar * 0.8, seconds, series_colour(s));
       plot.unsolved(time, x, total - solved);
     }
     const std::string name = folders[f].size() > 9 ? folders[f].substr(0, 8) + "~" : folders[f];
     for (const SvgPlot::Panel* p : {&coverage, &time}) plot.x_label(*p, x0 + slot / 2, name);
   }
-  for (std::size_t s = 0; s < searches.size(); ++s) plot.legend(left + 130 * double(s), top + 2 * (panel_h + 75) + 5, colour_of(s), searches[s]);
+  for (std::size_t s = 0; s < searches.size(); ++s) plot.legend(left + 130 * double(s), top + 2 * (panel_h + 75) + 5, series_colour(s), searches[s]);
   plot.legend(left + 130 * double(searches.size()), top + 2 * (panel_h + 75) + 5, "cross", "unsolved (count)");
   plot.write(file);
 }

@@ -29,6 +29,11 @@ std::string escaped(const std::string& text) {
 
 }  // namespace
 
+const char* series_colour(std::size_t k) {
+  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#666666"};
+  return colours[k % std::size(colours)];
+}
+
 double tick_step(double max, int ticks) {
   if (!(max > 0) || !std::isfinite(max)) return 1.0;
   const double raw = max / std::max(1, ticks);

@@ -2,6 +2,7 @@
 // The benches' plots: panels on one SVG canvas, each with a y axis from 0 in round
 // steps, labelled ticks and grid lines, and the marks the benches draw on them.
 
+#include <cstddef>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -12,6 +13,9 @@ namespace cluttertamp::bench {
 /// Round tick steps for an axis from 0 to at least `max` (1, 2, 2.5 or 5 times a power
 /// of ten, about `ticks` of them); `max` <= 0 gives steps of 1.
 double tick_step(double max, int ticks = 4);
+
+/// The colour of series `k` in every bench plot (Dark2, repeating after 8).
+const char* series_colour(std::size_t k);
 
 /// One SVG drawing. Coordinates are pixels from the canvas's top left; values are the
 /// data's own (a panel maps them to pixels).

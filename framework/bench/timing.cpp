@@ -26,7 +26,6 @@ std::string hosts_note(const std::vector<Record>& records) {
 
 void write_timing_svg(const std::filesystem::path& file, const std::string& title, const std::string& axis,
                       const std::vector<TimedQuery>& queries, bool goals_are_minimums) {
-  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#666666"};
   const double left = 70, slot = 115, top = 80, height = 260;
   const double width = slot * double(std::max<std::size_t>(queries.size(), 2));
   std::vector<double> all;
@@ -42,7 +41,7 @@ void write_timing_svg(const std::filesystem::path& file, const std::string& titl
   const SvgPlot::Panel panel = plot.panel_for(left, top, width, height, all, axis);
   for (std::size_t k = 0; k < queries.size(); ++k) {
     const double x = panel.left + slot * (double(k) + 0.5);
-    plot.box(panel, x, slot * 0.45, queries[k].values, colours[k % std::size(colours)]);
+    plot.box(panel, x, slot * 0.45, queries[k].values, series_colour(k));
     if (queries[k].goal > 0) plot.goal(panel, x, slot * 0.7, queries[k].goal);
     plot.x_label(panel, x, queries[k].label);
     if (queries[k].values.empty()) plot.text(x, panel.bottom() - 6, "not measured", "middle", "#d62728");
