@@ -102,31 +102,30 @@ TEST(PddlLandmarks, TheCountFollowsThePathAndCountsWhatIsNeededAgain) {
   LandmarkCount count(landmarks);
   const State s0 = k.space.initial();
   count.start(0, s0);
-  // Not yet true: (at k), (have-key), (at b), (open), (at c). (Each count below: not
-  // accepted + accepted but needed again.)
+  // Future: (at k), (have-key), (at b), (open), (at c), not yet true.
   EXPECT_DOUBLE_EQ(count.value(0, s0), 5.0);
-  // In k: (at k) accepted; (at a), accepted, is false and needed again to reach b.
+  // In k: (at k) past; (at a), past, is false and needed again to reach b.
   const State s1 = k.space.apply(s0, k.op("(move a k)"));
-  count.reach(0, 1, s1, true);
+  count.reach(0, 1, s0, s1, true);
   EXPECT_DOUBLE_EQ(count.value(1, s1), 4.0 + 1.0);
   // Back in a without the key: (at k) is needed again, for (have-key).
   const State s2 = k.space.apply(s1, k.op("(move k a)"));
-  count.reach(1, 2, s2, true);
+  count.reach(1, 2, s1, s2, true);
   EXPECT_DOUBLE_EQ(count.value(2, s2), 4.0 + 1.0);
-  // The key taken: (have-key) accepted; (key-at k), gone, is needed by nothing left.
+  // The key taken: (have-key) past; (key-at k), gone, is needed by nothing left.
   const State s3 = k.space.apply(s1, k.op("(take k)"));
-  count.reach(1, 3, s3, true);
+  count.reach(1, 3, s1, s3, true);
   EXPECT_DOUBLE_EQ(count.value(3, s3), 3.0 + 1.0);
-  // A landmark is accepted only after its natural parents: a made-up state reached
-  // from s0 that holds the key does not accept (have-key), as (at k) was not accepted.
+  // A landmark made true is past, its parents past or not (Fast Downward's status): a
+  // made-up state reached from s0 that holds the key has (have-key) past.
   State odd = s0;
   detail::set(odd, k.fact("(have-key)"));
-  count.reach(0, 4, odd, true);
-  EXPECT_DOUBLE_EQ(count.value(4, odd), 5.0);
-  // A second path into s3, straight from s0, accepts (at k) but not (have-key): the
-  // intersection of the two paths leaves (have-key) to do, and (key-at k) needed again.
-  count.reach(0, 3, s3, false);
-  EXPECT_DOUBLE_EQ(count.value(3, s3), 4.0 + 2.0);
+  count.reach(0, 4, s0, odd, true);
+  EXPECT_DOUBLE_EQ(count.value(4, odd), 4.0);
+  // What is future on one path into a state stays future: reaching s2 again from s0
+  // (as if in one step) leaves (at k) needed again.
+  count.reach(0, 2, s0, s2, false);
+  EXPECT_DOUBLE_EQ(count.value(2, s2), 4.0 + 1.0);
 }
 
 TEST(PddlLandmarks, TheWorkBudgetLeavesTheGoalFacts) {

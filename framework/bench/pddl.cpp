@@ -184,6 +184,7 @@ Run measure(const Pair& pair, const pddl::Domain& domain, const pddl::Problem& p
     }
     search::SearchOptions options;
     options.algorithm = algorithm;
+    options.landmarks = args.landmarks;
     options.time_limit = std::max(0.0, args.time_limit - since());
     last = search::plan(task, options);
     ground_s.push_back(stats.seconds);
@@ -228,6 +229,15 @@ void score(std::vector<Run>& rows, const std::map<std::string, double>& referenc
   }
 }
 
+// A table's first cell: a name too wide for its column (IPC instance names run to 40
+// characters) stands on a line of its own and its row follows with the cell empty, so
+// the columns stay aligned within 100 characters. Call it before the row's statement.
+std::string first_cell(const std::string& name, std::size_t width) {
+  if (name.size() < width) return name;
+  std::cout << name << "\n";
+  return "";
+}
+
 void print_summary(const std::vector<Run>& rows, const std::vector<std::string>& searches, nlohmann::ordered_json& json) {
   std::vector<std::string> folders;
   for (const Run& r : rows) {
@@ -255,7 +265,8 @@ void print_summary(const std::vector<Run>& rows, const std::vector<std::string>&
       all_total += total;
       all_solved += solved;
       all_score += sum;
-      std::cout << std::left << std::setw(34) << folder << std::setw(14) << search << std::right << std::setw(10)
+      const std::string cell = first_cell(folder, 34);
+      std::cout << std::left << std::setw(34) << cell << std::setw(14) << search << std::right << std::setw(10)
                 << (std::to_string(solved) + "/" + std::to_string(total)) << std::setw(9) << fixed(sum, 2) << std::setw(10)
                 << (solved ? fixed(median(lengths), 1) : "-") << std::setw(12) << (solved ? fixed(median(seconds), 3) : "-")
                 << "\n";
@@ -497,7 +508,8 @@ int report_pddl(const BenchArgs& args, const std::vector<Record>& records) {
             << std::setw(7) << "cost" << std::setw(10) << "expanded" << std::setw(10) << "ground s" << std::setw(10) << "search s"
             << std::setw(10) << "total s" << "\n";
   for (const Run& row : rows) {
-    std::cout << std::left << std::setw(30) << row.instance << std::setw(13) << row.search << std::right << std::setw(8)
+    const std::string cell = first_cell(row.instance, 30);
+    std::cout << std::left << std::setw(30) << cell << std::setw(13) << row.search << std::right << std::setw(8)
               << (row.valid ? "yes" : row.solved ? "INVALID" : "no") << std::setw(7)
               << (row.solved ? std::to_string(static_cast<long>(row.cost)) : "-") << std::setw(10) << row.expanded << std::setw(10)
               << fixed(row.ground_s, 4) << std::setw(10) << fixed(row.search_s, 4) << std::setw(10) << fixed(row.total_s, 4) << "\n";

@@ -58,6 +58,7 @@ int plugins(const PluginsArgs& args);
 struct PddlArgs {
   std::filesystem::path domain, problem;
   std::string search = "lama-first";
+  std::string landmarks = "rhw";     ///< lama-first's and --anytime's landmarks
   double time_limit = 300;
   std::uint64_t max_expansions = ~0ull;
   double weight = 5;

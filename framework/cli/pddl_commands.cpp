@@ -61,6 +61,7 @@ int pddl(const PddlArgs& args) {
   }
   search::SearchOptions options;
   options.algorithm = args.search;
+  options.landmarks = args.landmarks;
   // What is left from the start (the grounder's own teardown counts too).
   options.time_limit =
       std::max(0.0, args.time_limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -89,6 +90,11 @@ int pddl(const PddlArgs& args) {
     std::cerr << "search: " << args.search << (args.anytime ? " then anytime" : "") << ", " << result.statistics.expanded << " expanded, "
               << result.statistics.generated << " generated, " << result.statistics.evaluated << " evaluated in "
               << number(result.statistics.seconds) << " s\n";
+    if (const auto& s = result.statistics; s.landmarks > 0) {
+      std::cerr << "landmarks: " << args.landmarks << ", " << s.landmarks << " (" << s.disjunctive_landmarks
+                << " disjunctive), " << s.landmark_orders << " orders, " << s.variables
+                << " finite-domain variables of several facts\n";
+    }
   }
   if (!result.solved) {
     std::cerr << "no plan: " << result.reason << "\n";

@@ -91,7 +91,7 @@ class LazyHeuristic {
  public:
   virtual ~LazyHeuristic() = default;
   virtual void start(int /*id*/, const State& /*s*/) {}
-  virtual void reach(int /*parent*/, int /*child*/, const State& /*s*/, bool /*is_new*/) {}
+  virtual void reach(int /*parent*/, int /*child*/, const State& /*parent_state*/, const State& /*s*/, bool /*is_new*/) {}
   virtual double value(int id, const State& s, std::vector<OperatorId>* preferred) = 0;
 };
 
@@ -108,7 +108,9 @@ class LandmarkHeuristic final : public LazyHeuristic {
  public:
   explicit LandmarkHeuristic(const Landmarks& landmarks) : count_(landmarks) {}
   void start(int id, const State& s) override { count_.start(id, s); }
-  void reach(int parent, int child, const State& s, bool is_new) override { count_.reach(parent, child, s, is_new); }
+  void reach(int parent, int child, const State& parent_state, const State& s, bool is_new) override {
+    count_.reach(parent, child, parent_state, s, is_new);
+  }
   double value(int id, const State& s, std::vector<OperatorId>*) override { return count_.value(id, s); }
 
  private:
@@ -343,7 +345,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     const double child_g = registry.node(parent).g + space.task().operators[op].cost;
     if (child_g >= limits.cost_bound) continue;
     const auto [child, is_new] = registry.insert(space.apply(registry.state(parent), op));
-    for (LazyHeuristic* h : heuristics) h->reach(parent, child, registry.state(child), is_new);
+    for (LazyHeuristic* h : heuristics) h->reach(parent, child, registry.state(parent), registry.state(child), is_new);
     Node& c = registry.node(child);
     if (!is_new && (!keys.reopen || c.h == kInfinity || child_g >= c.g)) continue;  // dead ends stay closed
     c.parent = parent;
@@ -368,11 +370,31 @@ constexpr std::uint64_t kLandmarkWork = 100'000'000;
 
 // The heuristics of one lazy search: h_FF first (it gives the preferred operators),
 // then the landmark count when asked for.
+enum class LandmarkKind { none, zhu_givan, rhw };
+
+LandmarkKind landmark_kind(const std::string& name) {
+  if (name == "rhw") return LandmarkKind::rhw;
+  if (name == "zhu-givan") return LandmarkKind::zhu_givan;
+  throw std::invalid_argument("unknown landmarks '" + name + "'; known: rhw, zhu-givan");
+}
+
 class LazyHeuristics {
  public:
-  LazyHeuristics(const Task& task, const StateSpace& space, const Limits& limits, RelaxedTask::Costs costs, bool landmarks)
+  LazyHeuristics(const Task& task, const StateSpace& space, const Limits& limits, RelaxedTask::Costs costs,
+                 LandmarkKind landmarks)
       : ff_(Heuristic::hff, task, space, limits.deadline, costs), ff_adapter_(ff_) {
-    if (landmarks) landmarks_ = std::make_unique<Landmarks>(ff_.relaxed(), space.initial(), kLandmarkWork);
+    if (landmarks == LandmarkKind::zhu_givan) {
+      landmarks_ = std::make_unique<Landmarks>(ff_.relaxed(), space.initial(), kLandmarkWork);
+    } else if (landmarks == LandmarkKind::rhw) {
+      landmarks_ = std::make_unique<Landmarks>(Landmarks::rhw(ff_.relaxed(), task, space.initial(), kLandmarkWork, limits.deadline));
+    }
+  }
+  void describe(SearchStatistics& s) const {
+    if (!landmarks_) return;
+    s.landmarks = landmarks_->size();
+    s.disjunctive_landmarks = landmarks_->disjunctive_count();
+    s.landmark_orders = landmarks_->order_count();
+    s.variables = landmarks_->variable_count();
   }
   // Fresh per search: the landmark count keeps per-state data.
   std::vector<LazyHeuristic*> fresh() {
@@ -392,7 +414,7 @@ class LazyHeuristics {
 };
 
 SearchResult run_search(const Task& task, const StateSpace& space, const std::string& a, double weight,
-                        const Limits& limits) {
+                        LandmarkKind landmarks, const Limits& limits) {
   SearchResult result;
   if (task.goal.empty()) {
     result.reason = "no plan exists (the goal is unsatisfiable in every reachable state)";
@@ -410,10 +432,11 @@ SearchResult run_search(const Task& task, const StateSpace& space, const std::st
   };
   try {
     if (a == "lama-first") {  // LAMA's first iteration: plan length, not cost, guides it
-      lazy_h = std::make_unique<LazyHeuristics>(task, space, limits, RelaxedTask::Costs::one, true);
+      lazy_h = std::make_unique<LazyHeuristics>(task, space, limits, RelaxedTask::Costs::one, landmarks);
       result = lazy(space, lazy_h->fresh(), LazyKeys{}, limits);
+      lazy_h->describe(result.statistics);
     } else if (a == "lazy-gbfs-ff") {
-      lazy_h = std::make_unique<LazyHeuristics>(task, space, limits, RelaxedTask::Costs::normal, false);
+      lazy_h = std::make_unique<LazyHeuristics>(task, space, limits, RelaxedTask::Costs::normal, LandmarkKind::none);
       result = lazy(space, lazy_h->fresh(), LazyKeys{}, limits);
     } else if (a == "eager-gbfs-ff") {
       result = eager(space, with(Heuristic::hff), 0.0, 1.0, true, false, limits);
@@ -453,7 +476,7 @@ void add(SearchStatistics& total, const SearchStatistics& more) {
 void improve(const Task& task, const StateSpace& space, const SearchOptions& options, const Limits& limits,
              SearchResult& best) {
   const RelaxedTask::Costs costs = task.unit_cost ? RelaxedTask::Costs::one : RelaxedTask::Costs::plus_one;
-  LazyHeuristics heuristics(task, space, limits, costs, true);
+  LazyHeuristics heuristics(task, space, limits, costs, landmark_kind(options.landmarks));
   const double weights[] = {5.0, 3.0, 2.0, 1.0};
   for (int iteration = 0;; ++iteration) {
     Limits bounded = limits;
@@ -487,7 +510,8 @@ SearchResult plan(const Task& task, const SearchOptions& options) {
   const Limits limits{start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                                   std::min(options.time_limit, 1e9))),
                       options.max_expansions, options.cost_bound};
-  SearchResult result = run_search(task, *space, options.algorithm, options.weight, limits);
+  const LandmarkKind landmarks = landmark_kind(options.landmarks);
+  SearchResult result = run_search(task, *space, options.algorithm, options.weight, landmarks, limits);
   if (result.solved) {
     result.plans_found = 1;
     if (options.anytime) {

@@ -72,7 +72,7 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
     if (std::vector<FactId> eff = effects(op.add, op.del); !eff.empty()) ops_.push_back({pre, std::move(eff), cost, id});
     for (const ConditionalEffect& c : op.conditional) {
       std::vector<FactId> eff = effects(c.add, c.del);
-      if (!eff.empty()) ops_.push_back({condition(c.condition, pre), std::move(eff), cost, id});
+      if (!eff.empty()) ops_.push_back({condition(c.condition, pre), std::move(eff), cost, id, true});
     }
   }
   for (const Axiom& a : task.axioms) ops_.push_back({condition(a.body, {}), {a.head}, 0.0, -1});

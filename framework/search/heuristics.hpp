@@ -33,6 +33,7 @@ class RelaxedTask {
     std::vector<FactId> eff;
     double cost;
     OperatorId origin;  ///< the task operator; -1 for axioms and goal operators
+    bool conditional = false;  ///< one conditional effect of `origin` (pre holds its condition too)
   };
 
   /// h_max (max = true) or h_add of state s; fills cost and supporter per fact.
@@ -56,6 +57,10 @@ class RelaxedTask {
     return {triggers_.data() + trigger_start_[f], triggers_.data() + trigger_start_[f + 1]};
   }
   const std::vector<int>& achievers(FactId f) const { return achievers_[f]; }
+  /// Task fact f's complement, or -1 when no condition needs f false.
+  FactId complement_of(FactId f) const { return complement_[f]; }
+  /// The task fact of complement c (task facts <= c < goal fact).
+  FactId complemented(FactId c) const { return complemented_[c - task_facts_]; }
   const std::vector<int>& without_preconditions() const { return no_precondition_; }
 
  private:

@@ -125,6 +125,7 @@ Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint
     std::set_intersection(in_every_disjunct.begin(), in_every_disjunct.end(), pre.begin(), pre.end(), std::back_inserter(both));
     in_every_disjunct.swap(both);
   }
+  std::vector<FactId> facts_;
   if (complete_) {
     for (FactId f : labelling.label(goal)) {
       if (f != goal) facts_.push_back(f);
@@ -132,11 +133,13 @@ Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint
   } else {
     facts_ = in_every_disjunct;
   }
+  for (FactId f : facts_) atoms_.push_back({f});
   labelling.allow(work_budget);  // as much again for the orders
   std::vector<int> index(relaxed.fact_count(), -1);
   for (std::size_t i = 0; i < facts_.size(); ++i) index[facts_[i]] = static_cast<int>(i);
   parents_.assign(facts_.size(), {});
   needed_by_.assign(facts_.size(), {});
+  reasonable_.assign(facts_.size(), {});
   goal_.assign(facts_.size(), 0);
   cost_.assign(facts_.size(), 1.0);
   for (FactId f : in_every_disjunct) {
@@ -179,57 +182,103 @@ Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint
 }
 
 std::size_t Landmarks::order_count() const {
+  // Distinct pairs: a greedy-necessary order may also be a parent's.
   std::size_t n = 0;
-  for (std::size_t i = 0; i < facts_.size(); ++i) n += parents_[i].size() + needed_by_[i].size();
+  for (std::size_t i = 0; i < atoms_.size(); ++i) {
+    n += parents_[i].size();
+    for (int child : needed_by_[i]) {
+      const auto& p = parents_[child];
+      n += std::find(p.begin(), p.end(), static_cast<int>(i)) == p.end();
+    }
+  }
   return n;
 }
 
+std::size_t Landmarks::disjunctive_count() const {
+  return static_cast<std::size_t>(
+      std::count_if(atoms_.begin(), atoms_.end(), [](const std::vector<FactId>& a) { return a.size() > 1; }));
+}
+
 LandmarkCount::LandmarkCount(const Landmarks& landmarks)
-    : landmarks_(landmarks), words_(std::max<std::size_t>(1, (landmarks.size() + 63) / 64)), scratch_(words_) {}
+    : landmarks_(landmarks), words_(std::max<std::size_t>(1, (landmarks.size() + 63) / 64)) {}
+
+void LandmarkCount::grow(int id) {
+  const std::size_t size = static_cast<std::size_t>(id + 1) * words_;
+  if (past_.size() < size) {
+    past_.resize(size, 0);
+    future_.resize(size, 0);
+  }
+}
 
 void LandmarkCount::start(int id, const State& s) {
-  accepted_.resize(static_cast<std::size_t>(id + 1) * words_, 0);
-  std::uint64_t* a = accepted(id);
-  std::fill(a, a + words_, 0);
-  for (std::size_t i = 0; i < landmarks_.size(); ++i) {
-    if (landmarks_.holds(static_cast<int>(i), s)) a[i >> 6] |= std::uint64_t{1} << (i & 63);
-  }
-}
-
-void LandmarkCount::reach(int parent, int child, const State& child_state, bool is_new) {
-  const std::uint64_t* before = accepted(parent);
-  std::copy(before, before + words_, scratch_.begin());
-  for (std::size_t i = 0; i < landmarks_.size(); ++i) {
-    const int l = static_cast<int>(i);
-    if (is_accepted(before, l) || !landmarks_.holds(l, child_state)) continue;
-    const auto& parents = landmarks_.parents(l);
-    if (std::all_of(parents.begin(), parents.end(), [&](int p) { return is_accepted(before, p); })) {
-      scratch_[i >> 6] |= std::uint64_t{1} << (i & 63);
-    }
-  }
-  if (is_new) {
-    accepted_.resize(std::max(accepted_.size(), static_cast<std::size_t>(child + 1) * words_), 0);
-    std::copy(scratch_.begin(), scratch_.end(), accepted(child));
-  } else {
-    std::uint64_t* a = accepted(child);
-    for (std::size_t w = 0; w < words_; ++w) a[w] &= scratch_[w];
-  }
-}
-
-double LandmarkCount::value(int id, const State& s) const {
-  const std::uint64_t* a = accepted(id);
-  double h = 0.0;
-  for (std::size_t i = 0; i < landmarks_.size(); ++i) {
-    const int l = static_cast<int>(i);
-    if (!is_accepted(a, l)) {
-      h += landmarks_.cost(l);
+  grow(id);
+  std::uint64_t* past = bits(past_, id);
+  std::uint64_t* future = bits(future_, id);
+  std::fill(past, past + words_, 0);
+  std::fill(future, future + words_, 0);
+  const int n = static_cast<int>(landmarks_.size());
+  for (int l = 0; l < n; ++l) {
+    if (!landmarks_.holds(l, s)) {
+      set(future, l);
       continue;
     }
-    if (landmarks_.holds(l, s)) continue;
-    const auto& later = landmarks_.needed_by(l);
-    if (landmarks_.is_goal(l) || std::any_of(later.begin(), later.end(), [&](int c) { return !is_accepted(a, c); })) {
-      h += landmarks_.cost(l);
+    set(past, l);
+    // True initially but ordered after a landmark that is not: it must come again.
+    auto not_true = [&](int p) { return !landmarks_.holds(p, s); };
+    const auto& parents = landmarks_.parents(l);
+    const auto& reasonable = landmarks_.reasonable_parents(l);
+    if (std::any_of(parents.begin(), parents.end(), not_true) ||
+        std::any_of(reasonable.begin(), reasonable.end(), not_true)) {
+      set(future, l);
     }
+  }
+}
+
+void LandmarkCount::reach(int parent, int child, const State& parent_state, const State& child_state, bool is_new) {
+  if (parent == child) return;
+  grow(std::max(parent, child));
+  const std::uint64_t* parent_past = bits(past_, parent);
+  const std::uint64_t* parent_future = bits(future_, parent);
+  std::uint64_t* past = bits(past_, child);
+  std::uint64_t* future = bits(future_, child);
+  if (is_new) {
+    std::fill(past, past + words_, ~std::uint64_t{0});
+    std::fill(future, future + words_, 0);
+  }
+  const int n = static_cast<int>(landmarks_.size());
+  std::vector<char>& holds = holds_;  // scratch, kept to spare an allocation per transition
+  holds.resize(static_cast<std::size_t>(n));
+  for (int l = 0; l < n; ++l) holds[l] = landmarks_.holds(l, child_state);
+  for (int l = 0; l < n; ++l) {
+    if (!test(parent_future, l)) continue;
+    if (!holds[l]) {
+      set(future, l);
+      if (!test(parent_past, l)) reset(past, l);
+    } else if (landmarks_.holds(l, parent_state)) {
+      set(future, l);  // true already: not achieved by this transition
+    }
+  }
+  for (int l = 0; l < n; ++l) {
+    if (holds[l]) {
+      const auto& before = landmarks_.reasonable_parents(l);
+      if (std::any_of(before.begin(), before.end(), [&](int p) { return !test(past, p); })) set(future, l);
+      continue;
+    }
+    const auto& later = landmarks_.needed_by(l);
+    if (landmarks_.is_goal(l) || std::any_of(later.begin(), later.end(), [&](int c) { return !test(past, c); })) {
+      set(future, l);
+    }
+    const auto& before = landmarks_.reasonable_parents(l);
+    if (std::any_of(before.begin(), before.end(), [&](int p) { return !test(past, p); })) set(future, l);
+  }
+}
+
+double LandmarkCount::value(int id, const State&) const {
+  const std::uint64_t* future = bits(future_, id);
+  double h = 0.0;
+  const int n = static_cast<int>(landmarks_.size());
+  for (int l = 0; l < n; ++l) {
+    if (test(future, l)) h += landmarks_.cost(l);
   }
   return h;
 }

@@ -187,6 +187,9 @@ BenchCommand declare_pddl(CLI::App& bench, CommonOptions& common) {
                     "File of 'folder/problem cost' lines, best known costs for the IPC quality score (default: the "
                     "cheapest plan of the searches run)")
       ->check(CLI::ExistingFile);
+  c.app->add_option("--landmarks", args.landmarks, "Landmarks of lama-first: rhw or zhu-givan (as pddl --landmarks)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rhw", "zhu-givan"}));
   c.app->add_option("--search", args.searches, "Searches to run (repeatable; default lama-first, astar-lmcut)")
       ->expected(1)
       ->allow_extra_args(false)

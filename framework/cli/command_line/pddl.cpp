@@ -11,6 +11,11 @@ Command declare_pddl(CLI::App& app, CommonOptions& common) {
   pddl->add_option("--search", args->search, "Search algorithm")
       ->capture_default_str()
       ->check(CLI::IsMember(search::search_names()));
+  pddl->add_option("--landmarks", args->landmarks,
+                   "Landmarks of lama-first and --anytime: rhw (Richter, Helmert & Westphal, as LAMA: back-chaining "
+                   "with finite-domain variables from mutex groups) or zhu-givan (label propagation)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rhw", "zhu-givan"}));
   pddl->add_option("--time-limit", args->time_limit, "Seconds")->capture_default_str()->check(seconds_validator());
   pddl->add_option("--max-expansions", args->max_expansions, "Stop after this many expansions")->check(count_validator());
   pddl->add_option("--weight", args->weight, "Weight of h in wastar-ff")->capture_default_str()->check(finite_range(1.0, 1000.0));

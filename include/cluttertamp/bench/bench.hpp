@@ -65,6 +65,7 @@ struct BenchArgs {
   int per_domain = 0;                    ///< bench pddl: the first N problems of each folder; 0: all
   std::filesystem::path reference_costs; ///< bench pddl: "folder/problem cost" lines for the quality score
   std::vector<std::string> searches;     ///< bench pddl
+  std::string landmarks = "rhw";         ///< bench pddl: lama-first's landmarks
   int parse_objects = 200000;            ///< bench pddl: objects of the generated problem it parses (0: none)
   double time_limit = 60;                ///< bench pddl, per search; bench retrieval, per run
   int instances = 5;                     ///< bench retrieval: scenes per object count

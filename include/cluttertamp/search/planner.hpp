@@ -32,6 +32,10 @@ struct SearchOptions {
   double time_limit = 1e9;              ///< seconds
   std::uint64_t max_expansions = ~0ull;
   double weight = 5.0;                  ///< wastar only
+  /// How lama-first and the anytime mode find landmarks: "rhw" (Richter, Helmert &
+  /// Westphal, as LAMA) or "zhu-givan" (label propagation). Throws std::invalid_argument
+  /// from `plan` for another name.
+  std::string landmarks = "rhw";
   /// Only plans cheaper than this (in the task's action costs): a path that reaches it
   /// is not followed. The greedy searches may then miss a cheaper plan that reaches a
   /// state first found by a dearer path; the A* searches and wastar do not.
@@ -51,6 +55,11 @@ struct SearchStatistics {
   std::uint64_t generated = 0;
   std::uint64_t evaluated = 0;
   double seconds = 0;
+  /// The landmarks of lama-first and the anytime mode (0 for other searches).
+  std::size_t landmarks = 0;
+  std::size_t disjunctive_landmarks = 0;
+  std::size_t landmark_orders = 0;
+  std::size_t variables = 0;  ///< finite-domain variables of several facts rhw used
 };
 
 struct SearchResult {
