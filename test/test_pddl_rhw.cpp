@@ -1,6 +1,8 @@
 // Mutex groups from invariant synthesis, finite-domain variables, and RHW landmarks.
 #include <algorithm>
+#include <map>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -279,6 +281,72 @@ TEST(PddlRhwLandmarks, LamaFirstSolvesWithEitherLandmarksAndRefusesAnUnknownName
   SearchOptions odd;
   odd.landmarks = "hm";
   EXPECT_THROW(plan(g.task, odd), std::invalid_argument);
+}
+
+// The porter picks up by reaching into a room: (stretch x y ...) needs the porter in
+// both rooms, which no reachable state has unless x = y.
+std::string stretch_domain() {
+  std::string text = kPorterDomain;
+  const std::string pick = "(:action pick :parameters (?p - parcel ?r - room ?h - hand)\n"
+                           "           :precondition (and (porter-at ?r) (parcel-at ?p ?r) (free ?h))\n"
+                           "           :effect (and (holding ?h ?p) (not (parcel-at ?p ?r)) (not (free ?h))))";
+  const std::string stretch = "(:action stretch :parameters (?x ?y - room ?p - parcel ?h - hand)\n"
+                              "  :precondition (and (porter-at ?x) (porter-at ?y) (parcel-at ?p ?y) (free ?h))\n"
+                              "  :effect (and (holding ?h ?p) (not (parcel-at ?p ?y)) (not (free ?h))))";
+  const std::size_t at = text.find(pick);
+  if (at == std::string::npos) throw std::logic_error("the porter domain has no pick action to replace");
+  return text.replace(at, pick.size(), stretch);
+}
+
+TEST(PddlMutexGroups, OperatorsNeedingTwoFactsOfOneGroupAreLeftOutAndPlansNameTheGroundedOnes) {
+  const std::string domain = stretch_domain();
+  const Grounded g(domain.c_str(), kPorterProblem);
+  const std::vector<char> never = detail::never_applicable(g.task, detail::find_mutex_groups(g.task, 1'000'000));
+  std::size_t left_out = 0;
+  for (OperatorId o = 0; o < static_cast<OperatorId>(g.task.operators.size()); ++o) {
+    const std::string& name = g.task.operators[o].name;
+    const bool two_rooms = name.rfind("(stretch ", 0) == 0 && name.substr(9, 2) != name.substr(11, 2);
+    EXPECT_EQ(never[o] != 0, two_rooms) << name;
+    left_out += never[o];
+  }
+  ASSERT_GT(left_out, 0u);
+  const StateSpace space(g.task);
+  for (const std::string& search : search_names()) {
+    SearchOptions options;
+    options.algorithm = search;
+    const SearchResult r = plan(g.task, options);
+    ASSERT_TRUE(r.solved) << search << ": " << r.reason;
+    EXPECT_EQ(r.statistics.never_applicable, left_out) << search;
+    // The plan's operators are the grounded task's: it runs there as it is.
+    auto s = space.initial();
+    for (OperatorId op : r.plan) {
+      ASSERT_TRUE(space.applicable(s, op)) << search << ": " << g.task.operators[op].name;
+      s = space.apply(s, op);
+    }
+    EXPECT_TRUE(space.is_goal(s)) << search;
+  }
+}
+
+TEST(PddlSearchProgress, GreedySearchesSayTheirInitialAndEveryBetterValue) {
+  const Grounded g(kPorterDomain, kPorterProblem);
+  for (const char* search : {"lama-first", "lazy-gbfs-ff", "eager-gbfs-ff"}) {
+    std::vector<SearchProgress> said;
+    SearchOptions options;
+    options.algorithm = search;
+    options.on_progress = [&](const SearchProgress& p) { said.push_back(p); };
+    const SearchResult r = plan(g.task, options);
+    ASSERT_TRUE(r.solved) << search;
+    ASSERT_FALSE(said.empty()) << search;
+    EXPECT_EQ(said.front().heuristic, "ff") << search;
+    EXPECT_EQ(said.front().evaluated, 1u) << search;
+    std::map<std::string, double> best;
+    for (const SearchProgress& p : said) {
+      if (best.count(p.heuristic)) EXPECT_LT(p.value, best[p.heuristic]) << search << " " << p.heuristic;
+      best[p.heuristic] = p.value;
+      EXPECT_LE(p.expanded, r.statistics.expanded);
+    }
+    EXPECT_EQ(best.count("landmark count"), std::string(search) == "lama-first" ? 1u : 0u) << search;
+  }
 }
 
 }  // namespace

@@ -85,11 +85,21 @@ int pddl(const PddlArgs& args) {
       if (!args.plan_file.empty()) io::write_text_file(args.plan_file, plan_text(r), "plan file");
     };
   }
+  if (args.verbosity == Verbosity::verbose) {
+    options.on_progress = [](const search::SearchProgress& p) {
+      std::cerr << "search: " << (p.evaluated == 1 ? "initial " : "new best ") << p.heuristic << " " << number(p.value)
+                << " after " << p.expanded << " expanded, " << p.evaluated << " evaluated\n";
+    };
+  }
   const search::SearchResult result = search::plan(task, options);
   if (args.verbosity != Verbosity::quiet) {
     std::cerr << "search: " << args.search << (args.anytime ? " then anytime" : "") << ", " << result.statistics.expanded << " expanded, "
               << result.statistics.generated << " generated, " << result.statistics.evaluated << " evaluated in "
               << number(result.statistics.seconds) << " s\n";
+    if (result.statistics.never_applicable > 0) {
+      std::cerr << "search: left out " << result.statistics.never_applicable
+                << " operators whose preconditions are mutex (never applicable)\n";
+    }
     if (const auto& s = result.statistics; s.landmarks > 0) {
       std::cerr << "landmarks: " << args.landmarks << ", " << s.landmarks << " (" << s.disjunctive_landmarks
                 << " disjunctive), " << s.landmark_orders << " orders, " << s.variables

@@ -9,6 +9,7 @@
 #include "cluttertamp/search/grounding.hpp"  // TimeLimit
 #include "search/heuristics.hpp"
 #include "search/landmarks.hpp"
+#include "search/mutex_groups.hpp"
 #include "search/state_space.hpp"
 
 namespace cluttertamp::search {
@@ -76,6 +77,16 @@ class Evaluator {
     return 0.0;
   }
   void set_min_cost(double c) { min_cost_ = c; }
+  const char* name() const {
+    switch (kind_) {
+      case Heuristic::blind: return "blind";
+      case Heuristic::hmax: return "hmax";
+      case Heuristic::hadd: return "add";
+      case Heuristic::hff: return "ff";
+      case Heuristic::lmcut: return "lmcut";
+    }
+    return "";
+  }
   const RelaxedTask& relaxed() const { return relaxed_; }
 
  private:
@@ -93,12 +104,14 @@ class LazyHeuristic {
   virtual void start(int /*id*/, const State& /*s*/) {}
   virtual void reach(int /*parent*/, int /*child*/, const State& /*parent_state*/, const State& /*s*/, bool /*is_new*/) {}
   virtual double value(int id, const State& s, std::vector<OperatorId>* preferred) = 0;
+  virtual const char* name() const = 0;
 };
 
 class StateHeuristic final : public LazyHeuristic {
  public:
   explicit StateHeuristic(Evaluator& h) : h_(h) {}
   double value(int, const State& s, std::vector<OperatorId>* preferred) override { return h_(s, preferred); }
+  const char* name() const override { return "ff"; }
 
  private:
   Evaluator& h_;
@@ -112,6 +125,7 @@ class LandmarkHeuristic final : public LazyHeuristic {
     count_.reach(parent, child, parent_state, s, is_new);
   }
   double value(int id, const State& s, std::vector<OperatorId>*) override { return count_.value(id, s); }
+  const char* name() const override { return "landmark count"; }
 
  private:
   LandmarkCount count_;
@@ -121,6 +135,10 @@ struct Limits {
   Clock::time_point deadline;
   std::uint64_t max_expansions;
   double cost_bound;  // a path of this cost or more is not followed
+  std::function<void(const SearchProgress&)> progress;  // may be empty
+  void report(const char* heuristic, double value, const SearchStatistics& stats) const {
+    if (progress) progress({heuristic, value, stats.expanded, stats.evaluated});
+  }
   bool exceeded(const SearchStatistics& stats, std::string& reason) const {
     if (stats.expanded >= max_expansions) {
       reason = "expansion limit";
@@ -211,6 +229,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
   std::vector<OperatorId> preferred;
   double best_h = h(registry.state(start), &preferred);
   ++result.statistics.evaluated;
+  limits.report(h.name(), best_h, result.statistics);
   if (best_h == kInfinity) {
     result.reason = "no plan exists (the initial state is a dead end)";
     return result;
@@ -260,6 +279,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
         const bool is_preferred = std::find(preferred.begin(), preferred.end(), op) != preferred.end();
         if (c.h < best_h) {
           best_h = c.h;
+          limits.report(h.name(), best_h, result.statistics);
           if (use_preferred) open.boost();
         }
         open.push(0, {w_g * child_g + w_h * c.h, c.h, order++, child}, is_preferred);
@@ -308,6 +328,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
       if (v < best[i]) {
         best[i] = v;
         progress = true;
+        limits.report(heuristics[i]->name(), v, result.statistics);
       }
     }
     if (progress && !initial) open.boost();
@@ -381,12 +402,12 @@ LandmarkKind landmark_kind(const std::string& name) {
 class LazyHeuristics {
  public:
   LazyHeuristics(const Task& task, const StateSpace& space, const Limits& limits, RelaxedTask::Costs costs,
-                 LandmarkKind landmarks)
+                 LandmarkKind landmarks, const detail::MutexGroups* mutexes = nullptr)
       : ff_(Heuristic::hff, task, space, limits.deadline, costs), ff_adapter_(ff_) {
     if (landmarks == LandmarkKind::zhu_givan) {
       landmarks_ = std::make_unique<Landmarks>(ff_.relaxed(), space.initial(), kLandmarkWork);
     } else if (landmarks == LandmarkKind::rhw) {
-      landmarks_ = std::make_unique<Landmarks>(Landmarks::rhw(ff_.relaxed(), task, space.initial(), kLandmarkWork, limits.deadline));
+      landmarks_ = std::make_unique<Landmarks>(Landmarks::rhw(ff_.relaxed(), task, space.initial(), kLandmarkWork, limits.deadline, mutexes));
     }
   }
   void describe(SearchStatistics& s) const {
@@ -414,7 +435,7 @@ class LazyHeuristics {
 };
 
 SearchResult run_search(const Task& task, const StateSpace& space, const std::string& a, double weight,
-                        LandmarkKind landmarks, const Limits& limits) {
+                        LandmarkKind landmarks, const detail::MutexGroups& mutexes, const Limits& limits) {
   SearchResult result;
   if (task.goal.empty()) {
     result.reason = "no plan exists (the goal is unsatisfiable in every reachable state)";
@@ -432,7 +453,7 @@ SearchResult run_search(const Task& task, const StateSpace& space, const std::st
   };
   try {
     if (a == "lama-first") {  // LAMA's first iteration: plan length, not cost, guides it
-      lazy_h = std::make_unique<LazyHeuristics>(task, space, limits, RelaxedTask::Costs::one, landmarks);
+      lazy_h = std::make_unique<LazyHeuristics>(task, space, limits, RelaxedTask::Costs::one, landmarks, &mutexes);
       result = lazy(space, lazy_h->fresh(), LazyKeys{}, limits);
       lazy_h->describe(result.statistics);
     } else if (a == "lazy-gbfs-ff") {
@@ -473,15 +494,16 @@ void add(SearchStatistics& total, const SearchStatistics& more) {
 // count (costs plus one, so that zero-cost operators count), weights 5, 3, 2, 1 and
 // then 1 again, each under the best cost so far, until a search exhausts the states
 // below it (the last plan is optimal) or a limit is reached.
-void improve(const Task& task, const StateSpace& space, const SearchOptions& options, const Limits& limits,
-             SearchResult& best) {
+void improve(const Task& task, const StateSpace& space, const SearchOptions& options, const detail::MutexGroups& mutexes,
+             const Limits& limits, SearchResult& best) {
   const RelaxedTask::Costs costs = task.unit_cost ? RelaxedTask::Costs::one : RelaxedTask::Costs::plus_one;
-  LazyHeuristics heuristics(task, space, limits, costs, landmark_kind(options.landmarks));
+  LazyHeuristics heuristics(task, space, limits, costs, landmark_kind(options.landmarks), &mutexes);
   const double weights[] = {5.0, 3.0, 2.0, 1.0};
   for (int iteration = 0;; ++iteration) {
     Limits bounded = limits;
     bounded.cost_bound = std::min(limits.cost_bound, best.cost);
     bounded.max_expansions = limits.max_expansions - std::min(limits.max_expansions, best.statistics.expanded);
+    bounded.progress = nullptr;  // on_plan says what each restart found
     const LazyKeys keys{1.0, weights[std::min(iteration, 3)], true};
     SearchResult next = lazy(space, heuristics.fresh(), keys, bounded);
     add(best.statistics, next.statistics);
@@ -496,6 +518,38 @@ void improve(const Task& task, const StateSpace& space, const SearchOptions& opt
   }
 }
 
+// The task the searches run on: Fast Downward's translator leaves out operators whose
+// preconditions are mutex and orders the rest by name, and ties in every heuristic and
+// in successor order follow operator order, so the same order keeps our searches close
+// to its. `original` maps an operator back to the grounded task.
+struct SearchTask {
+  detail::MutexGroups mutexes;
+  Task task;
+  std::vector<OperatorId> original;
+};
+
+SearchTask search_task(const Task& grounded) {
+  SearchTask out;
+  out.mutexes = detail::find_mutex_groups(grounded, kLandmarkWork / 4);
+  const std::vector<char> never = detail::never_applicable(grounded, out.mutexes);
+  for (OperatorId o = 0; o < static_cast<OperatorId>(grounded.operators.size()); ++o) {
+    if (!never[o]) out.original.push_back(o);
+  }
+  std::stable_sort(out.original.begin(), out.original.end(), [&](OperatorId a, OperatorId b) {
+    return grounded.operators[a].name < grounded.operators[b].name;
+  });
+  Task& task = out.task;
+  task.fact_names = grounded.fact_names;
+  task.derived = grounded.derived;
+  task.initial = grounded.initial;
+  task.axioms = grounded.axioms;
+  task.goal = grounded.goal;
+  task.unit_cost = grounded.unit_cost;
+  task.operators.reserve(out.original.size());
+  for (OperatorId o : out.original) task.operators.push_back(grounded.operators[o]);
+  return out;
+}
+
 }  // namespace
 
 const std::vector<std::string>& search_names() {
@@ -504,26 +558,45 @@ const std::vector<std::string>& search_names() {
   return names;
 }
 
-SearchResult plan(const Task& task, const SearchOptions& options) {
+SearchResult plan(const Task& grounded, const SearchOptions& options) {
   const auto start = Clock::now();
+  auto prepared = std::make_unique<const SearchTask>(search_task(grounded));
+  const Task& task = prepared->task;
+  const detail::MutexGroups& mutexes = prepared->mutexes;
+  const auto to_grounded = [&](SearchResult& r) {
+    for (OperatorId& op : r.plan) op = prepared->original[op];
+  };
+  SearchOptions inner = options;
+  if (options.on_plan) {
+    inner.on_plan = [&](const SearchResult& r) {
+      SearchResult said = r;
+      to_grounded(said);
+      options.on_plan(said);
+    };
+  }
   auto space = std::make_unique<const StateSpace>(task);
   const Limits limits{start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                                   std::min(options.time_limit, 1e9))),
-                      options.max_expansions, options.cost_bound};
+                      options.max_expansions, options.cost_bound, options.on_progress};
   const LandmarkKind landmarks = landmark_kind(options.landmarks);
-  SearchResult result = run_search(task, *space, options.algorithm, options.weight, landmarks, limits);
+  SearchResult result = run_search(task, *space, options.algorithm, options.weight, landmarks, mutexes, limits);
   if (result.solved) {
     result.plans_found = 1;
     if (options.anytime) {
-      if (options.on_plan) options.on_plan(result);
+      if (inner.on_plan) inner.on_plan(result);
       try {
-        improve(task, *space, options, limits, result);
+        improve(task, *space, inner, mutexes, limits, result);
       } catch (const TimeLimit&) {
         result.anytime_end = "time limit";
       }
     }
   }
-  if (result.reason == "time limit") free_beside(std::move(space));
+  to_grounded(result);
+  result.statistics.never_applicable = grounded.operators.size() - task.operators.size();
+  if (result.reason == "time limit") {  // a copy of the grounded task and its successor index
+    free_beside(std::move(space));
+    free_beside(std::move(prepared));
+  }
   result.statistics.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

@@ -10,6 +10,8 @@
 
 namespace cluttertamp::search::detail {
 
+struct MutexGroups;
+
 /// Fact landmarks: facts (or disjunctions of facts) true at some point of every plan
 /// from the initial state, with orders between them. Two ways to find them:
 ///
@@ -41,8 +43,10 @@ class Landmarks {
   /// the result. `work_budget` bounds the operators and facts visited; past it, the
   /// landmarks found so far are kept and back-chaining stops, the same on every machine.
   /// Throws TimeLimit past `deadline` (the search's outer limit).
+  /// `mutexes`, when given, are `task`'s mutex groups (found otherwise).
   static Landmarks rhw(const RelaxedTask& relaxed, const Task& task, const State& initial, std::uint64_t work_budget,
-                       std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
+                       std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max(),
+                       const MutexGroups* mutexes = nullptr);
 
   std::size_t size() const { return atoms_.size(); }
   /// Landmark i's first fact in the relaxed task (a task fact, or a complement).

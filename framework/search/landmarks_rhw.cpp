@@ -36,13 +36,13 @@ class RhwFactory {
 
  public:
   RhwFactory(const RelaxedTask& relaxed, const Task& task, const State& initial, std::uint64_t budget,
-             std::chrono::steady_clock::time_point deadline)
+             std::chrono::steady_clock::time_point deadline, const MutexGroups* mutexes)
       : relaxed_(relaxed), task_(task), budget_(budget), deadline_(deadline), out_(relaxed) {
     const std::size_t n = relaxed.fact_count();
     initially_.resize(n);
     for (FactId f = 0; f < static_cast<FactId>(n); ++f) initially_[f] = relaxed.holds_in(initial, f);
     build_classes();
-    build_variables();
+    build_variables(mutexes ? *mutexes : find_mutex_groups(task_, budget_ / 4));
     atomic_of_.assign(n, -1);
     disjunctive_of_.assign(n, -1);
     reached_.resize(n);
@@ -83,8 +83,7 @@ class RhwFactory {
 
   // Variables of several facts, and their transition graphs. Value k < size is the
   // variable's k-th fact; value size is "none of those".
-  void build_variables() {
-    const MutexGroups mutexes = find_mutex_groups(task_, budget_ / 4);
+  void build_variables(const MutexGroups& mutexes) {
     groups_of_.assign(relaxed_.fact_count(), {});
     for (std::size_t g = 0; g < mutexes.groups.size(); ++g) {
       for (FactId f : mutexes.groups[g]) groups_of_[f].push_back(static_cast<int>(g));
@@ -651,8 +650,8 @@ class RhwFactory {
 };
 
 Landmarks Landmarks::rhw(const RelaxedTask& relaxed, const Task& task, const State& initial, std::uint64_t work_budget,
-                         std::chrono::steady_clock::time_point deadline) {
-  return RhwFactory(relaxed, task, initial, work_budget, deadline).run();
+                         std::chrono::steady_clock::time_point deadline, const MutexGroups* mutexes) {
+  return RhwFactory(relaxed, task, initial, work_budget, deadline, mutexes).run();
 }
 
 }  // namespace cluttertamp::search::detail

@@ -294,6 +294,26 @@ MutexGroups find_mutex_groups(const Task& task, std::uint64_t work_budget) {
   return Synthesis(task, work_budget).run();
 }
 
+std::vector<char> never_applicable(const Task& task, const MutexGroups& mutexes) {
+  std::vector<std::vector<int>> groups_of(task.fact_count());
+  for (std::size_t g = 0; g < mutexes.groups.size(); ++g) {
+    for (FactId f : mutexes.groups[g]) groups_of[f].push_back(static_cast<int>(g));
+  }
+  std::vector<FactId> needed_by(mutexes.groups.size(), -1);  // per group: the fact of it the operator needs
+  std::vector<OperatorId> stamp(mutexes.groups.size(), -1);
+  std::vector<char> never(task.operators.size(), 0);
+  for (OperatorId o = 0; o < static_cast<OperatorId>(task.operators.size()); ++o) {
+    for (FactId f : task.operators[o].precondition.positive) {
+      for (int g : groups_of[f]) {
+        if (stamp[g] == o && needed_by[g] != f) never[o] = 1;
+        stamp[g] = o;
+        needed_by[g] = f;
+      }
+    }
+  }
+  return never;
+}
+
 std::vector<std::vector<FactId>> choose_variables(const Task& task, const MutexGroups& mutexes) {
   std::vector<char> negative_in_goal(task.fact_count(), 0);
   for (const Condition& c : task.goal) {

@@ -35,6 +35,12 @@ struct MutexGroups {
 };
 MutexGroups find_mutex_groups(const Task& task, std::uint64_t work_budget);
 
+/// Per operator: 1 when its precondition needs two facts of one mutex group, so that no
+/// reachable state applies it (Fast Downward's translator drops these operators too).
+/// Such operators still achieve their effects in the delete relaxation, where they
+/// would give heuristics and landmarks ways that do not exist.
+std::vector<char> never_applicable(const Task& task, const MutexGroups& mutexes);
+
 /// Finite-domain variables: groups chosen greedily, largest first, each taking only the
 /// facts no earlier choice took, until no group has two uncovered facts; every fluent
 /// fact left over is a variable of its own. Facts the goal needs false stay on their own.

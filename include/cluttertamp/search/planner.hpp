@@ -27,6 +27,15 @@ CLUTTERTAMP_API const std::vector<std::string>& search_names();
 
 struct SearchResult;
 
+/// A search's heuristic value: the initial one, then each lower one (as Fast Downward's
+/// "New best heuristic value" lines).
+struct SearchProgress {
+  std::string heuristic;        ///< "ff", "landmark count", "add", "hmax", "lmcut" or "blind"
+  double value = 0;
+  std::uint64_t expanded = 0;   ///< expansions before the state was evaluated
+  std::uint64_t evaluated = 0;  ///< evaluations, this one included
+};
+
 struct SearchOptions {
   std::string algorithm = "lama-first";
   double time_limit = 1e9;              ///< seconds
@@ -48,6 +57,10 @@ struct SearchOptions {
   bool anytime = false;
   /// Called with each plan the anytime mode finds (the first one included), cheapest last.
   std::function<void(const SearchResult&)> on_plan;
+  /// Called with each heuristic's initial value and each lower value a search finds
+  /// (not during the anytime mode's restarts, which on_plan reports); on the caller's
+  /// thread, between expansions.
+  std::function<void(const SearchProgress&)> on_progress;
 };
 
 struct SearchStatistics {
@@ -60,6 +73,8 @@ struct SearchStatistics {
   std::size_t disjunctive_landmarks = 0;
   std::size_t landmark_orders = 0;
   std::size_t variables = 0;  ///< finite-domain variables of several facts rhw used
+  /// Operators left out because their precondition needs two facts of one mutex group.
+  std::size_t never_applicable = 0;
 };
 
 struct SearchResult {
