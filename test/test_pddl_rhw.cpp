@@ -124,6 +124,25 @@ TEST(PddlMutexGroups, AnActionAddingTwoFactsOfOneInstanceBreaksTheInvariant) {
   for (const auto& group : groups) EXPECT_FALSE(group.count("(at a)") && group.count("(at b)"));
 }
 
+TEST(PddlMutexGroups, AWhenThatMovesATokenKeepsItsInvariant) {
+  // Tokens sit on places, in a box, or wait to start; a sweep moves every token on a
+  // place into the box at once (one `when` deleting one fact and adding another).
+  const Grounded g(R"((define (domain tokens) (:requirements :strips :conditional-effects)
+    (:predicates (waiting ?t) (on ?t ?p) (boxed ?t) (token ?t) (place ?p))
+    (:action start :parameters (?t ?p) :precondition (and (token ?t) (place ?p) (waiting ?t))
+             :effect (and (on ?t ?p) (not (waiting ?t))))
+    (:action sweep :parameters (?p) :precondition (place ?p)
+             :effect (forall (?t) (when (on ?t ?p) (and (not (on ?t ?p)) (boxed ?t)))))
+    (:action unbox :parameters (?t ?p) :precondition (and (boxed ?t) (place ?p))
+             :effect (and (on ?t ?p) (not (boxed ?t))))))",
+                   R"((define (problem p) (:domain tokens) (:objects s u a b)
+    (:init (token s) (token u) (place a) (place b) (waiting s) (waiting u))
+    (:goal (and (boxed s) (on u b)))))");
+  const auto groups = g.groups(detail::find_mutex_groups(g.task, 1'000'000).groups);
+  EXPECT_TRUE(groups.count({"(waiting s)", "(on s a)", "(on s b)", "(boxed s)"}));
+  EXPECT_TRUE(groups.count({"(waiting u)", "(on u a)", "(on u b)", "(boxed u)"}));
+}
+
 TEST(PddlMutexGroups, TheWorkBudgetStopsTheSearchTheSameWayEachTime) {
   const Grounded g(kPorterDomain, kPorterProblem);
   const auto none = detail::find_mutex_groups(g.task, 0);

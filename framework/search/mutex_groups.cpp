@@ -167,10 +167,25 @@ class Synthesis {
       Scope s{pre, &c.add, op.del};
       s.pre.insert(s.pre.end(), c.condition.positive.begin(), c.condition.positive.end());
       std::sort(s.pre.begin(), s.pre.end());
-      s.del.insert(s.del.end(), c.del.begin(), c.del.end());
+      // The deletes of every conditional effect that fires whenever this one does (the
+      // grounder gives each literal of one `when` an effect of its own).
+      for (const ConditionalEffect& other : op.conditional) {
+        if (implied(other.condition, s.pre, c.condition.negative)) s.del.insert(s.del.end(), other.del.begin(), other.del.end());
+      }
       out.push_back(std::move(s));
     }
     return out;
+  }
+
+  // Whether `condition` holds whenever the facts `pre` (sorted) are true and `negative` false.
+  static bool implied(const Condition& condition, const std::vector<FactId>& pre, const std::vector<FactId>& negative) {
+    for (FactId f : condition.positive) {
+      if (!std::binary_search(pre.begin(), pre.end(), f)) return false;
+    }
+    for (FactId f : condition.negative) {
+      if (std::find(negative.begin(), negative.end(), f) == negative.end()) return false;
+    }
+    return true;
   }
 
   bool balanced(const Invariant& inv) {
