@@ -60,9 +60,10 @@ class RhwFactory {
       open_.pop_front();
       if (dead_[l] || holds_initially(l)) continue;
       explore_without(atoms_[l]);
-      shared_precondition_landmarks(l);
+      const std::vector<int> achievers = first_achievers(l);  // found once: lookahead_orders keeps reached_
+      shared_precondition_landmarks(l, achievers);
       lookahead_orders(l);
-      disjunctive_precondition_landmarks(l);
+      disjunctive_precondition_landmarks(l, achievers);
     }
     add_forward_orders();
     return finish();
@@ -307,16 +308,14 @@ class RhwFactory {
     return pre;
   }
 
-  void shared_precondition_landmarks(int l) {
-    const std::vector<int> achievers = first_achievers(l);
+  void shared_precondition_landmarks(int l, const std::vector<int>& achievers) {
     if (achievers.empty()) return;
     std::vector<FactId> shared = sorted_pre(achievers.front());
     for (std::size_t k = 1; k < achievers.size() && !shared.empty(); ++k) shared = intersection(shared, sorted_pre(achievers[k]));
     for (FactId f : shared) add_atomic(f, l, Order::greedy_necessary);
   }
 
-  void disjunctive_precondition_landmarks(int l) {
-    const std::vector<int> achievers = first_achievers(l);
+  void disjunctive_precondition_landmarks(int l, const std::vector<int>& achievers) {
     if (achievers.empty()) return;
     std::map<int, std::vector<FactId>> by_class;
     std::map<int, std::size_t> used_by;
