@@ -100,6 +100,10 @@ int pddl(const PddlArgs& args) {
       std::cerr << "search: left out " << result.statistics.never_applicable
                 << " operators whose preconditions are mutex (never applicable)\n";
     }
+    if (result.statistics.irrelevant > 0) {
+      std::cerr << "search: left out " << result.statistics.irrelevant
+                << " operators that change nothing the goal depends on\n";
+    }
     if (const auto& s = result.statistics; s.landmarks > 0) {
       std::cerr << "landmarks: " << args.landmarks << ", " << s.landmarks << " (" << s.disjunctive_landmarks
                 << " disjunctive), " << s.landmark_orders << " orders, " << s.variables

@@ -1,7 +1,10 @@
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <queue>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 
 #include "cluttertamp/search/planner.hpp"
@@ -11,6 +14,7 @@
 #include "search/landmarks.hpp"
 #include "search/mutex_groups.hpp"
 #include "search/state_space.hpp"
+#include "search/successor_order.hpp"
 
 namespace cluttertamp::search {
 
@@ -64,6 +68,7 @@ class Evaluator {
   Evaluator(Heuristic kind, const Task& task, const StateSpace& space, Clock::time_point deadline,
             RelaxedTask::Costs costs = RelaxedTask::Costs::normal)
       : kind_(kind), relaxed_(task, costs), space_(space) {
+    relaxed_.follow(space.tie_order());
     relaxed_.set_deadline(deadline);
   }
   double operator()(const State& s, std::vector<OperatorId>* preferred) {
@@ -161,7 +166,7 @@ struct Limits {
 // all successors and one of preferred successors. The list taken least often comes
 // first (on a tie, the earlier list); progress (a better h) boosts the preferred
 // lists, which are then taken 1000 times before the others again.
-template <class Entry>
+template <class Entry, class Queue = std::priority_queue<Entry, std::vector<Entry>, std::greater<>>>
 class AlternationQueue {
  public:
   explicit AlternationQueue(std::size_t heuristics) : lists_(2 * heuristics), taken_(2 * heuristics, 0) {}
@@ -187,7 +192,6 @@ class AlternationQueue {
   }
 
  private:
-  using Queue = std::priority_queue<Entry, std::vector<Entry>, std::greater<>>;
   std::vector<Queue> lists_;
   std::vector<long> taken_;
 };
@@ -253,7 +257,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
       preferred.clear();
       if (use_preferred) h(state, &preferred);
       successors.clear();
-      space.applicable_operators(state, [&](OperatorId op) { successors.push_back(op); });
+      space.applicable_operators(state, successors);
       for (OperatorId op : successors) {
         ++result.statistics.generated;
         const double child_g = g + space.task().operators[op].cost;
@@ -300,6 +304,73 @@ struct LazyKeys {
   bool reopen = false;  // a cheaper path to a state seen before opens it again
 };
 
+// One open list of the lazy search: entries (key, order, ...) taken by least key, then
+// least order (first in, first out). Whole keys go to a bucket each, as in Fast
+// Downward's open lists, which spares a heap's sifting on every push; the first other
+// key moves the list to a heap for good (the same order).
+template <class Entry>
+class BucketList {
+ public:
+  void push(const Entry& e) {
+    const double key = std::get<0>(e);
+    if (!heap_.empty() || !whole(key)) {
+      to_heap();
+      heap_.push(e);
+      return;
+    }
+    const auto k = static_cast<std::size_t>(key);
+    if (k >= buckets_.size()) buckets_.resize(k + 1);
+    buckets_[k].items.push_back(e);
+    lowest_ = std::min(lowest_, k);
+    ++size_;
+  }
+  bool empty() const { return size_ == 0 && heap_.empty(); }
+  const Entry& top() const {
+    if (!heap_.empty()) return heap_.top();
+    const Bucket& b = buckets_[first()];
+    return b.items[b.head];
+  }
+  void pop() {
+    if (!heap_.empty()) {
+      heap_.pop();
+      return;
+    }
+    Bucket& b = buckets_[first()];
+    if (++b.head == b.items.size()) {
+      b.items.clear();
+      b.head = 0;
+    }
+    --size_;
+  }
+
+ private:
+  static constexpr std::size_t kMaxBucket = 1 << 18;
+  struct Bucket {
+    std::vector<Entry> items;
+    std::size_t head = 0;  // items before it are taken
+  };
+  static bool whole(double key) {
+    return key >= 0.0 && key < static_cast<double>(kMaxBucket) && key == static_cast<double>(static_cast<std::int64_t>(key));
+  }
+  std::size_t first() const {
+    while (buckets_[lowest_].head == buckets_[lowest_].items.size()) ++lowest_;
+    return lowest_;
+  }
+  void to_heap() {
+    if (size_ == 0) return;
+    for (Bucket& b : buckets_) {
+      for (std::size_t i = b.head; i < b.items.size(); ++i) heap_.push(b.items[i]);
+      b.items.clear();
+      b.head = 0;
+    }
+    size_ = 0;
+  }
+  std::vector<Bucket> buckets_;
+  mutable std::size_t lowest_ = 0;
+  std::size_t size_ = 0;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap_;
+};
+
 // Lazy best-first search: a successor enters the open lists with its parent's values
 // and is evaluated when taken out. The first heuristic gives the preferred operators.
 SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& heuristics, const LazyKeys& keys,
@@ -308,7 +379,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
   Registry registry;
   const std::size_t k = heuristics.size();
   using Entry = std::tuple<double, std::uint64_t, int, OperatorId>;  // key, order, parent, op
-  AlternationQueue<Entry> open(k);
+  AlternationQueue<Entry, BucketList<Entry>> open(k);
   std::uint64_t order = 0;
   std::vector<double> values;  // per state: its k heuristic values
   std::vector<double> best(k, kInfinity);
@@ -339,7 +410,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     const State& state = registry.state(id);
     const double g = registry.node(id).g;
     successors.clear();
-    space.applicable_operators(state, [&](OperatorId op) { successors.push_back(op); });
+    space.applicable_operators(state, successors);
     for (OperatorId op : successors) {
       ++result.statistics.generated;
       const double child_g = g + space.task().operators[op].cost;
@@ -366,9 +437,11 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     const double child_g = registry.node(parent).g + space.task().operators[op].cost;
     if (child_g >= limits.cost_bound) continue;
     const auto [child, is_new] = registry.insert(space.apply(registry.state(parent), op));
-    for (LazyHeuristic* h : heuristics) h->reach(parent, child, registry.state(parent), registry.state(child), is_new);
     Node& c = registry.node(child);
     if (!is_new && (!keys.reopen || c.h == kInfinity || child_g >= c.g)) continue;  // dead ends stay closed
+    // Only a state evaluated now learns from this path (as in Fast Downward's lazy search):
+    // a closed state's data stays what its children were queued with.
+    for (LazyHeuristic* h : heuristics) h->reach(parent, child, registry.state(parent), registry.state(child), is_new);
     c.parent = parent;
     c.op = op;
     c.g = child_g;
@@ -518,22 +591,30 @@ void improve(const Task& task, const StateSpace& space, const SearchOptions& opt
   }
 }
 
-// The task the searches run on: Fast Downward's translator leaves out operators whose
-// preconditions are mutex and orders the rest by name, and ties in every heuristic and
-// in successor order follow operator order, so the same order keeps our searches close
-// to its. `original` maps an operator back to the grounded task.
+// The task the searches run on, as Fast Downward's translator and search see it:
+// operators whose preconditions are mutex or that change nothing the goal depends on
+// are left out, the rest are numbered by name, and successors are listed in its
+// successor generator's order. Ties in every heuristic follow operator order and greedy
+// searches follow successor order, so the same orders keep our searches close to its.
+// `original` maps an operator back to the grounded task, which names it (the search
+// task's operators go without names, which no search reads).
 struct SearchTask {
   detail::MutexGroups mutexes;
   Task task;
   std::vector<OperatorId> original;
+  detail::TieOrder order;  // per operator and fact of `task`
+  std::size_t never_applicable = 0, irrelevant = 0;
 };
 
 SearchTask search_task(const Task& grounded) {
   SearchTask out;
   out.mutexes = detail::find_mutex_groups(grounded, kLandmarkWork / 4);
   const std::vector<char> never = detail::never_applicable(grounded, out.mutexes);
+  const detail::SuccessorOrder order = detail::successor_order(grounded, out.mutexes, never);
   for (OperatorId o = 0; o < static_cast<OperatorId>(grounded.operators.size()); ++o) {
-    if (!never[o]) out.original.push_back(o);
+    if (never[o]) ++out.never_applicable;
+    else if (!order.relevant[o]) ++out.irrelevant;
+    else out.original.push_back(o);
   }
   std::stable_sort(out.original.begin(), out.original.end(), [&](OperatorId a, OperatorId b) {
     return grounded.operators[a].name < grounded.operators[b].name;
@@ -546,7 +627,14 @@ SearchTask search_task(const Task& grounded) {
   task.goal = grounded.goal;
   task.unit_cost = grounded.unit_cost;
   task.operators.reserve(out.original.size());
-  for (OperatorId o : out.original) task.operators.push_back(grounded.operators[o]);
+  out.order.successor_rank.reserve(out.original.size());
+  for (OperatorId o : out.original) {
+    const Operator& op = grounded.operators[o];
+    task.operators.push_back({{}, op.precondition, op.add, op.del, op.conditional, op.cost});
+    out.order.successor_rank.push_back(order.rank[o]);
+  }
+  out.order.initial_rank = order.search_variable;
+  out.order.effect_rank = order.translator_variable;
   return out;
 }
 
@@ -574,7 +662,7 @@ SearchResult plan(const Task& grounded, const SearchOptions& options) {
       options.on_plan(said);
     };
   }
-  auto space = std::make_unique<const StateSpace>(task);
+  auto space = std::make_unique<const StateSpace>(task, prepared->order);
   const Limits limits{start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                                   std::min(options.time_limit, 1e9))),
                       options.max_expansions, options.cost_bound, options.on_progress};
@@ -592,7 +680,8 @@ SearchResult plan(const Task& grounded, const SearchOptions& options) {
     }
   }
   to_grounded(result);
-  result.statistics.never_applicable = grounded.operators.size() - task.operators.size();
+  result.statistics.never_applicable = prepared->never_applicable;
+  result.statistics.irrelevant = prepared->irrelevant;
   if (result.reason == "time limit") {  // a copy of the grounded task and its successor index
     free_beside(std::move(space));
     free_beside(std::move(prepared));

@@ -20,6 +20,64 @@ double relaxed_cost(double cost, RelaxedTask::Costs costs) {
   return cost;
 }
 
+// The exploration's queue where costs are whole numbers (as in every IPC task): one
+// bucket per cost, each taken from its back, so that of facts of equal cost the one
+// reached last comes first (Fast Downward's bucket queue). Past kMaxBucket it gives up.
+class BucketQueue {
+ public:
+  static constexpr std::size_t kMaxBucket = 1 << 16;
+  struct Overflow {};
+  explicit BucketQueue(std::vector<std::vector<FactId>>& buckets) : buckets_(buckets) {}
+  ~BucketQueue() {
+    for (std::size_t k = current_; k <= highest_ && k < buckets_.size(); ++k) buckets_[k].clear();
+  }
+  void push(double cost, FactId f) {
+    const auto k = static_cast<std::size_t>(cost);
+    if (k >= kMaxBucket) throw Overflow{};
+    if (k >= buckets_.size()) buckets_.resize(k + 1);
+    current_ = std::min(current_, k);
+    highest_ = std::max(highest_, k);
+    buckets_[k].push_back(f);
+    ++size_;
+  }
+  bool empty() const { return size_ == 0; }
+  std::pair<double, FactId> pop() {
+    while (buckets_[current_].empty()) ++current_;
+    const FactId f = buckets_[current_].back();
+    buckets_[current_].pop_back();
+    --size_;
+    return {static_cast<double>(current_), f};
+  }
+
+ private:
+  std::vector<std::vector<FactId>>& buckets_;  // empty between explorations
+  std::size_t current_ = ~std::size_t{0} >> 1, highest_ = 0, size_ = 0;
+};
+
+// Any costs: a heap ordered by cost, then latest push first (the same order).
+class HeapQueue {
+ public:
+  void push(double cost, FactId f) { heap_.push({cost, -(++pushed_), f}); }
+  bool empty() const { return heap_.empty(); }
+  std::pair<double, FactId> pop() {
+    const auto [cost, order, f] = heap_.top();
+    (void)order;
+    heap_.pop();
+    return {cost, f};
+  }
+
+ private:
+  using Entry = std::tuple<double, std::int64_t, FactId>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap_;
+  std::int64_t pushed_ = 0;
+};
+
+bool whole_numbers(const std::vector<double>& costs) {
+  return std::all_of(costs.begin(), costs.end(), [](double c) {
+    return c >= 0.0 && c < static_cast<double>(BucketQueue::kMaxBucket) && c == static_cast<double>(static_cast<std::int64_t>(c));
+  });
+}
+
 }  // namespace
 
 RelaxedTask::RelaxedTask(const Task& task, Costs costs)
@@ -116,24 +174,52 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
   relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
   base_cost_.resize(ops_.size());
   for (std::size_t i = 0; i < ops_.size(); ++i) base_cost_[i] = ops_[i].cost;
+  whole_costs_ = whole_numbers(base_cost_);
+  initial_order_.resize(static_cast<std::size_t>(goal_));
+  for (FactId f = 0; f < goal_; ++f) initial_order_[f] = f;
+}
+
+void RelaxedTask::follow(const TieOrder& order) {
+  const auto task_fact = [&](FactId f) { return f < task_facts_ ? f : complemented(f); };
+  if (!order.initial_rank.empty()) {
+    std::stable_sort(initial_order_.begin(), initial_order_.end(), [&](FactId a, FactId b) {
+      return order.initial_rank[task_fact(a)] < order.initial_rank[task_fact(b)];
+    });
+  }
+  if (order.effect_rank.empty()) return;
+  const auto rank = [&](FactId f) { return f == goal_ ? ~std::uint32_t{0} : order.effect_rank[task_fact(f)]; };
+  for (std::size_t i = 0; i < ops_.size(); ++i) {
+    std::stable_sort(effects_.begin() + effect_start_[i], effects_.begin() + effect_start_[i + 1],
+                     [&](FactId a, FactId b) { return rank(a) < rank(b); });
+  }
 }
 
 // Generalized Dijkstra: an operator fires when its last precondition is reached; its
-// value is the max (h_max) or sum (h_add) of its preconditions' costs.
+// value is the max (h_max) or sum (h_add) of its preconditions' costs. Among facts of
+// equal cost the one reached last comes first (LIFO, as Fast Downward's bucket queue):
+// the supporters, and so relaxed plans and preferred operators, follow the same order.
 void RelaxedTask::exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal) {
-  // Among facts of equal cost, the one reached last comes first (LIFO, as Fast
-  // Downward's bucket queue): the supporters, and so relaxed plans and preferred
-  // operators, then follow the same order.
-  using Entry = std::tuple<double, std::int64_t, FactId>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  std::int64_t pushed = 0;
+  if (whole_costs_) {
+    try {
+      BucketQueue queue(buckets_);
+      explore(queue, s, max, op_cost, stop_at_goal);
+      return;
+    } catch (const BucketQueue::Overflow&) {
+    }
+  }
+  HeapQueue queue;
+  explore(queue, s, max, op_cost, stop_at_goal);
+}
+
+template <class Queue>
+void RelaxedTask::explore(Queue& queue, const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal) {
   std::fill(fact_cost_.begin(), fact_cost_.end(), kInfinity);
   std::fill(supporter_.begin(), supporter_.end(), -1);
   for (std::size_t i = 0; i < ops_.size(); ++i) op_state_[i] = {pre_count_[i], -1, 0.0};
-  for (FactId f = 0; f < goal_; ++f) {
+  for (FactId f : initial_order_) {
     if (holds_in(s, f)) {
       fact_cost_[f] = 0.0;
-      queue.push({0.0, -(++pushed), f});
+      queue.push(0.0, f);
     }
   }
   auto fire = [&](int i) {
@@ -143,15 +229,13 @@ void RelaxedTask::exploration(const State& s, bool max, const std::vector<double
       if (value < fact_cost_[e]) {
         fact_cost_[e] = value;
         supporter_[e] = i;
-        queue.push({value, -(++pushed), e});
+        queue.push(value, e);
       }
     }
   };
   for (int i : no_precondition_) fire(i);
   while (!queue.empty()) {
-    const auto [cost, order, f] = queue.top();
-    (void)order;
-    queue.pop();
+    const auto [cost, f] = queue.pop();
     if (cost > fact_cost_[f]) continue;
     if (f == goal_ && stop_at_goal) break;
     for (std::uint32_t k = trigger_start_[f]; k < trigger_start_[f + 1]; ++k) {
@@ -176,9 +260,13 @@ double RelaxedTask::cost_to_goal(const State& s, bool max) {
 double RelaxedTask::ff(const State& s, const StateSpace& space, std::vector<OperatorId>* preferred) {
   exploration(s, false, base_cost_, true);
   if (fact_cost_[goal_] == kInfinity) return kInfinity;
-  std::vector<bool> marked_fact(facts_, false), used_origin(space.task().operators.size(), false);
-  std::vector<FactId> open{goal_};
-  marked_fact[goal_] = true;
+  std::vector<char>& marked_fact = marked_fact_;
+  std::vector<char>& used_origin = used_origin_;
+  marked_fact.assign(facts_, 0);
+  used_origin.assign(space.task().operators.size(), 0);
+  std::vector<FactId>& open = open_;
+  open.assign(1, goal_);
+  marked_fact[goal_] = 1;
   double h = 0.0;
   while (!open.empty()) {
     const FactId f = open.back();
@@ -187,13 +275,13 @@ double RelaxedTask::ff(const State& s, const StateSpace& space, std::vector<Oper
     if (op < 0) continue;  // true in s
     const Op& o = ops_[op];
     if (o.origin >= 0 && !used_origin[o.origin]) {
-      used_origin[o.origin] = true;
+      used_origin[o.origin] = 1;
       h += o.cost;
       if (preferred && space.applicable(s, o.origin)) preferred->push_back(o.origin);
     }
     for (FactId p : o.pre) {
       if (!marked_fact[p]) {
-        marked_fact[p] = true;
+        marked_fact[p] = 1;
         open.push_back(p);
       }
     }

@@ -24,6 +24,10 @@ class RelaxedTask {
   /// plus one (LAMA's later iterations: zero-cost operators still count).
   enum class Costs { normal, one, plus_one };
   explicit RelaxedTask(const Task& task, Costs costs = Costs::normal);
+  /// Explorations take the true facts and each operator's effects in `order`'s fact
+  /// orders (a complement as its fact): among facts of equal cost the last taken comes
+  /// first, so these orders decide the supporters where costs tie.
+  void follow(const TieOrder& order);
   /// LM-cut looks at the clock between its rounds and throws TimeLimit after `at`: one
   /// evaluation on hundreds of blocks takes seconds.
   void set_deadline(std::chrono::steady_clock::time_point at) { deadline_ = at; }
@@ -66,6 +70,8 @@ class RelaxedTask {
  private:
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
   void exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
+  template <class Queue>
+  void explore(Queue& queue, const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
   void lower_hmax(const std::vector<int>& cheaper, const std::vector<double>& op_cost);
 
   FactId task_facts_;
@@ -79,6 +85,7 @@ class RelaxedTask {
   // Scratch, reused between calls.
   std::vector<double> fact_cost_;
   std::vector<int> supporter_;
+  std::vector<char> marked_fact_, used_origin_;  // h_FF's relaxed plan extraction
   struct OpState {
     int unsatisfied;   // preconditions not reached yet
     FactId costliest;  // h_max: a precondition of the largest cost (LM-cut's choice); -1: none
@@ -88,8 +95,11 @@ class RelaxedTask {
   std::vector<int> pre_count_;
   std::vector<std::uint32_t> effect_start_, trigger_start_;  // per operator, per fact: into the flat arrays
   std::vector<FactId> effects_;
+  std::vector<FactId> initial_order_;  // facts (not the goal fact) in the order true ones are taken
   std::vector<int> triggers_;  // per fact: the operators it is a precondition of
   std::vector<double> base_cost_;
+  bool whole_costs_ = false;  // every base cost a whole number: LM-cut's reduced costs stay whole too
+  std::vector<std::vector<FactId>> buckets_;  // the exploration's bucket queue, kept between calls
   // LM-cut scratch.
   std::vector<char> in_goal_zone_, reached_, in_cut_;
   std::vector<int> cut_;

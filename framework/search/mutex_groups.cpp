@@ -17,25 +17,29 @@ struct GroundAtom {
   std::vector<int> args;
 };
 
-// "(pred a b)" -> predicate and arguments, interned in `names`.
-GroundAtom parse_atom(const std::string& text, std::unordered_map<std::string, int>& predicates,
-                      std::unordered_map<std::string, int>& objects) {
-  GroundAtom atom;
+// "(pred a b)" -> {"pred", "a", "b"}.
+std::vector<std::string> atom_words(const std::string& text) {
+  std::vector<std::string> words;
   std::size_t i = text.empty() || text[0] != '(' ? 0 : 1;
-  bool first = true;
   while (i < text.size()) {
     while (i < text.size() && (text[i] == ' ' || text[i] == ')')) ++i;
     std::size_t end = i;
     while (end < text.size() && text[end] != ' ' && text[end] != ')') ++end;
     if (end == i) break;
-    const std::string word = text.substr(i, end - i);
-    if (first) {
-      atom.predicate = predicates.emplace(word, static_cast<int>(predicates.size())).first->second;
-      first = false;
-    } else {
-      atom.args.push_back(objects.emplace(word, static_cast<int>(objects.size())).first->second);
-    }
+    words.push_back(text.substr(i, end - i));
     i = end;
+  }
+  return words;
+}
+
+// "(pred a b)" -> predicate and arguments, interned in `predicates` and `objects`.
+GroundAtom parse_atom(const std::string& text, std::unordered_map<std::string, int>& predicates,
+                      std::unordered_map<std::string, int>& objects) {
+  GroundAtom atom;
+  const std::vector<std::string> words = atom_words(text);
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    if (k == 0) atom.predicate = predicates.emplace(words[k], static_cast<int>(predicates.size())).first->second;
+    else atom.args.push_back(objects.emplace(words[k], static_cast<int>(objects.size())).first->second);
   }
   return atom;
 }
@@ -329,43 +333,111 @@ std::vector<char> never_applicable(const Task& task, const MutexGroups& mutexes)
   return never;
 }
 
+std::vector<std::uint32_t> atom_order(const Task& task) {
+  std::vector<std::vector<std::string>> words(task.fact_count());
+  for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) words[f] = atom_words(task.fact_names[f]);
+  std::vector<FactId> sorted(task.fact_count());
+  for (FactId f = 0; f < static_cast<FactId>(sorted.size()); ++f) sorted[f] = f;
+  std::stable_sort(sorted.begin(), sorted.end(), [&](FactId a, FactId b) { return words[a] < words[b]; });
+  std::vector<std::uint32_t> rank(task.fact_count());
+  for (std::size_t k = 0; k < sorted.size(); ++k) rank[sorted[k]] = static_cast<std::uint32_t>(k);
+  return rank;
+}
+
+namespace {
+
+// Fast Downward's cover queue: groups listed by their current size, the last listed of
+// the largest taken first; a group found smaller than its list moves to the end of the
+// list of its size. Taking a group removes its facts from every group.
+class GroupCoverQueue {
+ public:
+  GroupCoverQueue(std::vector<std::vector<FactId>> groups, std::size_t fact_count)
+      : groups_(std::move(groups)), alive_(groups_.size()), size_(groups_.size()), by_fact_(fact_count) {
+    std::size_t largest = 0;
+    for (const auto& g : groups_) largest = std::max(largest, g.size());
+    by_size_.resize(largest + 1);
+    max_size_ = largest;
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      size_[g] = groups_[g].size();
+      alive_[g].assign(groups_[g].size(), 1);
+      by_size_[size_[g]].push_back(g);
+      for (std::size_t k = 0; k < groups_[g].size(); ++k) by_fact_[groups_[g][k]].push_back({g, k});
+    }
+    update_top();
+  }
+  bool empty() const { return max_size_ <= 1; }
+  std::vector<FactId> pop() {
+    std::vector<FactId> taken;
+    for (std::size_t k = 0; k < groups_[top_].size(); ++k) {
+      if (alive_[top_][k]) taken.push_back(groups_[top_][k]);
+    }
+    for (FactId f : taken) {
+      for (const auto& [g, k] : by_fact_[f]) {
+        if (alive_[g][k]) {
+          alive_[g][k] = 0;
+          --size_[g];
+        }
+      }
+    }
+    update_top();
+    return taken;
+  }
+
+ private:
+  void update_top() {
+    while (max_size_ > 1) {
+      auto& list = by_size_[max_size_];
+      while (!list.empty()) {
+        const std::size_t candidate = list.back();
+        list.pop_back();
+        if (size_[candidate] == max_size_) {
+          top_ = candidate;
+          return;
+        }
+        by_size_[size_[candidate]].push_back(candidate);
+      }
+      --max_size_;
+    }
+  }
+
+  std::vector<std::vector<FactId>> groups_;
+  std::vector<std::vector<char>> alive_;
+  std::vector<std::size_t> size_;
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> by_fact_;  // per fact: (group, place)
+  std::vector<std::vector<std::size_t>> by_size_;
+  std::size_t max_size_ = 0, top_ = 0;
+};
+
+}  // namespace
+
 std::vector<std::vector<FactId>> choose_variables(const Task& task, const MutexGroups& mutexes) {
+  const std::vector<std::uint32_t> atom = atom_order(task);
+  const auto by_atom = [&](FactId a, FactId b) { return atom[a] < atom[b]; };
+  const auto groups_by_atoms = [&](const std::vector<FactId>& a, const std::vector<FactId>& b) {
+    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(), by_atom);
+  };
+  std::vector<std::vector<FactId>> groups = mutexes.groups;
+  for (auto& g : groups) std::sort(g.begin(), g.end(), by_atom);
+  std::sort(groups.begin(), groups.end(), groups_by_atoms);
   std::vector<char> negative_in_goal(task.fact_count(), 0);
   for (const Condition& c : task.goal) {
     for (FactId f : c.negative) negative_in_goal[f] = 1;
   }
-  std::vector<std::vector<FactId>> open;
-  for (const auto& group : mutexes.groups) {
-    std::vector<FactId> kept;
-    for (FactId f : group) {
-      if (!negative_in_goal[f]) kept.push_back(f);
-    }
-    if (kept.size() > 1) open.push_back(std::move(kept));
-  }
+  for (auto& g : groups) std::erase_if(g, [&](FactId f) { return negative_in_goal[f] != 0; });
+  GroupCoverQueue queue(std::move(groups), task.fact_count());
   std::vector<char> covered(task.fact_count(), 0);
   std::vector<std::vector<FactId>> variables;
-  for (;;) {
-    std::size_t best = open.size(), best_size = 1;
-    for (std::size_t i = 0; i < open.size(); ++i) {
-      std::size_t n = 0;
-      for (FactId f : open[i]) n += !covered[f];
-      if (n > best_size) {
-        best = i;
-        best_size = n;
-      }
-    }
-    if (best == open.size()) break;
-    std::vector<FactId> chosen;
-    for (FactId f : open[best]) {
-      if (!covered[f]) chosen.push_back(f);
-      covered[f] = 1;
-    }
+  while (!queue.empty()) {
+    std::vector<FactId> chosen = queue.pop();
+    for (FactId f : chosen) covered[f] = 1;
     variables.push_back(std::move(chosen));
   }
   for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
     if (!covered[f] && !task.derived[f]) variables.push_back({f});
   }
-  std::sort(variables.begin(), variables.end());
+  for (auto& v : variables) std::sort(v.begin(), v.end(), by_atom);
+  std::sort(variables.begin(), variables.end(), groups_by_atoms);
+  for (auto& v : variables) std::sort(v.begin(), v.end());
   return variables;
 }
 

@@ -41,11 +41,17 @@ MutexGroups find_mutex_groups(const Task& task, std::uint64_t work_budget);
 /// would give heuristics and landmarks ways that do not exist.
 std::vector<char> never_applicable(const Task& task, const MutexGroups& mutexes);
 
-/// Finite-domain variables: groups chosen greedily, largest first, each taking only the
-/// facts no earlier choice took, until no group has two uncovered facts; every fluent
-/// fact left over is a variable of its own. Facts the goal needs false stay on their own.
-/// Each returned variable lists its facts (sorted); a variable's value is also "none of
-/// those" when none of them holds.
+/// Per fact: its place when facts are ordered as Fast Downward's translator orders
+/// atoms, by predicate name and then argument names (byte-wise).
+std::vector<std::uint32_t> atom_order(const Task& task);
+
+/// Finite-domain variables as Fast Downward's translator chooses them: groups taken
+/// greedily, largest first (of equal ones, the last in atom order), each taking only
+/// the facts no earlier choice took, until no group has two uncovered facts; every
+/// fluent fact left over is a variable of its own. Facts the goal needs false stay on
+/// their own. Each returned variable lists its facts sorted by id; the variables come in
+/// the translator's order (by their facts in atom order). A variable's value is also
+/// "none of those" when none of its facts holds.
 std::vector<std::vector<FactId>> choose_variables(const Task& task, const MutexGroups& mutexes);
 
 }  // namespace cluttertamp::search::detail

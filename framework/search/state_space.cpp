@@ -1,8 +1,11 @@
 #include "search/state_space.hpp"
 
+#include <algorithm>
+
 namespace cluttertamp::search::detail {
 
-StateSpace::StateSpace(const Task& task) : task_(task), words_((task.fact_count() + 63) / 64 + 1) {
+StateSpace::StateSpace(const Task& task, TieOrder order)
+    : task_(task), words_((task.fact_count() + 63) / 64 + 1), order_(std::move(order)) {
   triggered_by_.resize(task.fact_count());
   for (OperatorId op = 0; op < static_cast<OperatorId>(task.operators.size()); ++op) {
     const auto& positive = task.operators[op].precondition.positive;
@@ -81,6 +84,20 @@ void StateSpace::evaluate_axioms(State& s) const {
 }
 
 void StateSpace::applicable_operators(const State& s, const std::function<void(OperatorId)>& f) const {
+  std::vector<OperatorId> found;
+  applicable_operators(s, found);
+  for (OperatorId op : found) f(op);
+}
+
+void StateSpace::applicable_operators(const State& s, std::vector<OperatorId>& out) const {
+  out.clear();
+  for_each_applicable(s, [&](OperatorId op) { out.push_back(op); });
+  const std::vector<std::uint32_t>& rank = order_.successor_rank;
+  if (!rank.empty()) std::sort(out.begin(), out.end(), [&](OperatorId a, OperatorId b) { return rank[a] < rank[b]; });
+}
+
+template <class F>
+void StateSpace::for_each_applicable(const State& s, const F& f) const {
   for (OperatorId op : always_) {
     if (applicable(s, op)) f(op);
   }

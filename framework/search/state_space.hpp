@@ -26,9 +26,17 @@ struct StateHash {
   }
 };
 
+/// Orders a search follows where ties are broken; each may be empty (then an order of
+/// ids is used).
+struct TieOrder {
+  std::vector<std::uint32_t> successor_rank;  ///< per operator: its place among a state's successors
+  std::vector<std::uint32_t> initial_rank;    ///< per fact: when the relaxation takes it, if true
+  std::vector<std::uint32_t> effect_rank;     ///< per fact: its place among an operator's effects
+};
+
 class StateSpace {
  public:
-  explicit StateSpace(const Task& task);
+  explicit StateSpace(const Task& task, TieOrder order = {});
 
   const Task& task() const { return task_; }
   State initial() const;
@@ -37,19 +45,26 @@ class StateSpace {
   bool is_goal(const State& s) const;
   /// The successor of s under an applicable operator, derived facts included.
   State apply(const State& s, OperatorId op) const;
-  /// Calls f(op) for every operator applicable in s.
+  const TieOrder& tie_order() const { return order_; }
+  /// Calls f(op) for every operator applicable in s, in successor order.
   void applicable_operators(const State& s, const std::function<void(OperatorId)>& f) const;
+  /// The operators applicable in s, in successor order, into `out` (cleared first).
+  void applicable_operators(const State& s, std::vector<OperatorId>& out) const;
   /// Recomputes the derived facts of s from its fluent facts.
   void evaluate_axioms(State& s) const;
   /// Facts true in s, in increasing order.
   std::vector<FactId> facts(const State& s) const;
 
  private:
+  template <class F>
+  void for_each_applicable(const State& s, const F& f) const;
+
   const Task& task_;
   std::size_t words_;
   std::vector<std::vector<OperatorId>> triggered_by_;  // per fact: operators whose first precondition it is
   std::vector<OperatorId> always_;                     // operators without positive preconditions
   std::vector<FactId> derived_facts_;
+  TieOrder order_;
 };
 
 }  // namespace cluttertamp::search::detail

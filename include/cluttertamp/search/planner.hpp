@@ -75,6 +75,9 @@ struct SearchStatistics {
   std::size_t variables = 0;  ///< finite-domain variables of several facts rhw used
   /// Operators left out because their precondition needs two facts of one mutex group.
   std::size_t never_applicable = 0;
+  /// Operators left out because they change no variable the goal depends on (in the
+  /// causal graph of the finite-domain encoding, as Fast Downward's translator finds them).
+  std::size_t irrelevant = 0;
 };
 
 struct SearchResult {

@@ -1,0 +1,335 @@
+#include "search/successor_order.hpp"
+
+#include <algorithm>
+#include <deque>
+#include <map>
+#include <numeric>
+
+namespace cluttertamp::search::detail {
+
+namespace {
+
+using Fact = std::pair<int, int>;  // (variable, value)
+
+// An operator as the translator writes it: preconditions, and per changed variable the
+// value it requires (-1: any) and the value it sets, with the variables of the effect's
+// condition.
+struct SasEffect {
+  int var, pre, post;
+  std::vector<int> condition_vars;
+};
+struct SasOperator {
+  std::vector<Fact> pre;
+  std::vector<int> negated;  // variables of several facts one of which the precondition needs false
+  std::vector<SasEffect> effects;
+};
+
+class Encoding {
+ public:
+  Encoding(const Task& task, const MutexGroups& mutexes) {
+    const std::vector<std::uint32_t> atom = atom_order(task);
+    var_of_.assign(task.fact_count(), -1);
+    value_of_.assign(task.fact_count(), -1);
+    for (std::vector<FactId> facts : choose_variables(task, mutexes)) {
+      std::sort(facts.begin(), facts.end(), [&](FactId a, FactId b) { return atom[a] < atom[b]; });
+      add_variable(facts);
+    }
+    for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
+      if (task.derived[f]) add_variable({f});
+    }
+    initial_.resize(domain_.size());
+    for (std::size_t v = 0; v < domain_.size(); ++v) initial_[v] = domain_[v] - 1;
+    for (FactId f : task.initial) initial_[var_of_[f]] = value_of_[f];
+  }
+
+  int variables() const { return static_cast<int>(domain_.size()); }
+  int var(FactId f) const { return var_of_[f]; }
+  int value(FactId f) const { return value_of_[f]; }
+  int none(int var) const { return domain_[var] - 1; }
+  int initial(int var) const { return initial_[var]; }
+
+  SasOperator translate(const Operator& op) const {
+    SasOperator out;
+    std::map<int, int> pre;
+    for (FactId f : op.precondition.positive) pre.emplace(var(f), value(f));
+    for (FactId f : op.precondition.negative) {
+      if (domain_[var(f)] == 2) pre.emplace(var(f), 1);  // the atom's negation
+      else out.negated.push_back(var(f));
+    }
+    out.pre.assign(pre.begin(), pre.end());
+    // A delete sets "none of those" unless the same effect or an unconditional one adds
+    // a value of the variable.
+    std::vector<int> added;
+    for (FactId f : op.add) added.push_back(var(f));
+    const auto effects = [&](const std::vector<FactId>& add, const std::vector<FactId>& del, const Condition* when) {
+      std::vector<int> condition_vars, added_here = added;
+      if (when) {
+        for (FactId f : when->positive) condition_vars.push_back(var(f));
+        for (FactId f : when->negative) condition_vars.push_back(var(f));
+        for (FactId f : add) added_here.push_back(var(f));
+      }
+      for (FactId f : add) push(out, pre, var(f), -1, value(f), condition_vars);
+      for (FactId f : del) {
+        if (std::find(added_here.begin(), added_here.end(), var(f)) == added_here.end()) {
+          push(out, pre, var(f), value(f), none(var(f)), condition_vars);
+        }
+      }
+    };
+    effects(op.add, op.del, nullptr);
+    for (const ConditionalEffect& c : op.conditional) effects(c.add, c.del, &c.condition);
+    return out;
+  }
+
+ private:
+  void add_variable(const std::vector<FactId>& facts) {
+    const int v = static_cast<int>(domain_.size());
+    for (std::size_t k = 0; k < facts.size(); ++k) {
+      var_of_[facts[k]] = v;
+      value_of_[facts[k]] = static_cast<int>(k);
+    }
+    domain_.push_back(static_cast<int>(facts.size()) + 1);
+  }
+
+  // An effect setting `var` to `post`; `deleted` is the value a delete takes away (-1 for
+  // an add). Effects that change nothing or contradict the precondition are dropped.
+  static void push(SasOperator& out, const std::map<int, int>& pre, int var, int deleted, int post,
+                   const std::vector<int>& condition_vars) {
+    const auto required = pre.find(var);
+    const int before = required == pre.end() ? deleted : required->second;
+    if (required != pre.end() && deleted >= 0 && required->second != deleted) return;
+    if (before == post) return;
+    out.effects.push_back({var, before, post, condition_vars});
+  }
+
+  std::vector<int> var_of_, value_of_, domain_, initial_;
+};
+
+// Variables whose transition graph reaches a second value from the initial one.
+std::vector<char> changing_variables(const Encoding& enc, const std::vector<SasOperator>& ops, const Task& task) {
+  const int n = enc.variables();
+  std::vector<std::vector<std::vector<int>>> arcs(n);  // per variable, per value: successors
+  std::vector<std::vector<int>> from_any(n);
+  for (int v = 0; v < n; ++v) arcs[v].resize(enc.none(v) + 1);
+  for (const SasOperator& op : ops) {
+    for (const SasEffect& e : op.effects) {
+      if (e.pre < 0) from_any[e.var].push_back(e.post);
+      else arcs[e.var][e.pre].push_back(e.post);
+    }
+  }
+  for (const Axiom& a : task.axioms) from_any[enc.var(a.head)].push_back(enc.value(a.head));
+  std::vector<char> changing(n, 0);
+  for (int v = 0; v < n; ++v) {
+    const int start = enc.initial(v);
+    for (int post : from_any[v]) changing[v] |= post != start;
+    for (int post : arcs[v][start]) changing[v] |= post != start;
+  }
+  return changing;
+}
+
+// Tarjan's strongly connected components, in topological order; the vertices of a
+// component in the order they were reached (as the translator's iterative version).
+std::vector<std::vector<int>> components(const std::vector<std::vector<int>>& successors) {
+  const int n = static_cast<int>(successors.size());
+  std::vector<int> index(n, 0), low(n, 0), on_stack_at(n, -1);
+  std::vector<int> stack;
+  std::vector<std::vector<int>> out;
+  int counter = 0;
+  struct Frame {
+    int v;
+    std::size_t next;
+  };
+  for (int root = 0; root < n; ++root) {
+    if (index[root]) continue;
+    std::vector<Frame> frames{{root, 0}};
+    index[root] = low[root] = ++counter;
+    on_stack_at[root] = static_cast<int>(stack.size());
+    stack.push_back(root);
+    while (!frames.empty()) {
+      Frame& f = frames.back();
+      if (f.next < successors[f.v].size()) {
+        const int w = successors[f.v][f.next++];
+        if (!index[w]) {
+          index[w] = low[w] = ++counter;
+          on_stack_at[w] = static_cast<int>(stack.size());
+          stack.push_back(w);
+          frames.push_back({w, 0});
+        } else if (on_stack_at[w] >= 0) {
+          low[f.v] = std::min(low[f.v], index[w]);
+        }
+        continue;
+      }
+      const int v = f.v;
+      frames.pop_back();
+      if (!frames.empty()) low[frames.back().v] = std::min(low[frames.back().v], low[v]);
+      if (low[v] != index[v]) continue;
+      std::vector<int> scc(stack.begin() + on_stack_at[v], stack.end());
+      stack.resize(static_cast<std::size_t>(on_stack_at[v]));
+      for (int w : scc) on_stack_at[w] = -1;
+      out.push_back(std::move(scc));
+    }
+  }
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
+using Weights = std::vector<std::map<int, long>>;  // per source: target -> weight
+
+// The translator's greedy order inside one component: repeatedly the variable with the
+// least weight of incoming edges from the variables not yet taken; an edge into a goal
+// variable also counts 100000 that is never taken away, so goal variables come last.
+std::vector<int> order_component(const std::vector<int>& scc, const Weights& weights, const std::vector<char>& goal) {
+  constexpr long kGoal = 100000;
+  std::vector<char> inside(weights.size(), 0);
+  for (int v : scc) inside[v] = 1;
+  std::map<int, std::vector<std::pair<int, long>>> edges;
+  std::map<int, long> incoming;
+  for (int v : scc) {
+    auto& list = edges[v];
+    for (const auto& [target, cost] : weights[v]) {
+      if (!inside[target]) continue;
+      if (goal[target]) list.push_back({target, kGoal + cost});
+      list.push_back({target, cost});
+    }
+    for (const auto& [target, w] : list) incoming[target] += w;
+  }
+  std::map<long, std::deque<int>> by_weight;
+  for (int v : scc) by_weight[incoming[v]].push_back(v);
+  std::vector<char> done(weights.size(), 0);
+  std::vector<int> result;
+  while (!by_weight.empty()) {
+    const auto least = by_weight.begin();
+    const long key = least->first;
+    std::deque<int>& entries = least->second;
+    int taken = -1;
+    while (!entries.empty() && (taken < 0 || done[taken] || key > incoming[taken])) {
+      taken = entries.front();
+      entries.pop_front();
+    }
+    if (entries.empty()) by_weight.erase(least);
+    if (taken < 0 || done[taken]) continue;
+    done[taken] = 1;
+    result.push_back(taken);
+    for (const auto& [target, w] : edges[taken]) {
+      if (done[target]) continue;
+      const long weight = w % kGoal;
+      if (weight == 0) continue;
+      incoming[target] -= weight;
+      by_weight[incoming[target]].push_back(target);
+    }
+  }
+  return result;
+}
+
+}  // namespace
+
+SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, const std::vector<char>& left_out) {
+  const Encoding enc(task, mutexes);
+  const int n = enc.variables();
+  const std::size_t op_count = task.operators.size();
+  std::vector<SasOperator> ops(op_count);
+  for (std::size_t o = 0; o < op_count; ++o) {
+    if (!left_out[o]) ops[o] = enc.translate(task.operators[o]);
+  }
+  const std::vector<char> changing = changing_variables(enc, ops, task);
+
+  // The causal graph: weighted edges source -> target, and each target's sources.
+  Weights weights(n);
+  std::vector<std::vector<int>> predecessors(n);
+  const auto edge = [&](int source, int target) {
+    if (source == target || !changing[source] || !changing[target]) return;
+    if (weights[source][target]++ == 0) predecessors[target].push_back(source);
+  };
+  for (const SasOperator& op : ops) {
+    for (const SasEffect& e : op.effects) {
+      for (const Fact& p : op.pre) edge(p.first, e.var);
+      for (int v : op.negated) edge(v, e.var);
+      for (int c : e.condition_vars) edge(c, e.var);
+    }
+  }
+  for (const Axiom& a : task.axioms) {
+    for (FactId f : a.body.positive) edge(enc.var(f), enc.var(a.head));
+    for (FactId f : a.body.negative) edge(enc.var(f), enc.var(a.head));
+  }
+
+  // Variables the goal depends on: goal variables and their causal-graph ancestors.
+  std::vector<char> goal(n, 0), needed(n, 0);
+  std::vector<int> stack;
+  for (const Condition& c : task.goal) {
+    for (FactId f : c.positive) goal[enc.var(f)] = 1;
+    for (FactId f : c.negative) goal[enc.var(f)] = 1;
+  }
+  for (int v = 0; v < n; ++v) {
+    if (goal[v] && changing[v] && !needed[v]) {
+      needed[v] = 1;
+      stack.push_back(v);
+    }
+  }
+  while (!stack.empty()) {
+    const int v = stack.back();
+    stack.pop_back();
+    for (int p : predecessors[v]) {
+      if (!needed[p]) {
+        needed[p] = 1;
+        stack.push_back(p);
+      }
+    }
+  }
+
+  // The variable order, over the variables that change (numbered as the translator
+  // numbers them once constant ones are gone).
+  std::vector<int> dense(n, -1), sparse;
+  for (int v = 0; v < n; ++v) {
+    if (changing[v]) {
+      dense[v] = static_cast<int>(sparse.size());
+      sparse.push_back(v);
+    }
+  }
+  std::vector<std::vector<int>> successors(sparse.size());
+  for (std::size_t d = 0; d < sparse.size(); ++d) {
+    for (const auto& [target, w] : weights[sparse[d]]) successors[d].push_back(dense[target]);
+    std::sort(successors[d].begin(), successors[d].end());
+  }
+  std::vector<int> position(n, -1);
+  int next = 0;
+  for (const std::vector<int>& scc : components(successors)) {
+    std::vector<int> members;
+    for (int d : scc) members.push_back(sparse[d]);
+    const std::vector<int> ordered = members.size() > 1 ? order_component(members, weights, goal) : members;
+    for (int v : ordered) {
+      if (needed[v]) position[v] = next++;
+    }
+  }
+
+  SuccessorOrder out;
+  out.variables = sparse.size();
+  out.relevant_variables = static_cast<std::size_t>(next);
+  out.relevant.assign(op_count, 0);
+  std::vector<std::vector<Fact>> keys(op_count);
+  for (std::size_t o = 0; o < op_count; ++o) {
+    if (left_out[o]) continue;
+    for (const SasEffect& e : ops[o].effects) out.relevant[o] |= position[e.var] >= 0;
+    for (const Fact& p : ops[o].pre) {
+      if (position[p.first] >= 0) keys[o].push_back({position[p.first], p.second});
+    }
+    std::sort(keys[o].begin(), keys[o].end());
+  }
+  out.search_variable.resize(task.fact_count());
+  out.translator_variable.resize(task.fact_count());
+  for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
+    const int v = enc.var(f);
+    out.translator_variable[f] = static_cast<std::uint32_t>(v);
+    out.search_variable[f] = static_cast<std::uint32_t>(position[v] >= 0 ? position[v] : n + v);
+  }
+  std::vector<OperatorId> sorted(op_count);
+  std::iota(sorted.begin(), sorted.end(), 0);
+  std::stable_sort(sorted.begin(), sorted.end(), [&](OperatorId a, OperatorId b) {
+    if (left_out[a] != left_out[b]) return left_out[b] != 0;
+    if (keys[a] != keys[b]) return keys[a] < keys[b];
+    return task.operators[a].name < task.operators[b].name;
+  });
+  out.rank.resize(op_count);
+  for (std::size_t k = 0; k < op_count; ++k) out.rank[sorted[k]] = static_cast<std::uint32_t>(k);
+  return out;
+}
+
+}  // namespace cluttertamp::search::detail
