@@ -179,7 +179,7 @@ TEST(PddlSuccessorOrder, SuccessorsComeInTheOrderOfTheirPreconditionVariables) {
   detail::State s = space.initial();
   for (int step = 0; step < 6; ++step) {
     std::vector<OperatorId> listed;
-    space.applicable_operators(s, [&](OperatorId o) { listed.push_back(o); });
+    space.applicable_operators(s, listed);
     ASSERT_GE(listed.size(), 1u);
     for (std::size_t i = 1; i < listed.size(); ++i) EXPECT_LE(key(listed[i - 1]), key(listed[i]));
     s = space.apply(s, listed.back());

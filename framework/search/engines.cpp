@@ -256,7 +256,6 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
       const double g = node.g;
       preferred.clear();
       if (use_preferred) h(state, &preferred);
-      successors.clear();
       space.applicable_operators(state, successors);
       for (OperatorId op : successors) {
         ++result.statistics.generated;
@@ -409,7 +408,6 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     ++result.statistics.expanded;
     const State& state = registry.state(id);
     const double g = registry.node(id).g;
-    successors.clear();
     space.applicable_operators(state, successors);
     for (OperatorId op : successors) {
       ++result.statistics.generated;

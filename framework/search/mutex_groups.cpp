@@ -437,7 +437,6 @@ std::vector<std::vector<FactId>> choose_variables(const Task& task, const MutexG
   }
   for (auto& v : variables) std::sort(v.begin(), v.end(), by_atom);
   std::sort(variables.begin(), variables.end(), groups_by_atoms);
-  for (auto& v : variables) std::sort(v.begin(), v.end());
   return variables;
 }
 

@@ -49,9 +49,9 @@ std::vector<std::uint32_t> atom_order(const Task& task);
 /// greedily, largest first (of equal ones, the last in atom order), each taking only
 /// the facts no earlier choice took, until no group has two uncovered facts; every
 /// fluent fact left over is a variable of its own. Facts the goal needs false stay on
-/// their own. Each returned variable lists its facts sorted by id; the variables come in
-/// the translator's order (by their facts in atom order). A variable's value is also
-/// "none of those" when none of its facts holds.
+/// their own. Each returned variable lists its facts in atom order (the translator's
+/// value order), and the variables come in the translator's order (by those lists). A
+/// variable's value is also "none of those" when none of its facts holds.
 std::vector<std::vector<FactId>> choose_variables(const Task& task, const MutexGroups& mutexes);
 
 }  // namespace cluttertamp::search::detail

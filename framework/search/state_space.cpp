@@ -83,12 +83,6 @@ void StateSpace::evaluate_axioms(State& s) const {
   }
 }
 
-void StateSpace::applicable_operators(const State& s, const std::function<void(OperatorId)>& f) const {
-  std::vector<OperatorId> found;
-  applicable_operators(s, found);
-  for (OperatorId op : found) f(op);
-}
-
 void StateSpace::applicable_operators(const State& s, std::vector<OperatorId>& out) const {
   out.clear();
   for_each_applicable(s, [&](OperatorId op) { out.push_back(op); });

@@ -3,7 +3,6 @@
 // evaluation of a grounded task.
 
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #include "cluttertamp/search/task.hpp"
@@ -46,8 +45,6 @@ class StateSpace {
   /// The successor of s under an applicable operator, derived facts included.
   State apply(const State& s, OperatorId op) const;
   const TieOrder& tie_order() const { return order_; }
-  /// Calls f(op) for every operator applicable in s, in successor order.
-  void applicable_operators(const State& s, const std::function<void(OperatorId)>& f) const;
   /// The operators applicable in s, in successor order, into `out` (cleared first).
   void applicable_operators(const State& s, std::vector<OperatorId>& out) const;
   /// Recomputes the derived facts of s from its fluent facts.

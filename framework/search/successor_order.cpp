@@ -27,13 +27,9 @@ struct SasOperator {
 class Encoding {
  public:
   Encoding(const Task& task, const MutexGroups& mutexes) {
-    const std::vector<std::uint32_t> atom = atom_order(task);
     var_of_.assign(task.fact_count(), -1);
     value_of_.assign(task.fact_count(), -1);
-    for (std::vector<FactId> facts : choose_variables(task, mutexes)) {
-      std::sort(facts.begin(), facts.end(), [&](FactId a, FactId b) { return atom[a] < atom[b]; });
-      add_variable(facts);
-    }
+    for (const std::vector<FactId>& facts : choose_variables(task, mutexes)) add_variable(facts);
     for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
       if (task.derived[f]) add_variable({f});
     }
