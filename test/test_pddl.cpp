@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <random>
 #include <set>
 #include <fstream>
@@ -749,6 +750,58 @@ TEST(PddlGrounding, JoinsFindExactlyTheBindingsWhosePreconditionHolds) {
     found += expected.size();
   }
   EXPECT_GT(found, 50u);  // the rounds are not vacuous
+}
+
+// A precondition that is a conjunction of literals is grounded on a path of its own
+// (the STRIPS case, without the disjunctive normal form's nested lists): the same
+// formula inside a one-disjunct (or ...) takes the general path. Both give every
+// binding the same preconditions: an atom once, contradictions dropped, static atoms
+// and equalities folded.
+TEST(PddlGrounding, ALiteralConjunctionGroundsAsItsDisjunctiveNormalFormDoes) {
+  const std::string body =
+      "(and (p ?x) (not (q ?x ?y)) (p ?x) (not (= ?x ?y)) (and (r ?y) (s ?x) (not (p ?y))) (not (r ?x)) (not (t ?y)))";
+  const Domain d = parse_domain("(define (domain lc) (:requirements :adl) (:predicates (p ?a) (q ?a ?b) (r ?a) (s ?a) (t ?a) (done ?a ?b))"
+                                "(:action flip :parameters (?x ?y) :precondition (done ?x ?y)"
+                                "  :effect (and (p ?x) (not (p ?y)) (q ?x ?y) (not (q ?y ?x)) (r ?x) (not (r ?y))))"
+                                "(:action lit :parameters (?x ?y) :precondition " + body + " :effect (done ?x ?y))"
+                                "(:action dnf :parameters (?x ?y) :precondition (or " + body + ") :effect (done ?x ?y))"
+                                "(:action never :parameters (?x) :precondition (and (p ?x) (r ?x) (not (p ?x))) :effect (done ?x ?x)))",
+                                "lc.pddl");
+  std::mt19937_64 rng(5);
+  std::size_t compared = 0;
+  for (int round = 0; round < 8; ++round) {
+    SCOPED_TRACE(round);
+    const std::vector<std::string> objects{"a", "b", "c", "e"};
+    std::bernoulli_distribution coin(0.5);
+    std::string text = "(define (problem lc1) (:domain lc) (:objects a b c e) (:init";
+    for (const std::string& x : objects) {
+      for (const char* predicate : {"p", "r", "s", "t"}) {
+        if (coin(rng)) text += " (" + std::string(predicate) + " " + x + ")";
+      }
+      for (const std::string& y : objects) {
+        if (coin(rng)) text += " (q " + x + " " + y + ")";
+        if (coin(rng)) text += " (done " + x + " " + y + ")";
+      }
+    }
+    const Problem problem = parse_problem(text + ") (:goal (done a b)))", "lc1.pddl", d);
+    const search::Task task = search::ground(d, problem);
+    // Per action: its instances' arguments with their preconditions as fact names.
+    std::map<std::string, std::set<std::string>> by_action;
+    for (const search::Operator& op : task.operators) {
+      const std::size_t space = op.name.find(' ');
+      std::string key = op.name.substr(space) + " :";
+      for (search::FactId f : op.precondition.positive) key += " " + task.fact_names[f];
+      for (search::FactId f : op.precondition.negative) key += " not " + task.fact_names[f];
+      by_action[op.name.substr(1, space - 1)].insert(key);
+    }
+    EXPECT_EQ(by_action["lit"], by_action["dnf"]);
+    EXPECT_EQ(by_action.count("never"), 0u);
+    for (const std::string& key : by_action["lit"]) {
+      EXPECT_EQ(std::count(key.begin(), key.end(), '('), 5) << key;  // (p x) (r y) (not (q x y)) (not (r x)) (not (p y))
+    }
+    compared += by_action["lit"].size();
+  }
+  EXPECT_GT(compared, 10u);  // the rounds are not vacuous
 }
 
 // The problems of a stream search: objects only added, facts added and taken away.

@@ -598,9 +598,10 @@ void improve(const Task& task, const StateSpace& space, const SearchOptions& opt
 // task's operators go without names, which no search reads).
 struct SearchTask {
   detail::MutexGroups mutexes;
-  Task task;
-  std::vector<OperatorId> original;
-  detail::TieOrder order;  // per operator and fact of `task`
+  bool as_grounded = false;  // the grounded task is searched as it is, else `reduced`
+  Task reduced;              // the operators searched, when some are left out or out of order
+  std::vector<OperatorId> original;  // per operator searched: its id in the grounded task
+  detail::TieOrder order;  // per operator and fact searched
   std::size_t never_applicable = 0, irrelevant = 0;
 };
 
@@ -608,16 +609,23 @@ SearchTask search_task(const Task& grounded) {
   SearchTask out;
   out.mutexes = detail::find_mutex_groups(grounded, kLandmarkWork / 4);
   const std::vector<char> never = detail::never_applicable(grounded, out.mutexes);
-  const detail::SuccessorOrder order = detail::successor_order(grounded, out.mutexes, never);
+  detail::SuccessorOrder order = detail::successor_order(grounded, out.mutexes, never);
   for (OperatorId o = 0; o < static_cast<OperatorId>(grounded.operators.size()); ++o) {
     if (never[o]) ++out.never_applicable;
     else if (!order.relevant[o]) ++out.irrelevant;
     else out.original.push_back(o);
   }
-  std::stable_sort(out.original.begin(), out.original.end(), [&](OperatorId a, OperatorId b) {
-    return grounded.operators[a].name < grounded.operators[b].name;
-  });
-  Task& task = out.task;
+  const auto by_name = [&](OperatorId a, OperatorId b) { return grounded.operators[a].name < grounded.operators[b].name; };
+  out.order.initial_rank = std::move(order.search_variable);
+  out.order.effect_rank = std::move(order.translator_variable);
+  // The grounder gives its operators in name order: most tasks are searched as they are.
+  if (out.original.size() == grounded.operators.size() && std::is_sorted(out.original.begin(), out.original.end(), by_name)) {
+    out.as_grounded = true;
+    out.order.successor_rank = std::move(order.rank);
+    return out;
+  }
+  std::stable_sort(out.original.begin(), out.original.end(), by_name);
+  Task& task = out.reduced;
   task.fact_names = grounded.fact_names;
   task.derived = grounded.derived;
   task.initial = grounded.initial;
@@ -631,8 +639,6 @@ SearchTask search_task(const Task& grounded) {
     task.operators.push_back({{}, op.precondition, op.add, op.del, op.conditional, op.cost});
     out.order.successor_rank.push_back(order.rank[o]);
   }
-  out.order.initial_rank = order.search_variable;
-  out.order.effect_rank = order.translator_variable;
   return out;
 }
 
@@ -647,7 +653,7 @@ const std::vector<std::string>& search_names() {
 SearchResult plan(const Task& grounded, const SearchOptions& options) {
   const auto start = Clock::now();
   auto prepared = std::make_unique<const SearchTask>(search_task(grounded));
-  const Task& task = prepared->task;
+  const Task& task = prepared->as_grounded ? grounded : prepared->reduced;
   const detail::MutexGroups& mutexes = prepared->mutexes;
   const auto to_grounded = [&](SearchResult& r) {
     for (OperatorId& op : r.plan) op = prepared->original[op];
@@ -680,7 +686,7 @@ SearchResult plan(const Task& grounded, const SearchOptions& options) {
   to_grounded(result);
   result.statistics.never_applicable = prepared->never_applicable;
   result.statistics.irrelevant = prepared->irrelevant;
-  if (result.reason == "time limit") {  // a copy of the grounded task and its successor index
+  if (result.reason == "time limit") {  // a reduced copy of the grounded task and its successor index
     free_beside(std::move(space));
     free_beside(std::move(prepared));
   }

@@ -83,6 +83,7 @@ struct Schema {
   CAtom head;  // axioms
   std::vector<CAtom> core;  // positive top-level atoms, to enumerate bindings
   std::vector<int> mentioned;  // predicates anywhere in the precondition, sorted, once each
+  bool literal_precondition = false;  // a conjunction of literals (the STRIPS case)
 };
 
 constexpr std::size_t kNoObjects = std::numeric_limits<std::size_t>::max();
@@ -183,6 +184,11 @@ class __attribute__((visibility("hidden"))) Grounder {
 
   // -- atoms
   int atom_id(int predicate, const std::vector<int>& args);
+  /// atom_id() of `a` under `binding`, building no key when it is interned already.
+  int intern(const CAtom& a, const std::vector<int>& binding) {
+    const int found = find_ground(a, binding);
+    return found >= 0 ? found : atom_id(a.predicate, ground_args(a, binding));
+  }
   std::vector<int> ground_args(const CAtom& a, const std::vector<int>& binding) const;
 
   // -- compilation
@@ -218,6 +224,15 @@ class __attribute__((visibility("hidden"))) Grounder {
   };
   using Dnf = std::vector<std::vector<Lit>>;  // disjunction of conjunctions; {} = false; {{}} = true
   Dnf dnf(const CFormula& f, std::vector<int>& binding, bool negated) const;
+  // A literal's value where known in every reachable state, else the literal itself.
+  enum class Known { no, truth, falsity };
+  Known literal(const CAtom& a, std::vector<int>& binding, bool negated, Lit& out) const;
+  /// Whether `f` is a conjunction of literals (atoms, negated atoms, equalities): then
+  /// literals() grounds it as one conjunction, without the DNF's nested vectors.
+  static bool is_literal_conjunction(const CFormula& f);
+  /// The conjunction of the literals of `f` (is_literal_conjunction) into `out`, each
+  /// atom once, as dnf() would give it; false when it is false in every reachable state.
+  bool literals(const CFormula& f, std::vector<int>& binding, bool negated, std::vector<Lit>& out) const;
   static Dnf conjoin(const Dnf& a, const Dnf& b);
   static bool is_true(const Dnf& d) {
     return std::any_of(d.begin(), d.end(), [](const std::vector<Lit>& c) { return c.empty(); });
@@ -227,6 +242,13 @@ class __attribute__((visibility("hidden"))) Grounder {
   FactId fact(int atom);
   Condition condition(const std::vector<Lit>& conjunction);
   std::vector<int> stratify();
+  // Where one instance's operators lie in the output.
+  struct Span {
+    std::size_t schema;
+    const std::vector<int>* parameters;
+    std::size_t begin, end;
+  };
+  void in_name_order(std::vector<Span>& spans, std::vector<Operator>& operators) const;
   [[noreturn]] void too_many(const SourceLocation& where, const std::string& what) const {
     throw TooLarge(where.str() + ": " + what + " has more than 10000 disjuncts in disjunctive normal form");
   }
@@ -288,7 +310,7 @@ class __attribute__((visibility("hidden"))) Grounder {
   mutable Cached* rec_ = nullptr;
   std::uint64_t generation_ = 0;  // changes when every cached instance is stale
   std::optional<bool> unit_cost_;
-  std::map<int, FactId> fact_ids_;
+  std::vector<FactId> fact_ids_;  // per atom, -1: not a fact of the task yet
   Task task_;  // the facts (names, derived) of every run so far
   std::chrono::steady_clock::time_point deadline_;
   mutable std::uint64_t ticks_ = 0;

@@ -218,7 +218,7 @@ void Grounder::relaxed_effects(const CEffect& e, std::vector<int>& b, std::vecto
     case Effect::Kind::add: {
       // Interning an atom changes only the atom table, not what the domain means.
       auto& self = const_cast<Grounder&>(*this);
-      out.push_back(self.atom_id(e.atom.predicate, ground_args(e.atom, b)));
+      out.push_back(self.intern(e.atom, b));
       break;
     }
     case Effect::Kind::when:
@@ -360,16 +360,17 @@ void Grounder::explore() {
           relaxed_effects(s.effect, b, added);
         }
       }
+      std::vector<int> parameters, b;  // visit()'s, reused
       auto visit = [&] {
         check_deadline();
-        std::vector<int> parameters;
+        parameters.clear();
         for (int slot : s.parameters) parameters.push_back(binding[slot]);
         if (instances_[i].count(parameters)) return;
-        std::vector<int> b = binding;
+        b = binding;
         if (!relaxed(s.precondition, b)) return;
-        instances_[i].emplace(std::move(parameters), nullptr);
+        instances_[i].emplace(parameters, nullptr);
         if (s.axiom) {
-          added.push_back(atom_id(s.head.predicate, ground_args(s.head, b)));
+          added.push_back(intern(s.head, b));
         } else {
           relaxed_effects(s.effect, b, added);
         }

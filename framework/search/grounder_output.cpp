@@ -32,35 +32,74 @@ Grounder::Dnf Grounder::conjoin(const Dnf& a, const Dnf& b) {
   return out;
 }
 
+Grounder::Known Grounder::literal(const CAtom& a, std::vector<int>& b, bool negated, Lit& out) const {
+  bool value = false;
+  if (a.predicate < 0) {
+    const auto value_of = [&](const CTerm& t) { return t.variable ? b[t.value] : t.value; };
+    value = value_of(a.args[0]) == value_of(a.args[1]);
+  } else {
+    int found = find_ground(a, b);
+    if (rec_ && rec_->reusable) {
+      // An atom not interned yet may be reached later: interned, its state is noted.
+      if (found < 0) found = const_cast<Grounder&>(*this).atom_id(a.predicate, ground_args(a, b));
+      note_atom(found);
+    }
+    if (found >= 0 && reached_[found]) {
+      if (fluent_[a.predicate]) {
+        out = Lit{found, !negated};
+        return Known::no;
+      }
+      value = initially_[found];
+    }  // else unreachable: false in every reachable state
+  }
+  return value != negated ? Known::truth : Known::falsity;
+}
+
+bool Grounder::is_literal_conjunction(const CFormula& f) {
+  switch (f.kind) {
+    case Formula::Kind::truth:
+    case Formula::Kind::atom: return true;
+    case Formula::Kind::negation: return f.children[0].kind == Formula::Kind::atom;
+    case Formula::Kind::conjunction:
+      return std::all_of(f.children.begin(), f.children.end(), [](const CFormula& c) { return is_literal_conjunction(c); });
+    default: return false;
+  }
+}
+
+bool Grounder::literals(const CFormula& f, std::vector<int>& b, bool negated, std::vector<Lit>& out) const {
+  switch (f.kind) {
+    case Formula::Kind::truth: return true;
+    case Formula::Kind::negation: return literals(f.children[0], b, !negated, out);
+    case Formula::Kind::conjunction:
+      for (const CFormula& c : f.children) {
+        if (!literals(c, b, negated, out)) return false;
+      }
+      return true;
+    default: break;
+  }
+  Lit l{};
+  const Known known = literal(f.atom, b, negated, l);
+  if (known != Known::no) return known == Known::truth;
+  // As conjoin(): an atom once, and both of its values contradict.
+  for (const Lit& m : out) {
+    if (m.atom == l.atom) return m.positive == l.positive;
+  }
+  out.push_back(l);
+  return true;
+}
+
 Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated) const {
   const Dnf truth{{}}, falsity{};
   switch (f.kind) {
     case Formula::Kind::truth: return negated ? falsity : truth;
     case Formula::Kind::atom: {
-      bool value_known = false, value = false;
-      int id = -1;
-      if (f.atom.predicate < 0) {
-        const std::vector<int> args = ground_args(f.atom, b);
-        value_known = true;
-        value = args[0] == args[1];
-      } else {
-        int found = find_ground(f.atom, b);
-        if (rec_ && rec_->reusable) {
-          // An atom not interned yet may be reached later: interned, its state is noted.
-          if (found < 0) found = const_cast<Grounder&>(*this).atom_id(f.atom.predicate, ground_args(f.atom, b));
-          note_atom(found);
-        }
-        if (found < 0 || !reached_[found]) {
-          value_known = true;  // unreachable: false in every reachable state
-        } else if (!fluent_[f.atom.predicate]) {
-          value_known = true;
-          value = initially_[found];
-        } else {
-          id = found;
-        }
+      Lit l{};
+      switch (literal(f.atom, b, negated, l)) {
+        case Known::truth: return truth;
+        case Known::falsity: return falsity;
+        case Known::no: return Dnf{{l}};
       }
-      if (value_known) return (value != negated) ? truth : falsity;
-      return Dnf{{Lit{id, !negated}}};
+      return truth;
     }
     case Formula::Kind::negation: return dnf(f.children[0], b, !negated);
     case Formula::Kind::conjunction:
@@ -148,14 +187,16 @@ Grounder::Dnf Grounder::dnf(const CFormula& f, std::vector<int>& b, bool negated
 }
 
 FactId Grounder::fact(int atom) {
-  auto [it, inserted] = fact_ids_.emplace(atom, static_cast<FactId>(task_.fact_names.size()));
-  if (inserted) {
+  if (static_cast<std::size_t>(atom) >= fact_ids_.size()) fact_ids_.resize(atoms_.size(), -1);
+  FactId& id = fact_ids_[atom];
+  if (id < 0) {
+    id = static_cast<FactId>(task_.fact_names.size());
     std::string name = "(" + predicate_names_[atoms_[atom].first];
-    for (int o : atoms_[atom].second) name += " " + object_names_[o];
+    for (int o : atoms_[atom].second) (name += ' ') += object_names_[o];
     task_.fact_names.push_back(name + ")");
     task_.derived.push_back(derived_[atoms_[atom].first]);
   }
-  return it->second;
+  return id;
 }
 
 Condition Grounder::condition(const std::vector<Lit>& conjunction) {
@@ -171,7 +212,7 @@ void Grounder::ground_effect(const CEffect& e, std::vector<int>& b, const Dnf& c
   switch (e.kind) {
     case Effect::Kind::add:
     case Effect::Kind::remove: {
-      const int a = atom_id(e.atom.predicate, ground_args(e.atom, b));
+      const int a = intern(e.atom, b);
       const bool add = e.kind == Effect::Kind::add;
       if (!add) note_atom(a);
       if (!add && !reached_[a]) return;  // deleting what never holds changes nothing
@@ -296,13 +337,15 @@ void Grounder::ground_instance(std::size_t schema, const std::vector<int>& param
   for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
   Dnf pre;
   try {
-    pre = dnf(s.precondition, b, false);
+    std::vector<Lit> conjunction;
+    if (!s.literal_precondition) pre = dnf(s.precondition, b, false);
+    else if (literals(s.precondition, b, false, conjunction)) pre.push_back(std::move(conjunction));
   } catch (const TooManyDisjuncts&) {
     too_many(s.where, s.axiom ? "the body of derived predicate '" + s.name + "'" : "the precondition of '" + s.name + "'");
   }
   out.computed = true;
   if (s.axiom) {
-    const int head = atom_id(s.head.predicate, ground_args(s.head, b));
+    const int head = intern(s.head, b);
     for (const auto& conjunction : pre) out.axioms.push_back({fact(head), condition(conjunction), strata_.empty() ? 0 : strata_[s.head.predicate]});
     return;
   }
@@ -329,10 +372,9 @@ void Grounder::ground_instance(std::size_t schema, const std::vector<int>& param
       op.conditional.push_back(std::move(ce));
     }
   }
-  for (const auto& conjunction : pre) {
-    Operator copy = op;
-    copy.precondition = condition(conjunction);
-    out.operators.push_back(std::move(copy));
+  for (std::size_t i = 0; i < pre.size(); ++i) {
+    Operator& o = out.operators.emplace_back(i + 1 < pre.size() ? op : std::move(op));
+    o.precondition = condition(pre[i]);
   }
 }
 

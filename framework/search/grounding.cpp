@@ -4,6 +4,7 @@
 #include <chrono>
 #include <iterator>
 #include <memory>
+#include <numeric>
 
 #include "cluttertamp/core/free_beside.hpp"
 #include "search/grounder.hpp"
@@ -21,6 +22,50 @@ bool Grounder::extends(const pddl::Problem& problem) const {
     if (o.name != object_names_[constant_count_ + k] || o.types != object_types_[constant_count_ + k]) return false;
   }
   return true;
+}
+
+// Operators in name order, as Fast Downward's translator sorts them, so that a search
+// takes the task as it is: schemas by name, a schema's instances by their objects'
+// names. Facts were numbered in the order instances were grounded; that stays.
+void Grounder::in_name_order(std::vector<Span>& spans, std::vector<Operator>& operators) const {
+  std::vector<std::uint32_t> object_rank(object_names_.size());
+  {
+    std::vector<std::uint32_t> by_name(object_names_.size());
+    std::iota(by_name.begin(), by_name.end(), 0u);
+    std::sort(by_name.begin(), by_name.end(), [&](std::uint32_t a, std::uint32_t b) { return object_names_[a] < object_names_[b]; });
+    for (std::uint32_t k = 0; k < by_name.size(); ++k) object_rank[by_name[k]] = k;
+  }
+  // "(name " or "(name)" decides between schemas: no name holds a space or parenthesis.
+  std::vector<std::string> keys;
+  for (const Schema& s : schemas_) keys.push_back(s.name + (s.parameters.empty() ? ")" : " "));
+  std::stable_sort(spans.begin(), spans.end(), [&](const Span& a, const Span& b) {
+    if (a.schema != b.schema) return keys[a.schema] < keys[b.schema];
+    return std::lexicographical_compare(a.parameters->begin(), a.parameters->end(), b.parameters->begin(), b.parameters->end(),
+                                        [&](int x, int y) { return object_rank[x] < object_rank[y]; });
+  });
+  bool sorted = true;
+  for (std::size_t k = 1; k < spans.size() && sorted; ++k) sorted = spans[k - 1].end == spans[k].begin;
+  if (sorted) return;
+  // Permuted in place, cycle by cycle: a second vector of them all would be the
+  // largest allocation of a small task.
+  std::vector<std::uint32_t> source;  // per place: the operator that moves there
+  source.reserve(operators.size());
+  for (const Span& span : spans) {
+    for (std::size_t k = span.begin; k < span.end; ++k) source.push_back(static_cast<std::uint32_t>(k));
+  }
+  std::vector<char> placed(operators.size(), 0);
+  for (std::size_t start = 0; start < operators.size(); ++start) {
+    if (placed[start] || source[start] == start) continue;
+    Operator first = std::move(operators[start]);
+    std::size_t at = start;
+    while (source[at] != start) {
+      operators[at] = std::move(operators[source[at]]);
+      placed[at] = 1;
+      at = source[at];
+    }
+    operators[at] = std::move(first);
+    placed[at] = 1;
+  }
 }
 
 Task Grounder::run(const pddl::Problem& problem, GroundingStats* stats, double time_limit) {
@@ -43,24 +88,31 @@ Task Grounder::run(const pddl::Problem& problem, GroundingStats* stats, double t
 
   Task out;
   out.unit_cost = unit_cost;
+  std::size_t instances = 0;  // one operator each, unless a precondition splits
+  for (std::size_t i = 0; i < schemas_.size(); ++i) instances += schemas_[i].axiom ? 0 : instances_[i].size();
+  out.operators.reserve(instances);
   std::size_t reused = 0;
+  std::vector<Span> spans;  // each instance's operators
   for (std::size_t i = 0; i < schemas_.size(); ++i) {
     for (auto& [parameters, cached] : instances_[i]) {
       check_deadline();  // millions of operators are made here too
+      const std::size_t first = out.operators.size();
       if (!keep_) {
         Cached once;
         ground_instance(i, parameters, once);
         std::move(once.operators.begin(), once.operators.end(), std::back_inserter(out.operators));
         std::move(once.axioms.begin(), once.axioms.end(), std::back_inserter(out.axioms));
-        continue;
+      } else {
+        if (!cached) cached = std::make_unique<Cached>();
+        if (still_valid(*cached)) ++reused;
+        else ground_instance(i, parameters, *cached);
+        out.operators.insert(out.operators.end(), cached->operators.begin(), cached->operators.end());
+        out.axioms.insert(out.axioms.end(), cached->axioms.begin(), cached->axioms.end());
       }
-      if (!cached) cached = std::make_unique<Cached>();
-      if (still_valid(*cached)) ++reused;
-      else ground_instance(i, parameters, *cached);
-      out.operators.insert(out.operators.end(), cached->operators.begin(), cached->operators.end());
-      out.axioms.insert(out.axioms.end(), cached->axioms.begin(), cached->axioms.end());
+      if (out.operators.size() > first) spans.push_back({i, &parameters, first, out.operators.size()});
     }
   }
+  in_name_order(spans, out.operators);
   std::stable_sort(out.axioms.begin(), out.axioms.end(), [](const Axiom& a, const Axiom& b) { return a.stratum < b.stratum; });
   for (int id : init_atoms_) {
     if (fluent_[atoms_[id].first]) out.initial.push_back(fact(id));

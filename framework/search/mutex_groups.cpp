@@ -57,11 +57,12 @@ using Invariant = std::vector<Part>;  // sorted by predicate, one part per predi
 using Key = std::vector<int>;
 
 // One effect scope of an operator: the unconditional effects, or one conditional
-// effect with the unconditional deletes (which happen whenever it does).
+// effect with the unconditional deletes (which happen whenever it does). Views into
+// the operator, or into Synthesis's scratch where a scope had to be assembled.
 struct Scope {
-  std::vector<FactId> pre;  // sorted
+  const std::vector<FactId>* pre;  // sorted
   const std::vector<FactId>* add;
-  std::vector<FactId> del;
+  const std::vector<FactId>* del;
 };
 
 class Synthesis {
@@ -151,6 +152,22 @@ class Synthesis {
     return k;
   }
 
+  // An added fact of one scope, with its part of the invariant being checked.
+  struct Added {
+    FactId fact;
+    std::size_t scope;
+    const Part* part;
+  };
+
+  // Whether key(a.fact, *a.part) == key(f, part), without building either.
+  bool same_key(const Added& a, FactId f, const Part& part) const {
+    if (a.part->positions.size() != part.positions.size()) return false;
+    for (std::size_t i = 0; i < part.positions.size(); ++i) {
+      if (atoms_[a.fact].args[a.part->positions[i]] != atoms_[f].args[part.positions[i]]) return false;
+    }
+    return true;
+  }
+
   void enqueue(Invariant inv) {
     std::sort(inv.begin(), inv.end());
     if (seen_.insert(inv).second) queue_.push_back(std::move(inv));
@@ -162,23 +179,35 @@ class Synthesis {
     return i < 0 ? nullptr : &(*current_)[i];
   }
 
-  std::vector<Scope> scopes(const Operator& op) const {
-    std::vector<Scope> out;
-    std::vector<FactId> pre = op.precondition.positive;
-    std::sort(pre.begin(), pre.end());
-    out.push_back({pre, &op.add, op.del});
+  // The scopes of `op` into scopes_; most operators have one, viewed in place.
+  void scopes(const Operator& op) {
+    scopes_.clear();
+    const std::vector<FactId>* pre = &op.precondition.positive;
+    // Sized first: the scopes point into it.
+    if (store_.size() < 1 + 2 * op.conditional.size()) store_.resize(1 + 2 * op.conditional.size());
+    std::size_t used = 0;
+    auto store = [&]() -> std::vector<FactId>& { return store_[used++]; };
+    if (!std::is_sorted(pre->begin(), pre->end())) {
+      std::vector<FactId>& sorted = store();
+      sorted = *pre;
+      std::sort(sorted.begin(), sorted.end());
+      pre = &sorted;
+    }
+    scopes_.push_back({pre, &op.add, &op.del});
     for (const ConditionalEffect& c : op.conditional) {
-      Scope s{pre, &c.add, op.del};
-      s.pre.insert(s.pre.end(), c.condition.positive.begin(), c.condition.positive.end());
-      std::sort(s.pre.begin(), s.pre.end());
+      std::vector<FactId>& both = store();
+      both = *pre;
+      both.insert(both.end(), c.condition.positive.begin(), c.condition.positive.end());
+      std::sort(both.begin(), both.end());
+      std::vector<FactId>& del = store();
+      del = op.del;
       // The deletes of every conditional effect that fires whenever this one does (the
       // grounder gives each literal of one `when` an effect of its own).
       for (const ConditionalEffect& other : op.conditional) {
-        if (implied(other.condition, s.pre, c.condition.negative)) s.del.insert(s.del.end(), other.del.begin(), other.del.end());
+        if (implied(other.condition, both, c.condition.negative)) del.insert(del.end(), other.del.begin(), other.del.end());
       }
-      out.push_back(std::move(s));
+      scopes_.push_back({&both, &c.add, &del});
     }
-    return out;
   }
 
   // Whether `condition` holds whenever the facts `pre` (sorted) are true and `negative` false.
@@ -215,39 +244,34 @@ class Synthesis {
   // Whether `op` keeps every instance's count; when it does not only for want of a
   // matching delete, queues the refinements its deletes suggest.
   bool balanced(const Invariant& inv, const Operator& op) {
-    struct Added {
-      FactId fact;
-      std::size_t scope;
-      Key key;
-    };
-    const std::vector<Scope> all = scopes(op);
-    std::vector<Added> added;
-    for (std::size_t s = 0; s < all.size(); ++s) {
-      for (FactId f : *all[s].add) {
+    scopes(op);
+    added_.clear();
+    for (std::size_t s = 0; s < scopes_.size(); ++s) {
+      for (FactId f : *scopes_[s].add) {
         ++work_;
         const Part* part = part_for(f);
-        if (!part || std::binary_search(all[s].pre.begin(), all[s].pre.end(), f)) continue;
-        added.push_back({f, s, key(f, *part)});
+        if (!part || std::binary_search(scopes_[s].pre->begin(), scopes_[s].pre->end(), f)) continue;
+        added_.push_back({f, s, part});
       }
     }
-    for (std::size_t i = 0; i < added.size(); ++i) {
-      for (std::size_t j = i + 1; j < added.size(); ++j) {
-        if (added[i].fact != added[j].fact && added[i].key == added[j].key) return false;  // too heavy
+    for (std::size_t i = 0; i < added_.size(); ++i) {
+      for (std::size_t j = i + 1; j < added_.size(); ++j) {
+        if (added_[i].fact != added_[j].fact && same_key(added_[i], added_[j].fact, *added_[j].part)) return false;  // too heavy
       }
     }
-    for (const Added& a : added) {
-      const Scope& scope = all[a.scope];
+    for (const Added& a : added_) {
+      const Scope& scope = scopes_[a.scope];
       bool matched = false;
-      for (FactId d : scope.del) {
+      for (FactId d : *scope.del) {
         ++work_;
         const Part* part = part_for(d);
-        if (part && std::binary_search(scope.pre.begin(), scope.pre.end(), d) && key(d, *part) == a.key) {
+        if (part && std::binary_search(scope.pre->begin(), scope.pre->end(), d) && same_key(a, d, *part)) {
           matched = true;
           break;
         }
       }
       if (!matched) {
-        refine(inv, scope, a.key);
+        refine(inv, scope, key(a.fact, *a.part));
         return false;
       }
     }
@@ -256,8 +280,8 @@ class Synthesis {
 
   // New candidates: `inv` with a part for a delete of `scope` whose arguments give `key`.
   void refine(const Invariant& inv, const Scope& scope, const Key& key) {
-    for (FactId d : scope.del) {
-      if (task_.derived[d] || !std::binary_search(scope.pre.begin(), scope.pre.end(), d)) continue;
+    for (FactId d : *scope.del) {
+      if (task_.derived[d] || !std::binary_search(scope.pre->begin(), scope.pre->end(), d)) continue;
       const GroundAtom& atom = atoms_[d];
       if (part_of_[atom.predicate] >= 0) continue;
       const int spare = static_cast<int>(atom.args.size()) - static_cast<int>(key.size());
@@ -305,6 +329,10 @@ class Synthesis {
   std::vector<int> part_of_;
   std::vector<std::uint32_t> op_seen_;
   std::uint32_t stamp_ = 0;
+  // balanced()'s, reused from operator to operator
+  std::vector<Scope> scopes_;
+  std::vector<std::vector<FactId>> store_;
+  std::vector<Added> added_;
 };
 
 }  // namespace

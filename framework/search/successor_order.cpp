@@ -1,6 +1,7 @@
 #include "search/successor_order.hpp"
 
 #include <algorithm>
+#include <compare>
 #include <deque>
 #include <map>
 #include <numeric>
@@ -11,17 +12,28 @@ namespace {
 
 using Fact = std::pair<int, int>;  // (variable, value)
 
-// An operator as the translator writes it: preconditions, and per changed variable the
-// value it requires (-1: any) and the value it sets, with the variables of the effect's
-// condition.
+// The operators as the translator writes them, one after another in flat arrays (a
+// task has thousands): preconditions, variables of several facts one of which the
+// precondition needs false, and per changed variable the value it requires (-1: any)
+// and the value it sets, with the variables of the effect's condition.
 struct SasEffect {
   int var, pre, post;
-  std::vector<int> condition_vars;
+  std::uint32_t condition_begin, condition_end;  // into SasOperators::condition_vars
 };
-struct SasOperator {
-  std::vector<Fact> pre;
-  std::vector<int> negated;  // variables of several facts one of which the precondition needs false
-  std::vector<SasEffect> effects;
+template <class T>
+struct Ranges {
+  std::vector<T> items;
+  std::vector<std::uint32_t> begin{0};  // per operator, and one past the last
+  void close() { begin.push_back(static_cast<std::uint32_t>(items.size())); }
+  const T* first(std::size_t o) const { return items.data() + begin[o]; }
+  const T* last(std::size_t o) const { return items.data() + begin[o + 1]; }
+};
+struct SasOperators {
+  Ranges<Fact> pre;  // sorted by variable, one value each
+  Ranges<int> negated;
+  Ranges<SasEffect> effects;
+  std::vector<int> condition_vars;
+  std::size_t size() const { return pre.begin.size() - 1; }
 };
 
 class Encoding {
@@ -44,39 +56,62 @@ class Encoding {
   int none(int var) const { return domain_[var] - 1; }
   int initial(int var) const { return initial_[var]; }
 
-  SasOperator translate(const Operator& op) const {
-    SasOperator out;
-    std::map<int, int> pre;
-    for (FactId f : op.precondition.positive) pre.emplace(var(f), value(f));
+  /// Appends `op` to `out` (nothing of it when `skip`: an operator without any).
+  void translate(const Operator& op, bool skip, SasOperators& out) const {
+    if (!skip) add(op, out);
+    out.pre.close();
+    out.negated.close();
+    out.effects.close();
+  }
+
+ private:
+  void add(const Operator& op, SasOperators& out) const {
+    // By variable, the first fact of each (as a map's emplace would keep it).
+    std::vector<Fact>& pre = out.pre.items;
+    const auto pre_begin = static_cast<long>(pre.size());
+    for (FactId f : op.precondition.positive) pre.emplace_back(var(f), value(f));
     for (FactId f : op.precondition.negative) {
-      if (domain_[var(f)] == 2) pre.emplace(var(f), 1);  // the atom's negation
-      else out.negated.push_back(var(f));
+      if (domain_[var(f)] == 2) pre.emplace_back(var(f), 1);  // the atom's negation
+      else out.negated.items.push_back(var(f));
     }
-    out.pre.assign(pre.begin(), pre.end());
+    const auto by_var = [](const Fact& a, const Fact& b) { return a.first < b.first; };
+    std::stable_sort(pre.begin() + pre_begin, pre.end(), by_var);
+    pre.erase(std::unique(pre.begin() + pre_begin, pre.end(), [](const Fact& a, const Fact& b) { return a.first == b.first; }),
+              pre.end());
+    // The value the precondition requires of `v`, or -1.
+    const auto required = [&](int v) {
+      const auto it = std::lower_bound(pre.begin() + pre_begin, pre.end(), Fact{v, -1});
+      return it != pre.end() && it->first == v ? it->second : -1;
+    };
     // A delete sets "none of those" unless the same effect or an unconditional one adds
     // a value of the variable.
-    std::vector<int> added;
-    for (FactId f : op.add) added.push_back(var(f));
+    const auto added_by = [&](const std::vector<FactId>& add, int v) {
+      return std::any_of(add.begin(), add.end(), [&](FactId f) { return var(f) == v; });
+    };
     const auto effects = [&](const std::vector<FactId>& add, const std::vector<FactId>& del, const Condition* when) {
-      std::vector<int> condition_vars, added_here = added;
+      const auto condition_begin = static_cast<std::uint32_t>(out.condition_vars.size());
       if (when) {
-        for (FactId f : when->positive) condition_vars.push_back(var(f));
-        for (FactId f : when->negative) condition_vars.push_back(var(f));
-        for (FactId f : add) added_here.push_back(var(f));
+        for (FactId f : when->positive) out.condition_vars.push_back(var(f));
+        for (FactId f : when->negative) out.condition_vars.push_back(var(f));
       }
-      for (FactId f : add) push(out, pre, var(f), -1, value(f), condition_vars);
+      const auto condition_end = static_cast<std::uint32_t>(out.condition_vars.size());
+      // An effect setting `v` to `post`; `deleted` is the value a delete takes away (-1
+      // for an add). Effects that change nothing or contradict the precondition are dropped.
+      const auto push = [&](int v, int deleted, int post) {
+        const int needed = required(v);
+        if (needed >= 0 && deleted >= 0 && needed != deleted) return;
+        const int before = needed >= 0 ? needed : deleted;
+        if (before != post) out.effects.items.push_back({v, before, post, condition_begin, condition_end});
+      };
+      for (FactId f : add) push(var(f), -1, value(f));
       for (FactId f : del) {
-        if (std::find(added_here.begin(), added_here.end(), var(f)) == added_here.end()) {
-          push(out, pre, var(f), value(f), none(var(f)), condition_vars);
-        }
+        if (!added_by(op.add, var(f)) && (!when || !added_by(add, var(f)))) push(var(f), value(f), none(var(f)));
       }
     };
     effects(op.add, op.del, nullptr);
     for (const ConditionalEffect& c : op.conditional) effects(c.add, c.del, &c.condition);
-    return out;
   }
 
- private:
   void add_variable(const std::vector<FactId>& facts) {
     const int v = static_cast<int>(domain_.size());
     for (std::size_t k = 0; k < facts.size(); ++k) {
@@ -86,31 +121,18 @@ class Encoding {
     domain_.push_back(static_cast<int>(facts.size()) + 1);
   }
 
-  // An effect setting `var` to `post`; `deleted` is the value a delete takes away (-1 for
-  // an add). Effects that change nothing or contradict the precondition are dropped.
-  static void push(SasOperator& out, const std::map<int, int>& pre, int var, int deleted, int post,
-                   const std::vector<int>& condition_vars) {
-    const auto required = pre.find(var);
-    const int before = required == pre.end() ? deleted : required->second;
-    if (required != pre.end() && deleted >= 0 && required->second != deleted) return;
-    if (before == post) return;
-    out.effects.push_back({var, before, post, condition_vars});
-  }
-
   std::vector<int> var_of_, value_of_, domain_, initial_;
 };
 
 // Variables whose transition graph reaches a second value from the initial one.
-std::vector<char> changing_variables(const Encoding& enc, const std::vector<SasOperator>& ops, const Task& task) {
+std::vector<char> changing_variables(const Encoding& enc, const SasOperators& ops, const Task& task) {
   const int n = enc.variables();
   std::vector<std::vector<std::vector<int>>> arcs(n);  // per variable, per value: successors
   std::vector<std::vector<int>> from_any(n);
   for (int v = 0; v < n; ++v) arcs[v].resize(enc.none(v) + 1);
-  for (const SasOperator& op : ops) {
-    for (const SasEffect& e : op.effects) {
-      if (e.pre < 0) from_any[e.var].push_back(e.post);
-      else arcs[e.var][e.pre].push_back(e.post);
-    }
+  for (const SasEffect& e : ops.effects.items) {
+    if (e.pre < 0) from_any[e.var].push_back(e.post);
+    else arcs[e.var][e.pre].push_back(e.post);
   }
   for (const Axiom& a : task.axioms) from_any[enc.var(a.head)].push_back(enc.value(a.head));
   std::vector<char> changing(n, 0);
@@ -222,10 +244,8 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
   const Encoding enc(task, mutexes);
   const int n = enc.variables();
   const std::size_t op_count = task.operators.size();
-  std::vector<SasOperator> ops(op_count);
-  for (std::size_t o = 0; o < op_count; ++o) {
-    if (!left_out[o]) ops[o] = enc.translate(task.operators[o]);
-  }
+  SasOperators ops;
+  for (std::size_t o = 0; o < op_count; ++o) enc.translate(task.operators[o], left_out[o] != 0, ops);
   const std::vector<char> changing = changing_variables(enc, ops, task);
 
   // The causal graph: weighted edges source -> target, and each target's sources.
@@ -235,11 +255,11 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
     if (source == target || !changing[source] || !changing[target]) return;
     if (weights[source][target]++ == 0) predecessors[target].push_back(source);
   };
-  for (const SasOperator& op : ops) {
-    for (const SasEffect& e : op.effects) {
-      for (const Fact& p : op.pre) edge(p.first, e.var);
-      for (int v : op.negated) edge(v, e.var);
-      for (int c : e.condition_vars) edge(c, e.var);
+  for (std::size_t o = 0; o < op_count; ++o) {
+    for (const SasEffect* e = ops.effects.first(o); e != ops.effects.last(o); ++e) {
+      for (const Fact* p = ops.pre.first(o); p != ops.pre.last(o); ++p) edge(p->first, e->var);
+      for (const int* v = ops.negated.first(o); v != ops.negated.last(o); ++v) edge(*v, e->var);
+      for (std::uint32_t c = e->condition_begin; c < e->condition_end; ++c) edge(ops.condition_vars[c], e->var);
     }
   }
   for (const Axiom& a : task.axioms) {
@@ -300,14 +320,15 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
   out.variables = sparse.size();
   out.relevant_variables = static_cast<std::size_t>(next);
   out.relevant.assign(op_count, 0);
-  std::vector<std::vector<Fact>> keys(op_count);
+  Ranges<Fact> keys;  // per operator: its relevant preconditions in search variables, sorted
   for (std::size_t o = 0; o < op_count; ++o) {
-    if (left_out[o]) continue;
-    for (const SasEffect& e : ops[o].effects) out.relevant[o] |= position[e.var] >= 0;
-    for (const Fact& p : ops[o].pre) {
-      if (position[p.first] >= 0) keys[o].push_back({position[p.first], p.second});
+    for (const SasEffect* e = ops.effects.first(o); e != ops.effects.last(o); ++e) out.relevant[o] |= position[e->var] >= 0;
+    const auto key_begin = static_cast<long>(keys.items.size());
+    for (const Fact* p = ops.pre.first(o); p != ops.pre.last(o); ++p) {
+      if (position[p->first] >= 0) keys.items.push_back({position[p->first], p->second});
     }
-    std::sort(keys[o].begin(), keys[o].end());
+    std::sort(keys.items.begin() + key_begin, keys.items.end());
+    keys.close();
   }
   out.search_variable.resize(task.fact_count());
   out.translator_variable.resize(task.fact_count());
@@ -320,7 +341,8 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
   std::iota(sorted.begin(), sorted.end(), 0);
   std::stable_sort(sorted.begin(), sorted.end(), [&](OperatorId a, OperatorId b) {
     if (left_out[a] != left_out[b]) return left_out[b] != 0;
-    if (keys[a] != keys[b]) return keys[a] < keys[b];
+    const auto order = std::lexicographical_compare_three_way(keys.first(a), keys.last(a), keys.first(b), keys.last(b));
+    if (order != 0) return order < 0;
     return task.operators[a].name < task.operators[b].name;
   });
   out.rank.resize(op_count);
