@@ -380,6 +380,136 @@ TEST_F(SrdfFiles, ErrorsAreLocatedAndAllReported) {
   EXPECT_TRUE(test::has_error(d, 1, 1, "root element must be <robot>")) << d.str();
 }
 
+// An SRDF of our own for the bundled Panda, in the layout MoveIt's setup assistant writes.
+constexpr const char* kPandaSrdf = R"(<?xml version="1.0"?>
+<robot name="panda">
+  <group name="panda_arm">
+    <joint name="panda_joint1"/><joint name="panda_joint2"/><joint name="panda_joint3"/><joint name="panda_joint4"/>
+    <joint name="panda_joint5"/><joint name="panda_joint6"/><joint name="panda_joint7"/><joint name="panda_joint8"/>
+  </group>
+  <group name="panda_manipulator">
+    <chain base_link="panda_link0" tip_link="panda_hand_tcp"/>
+  </group>
+  <group name="hand">
+    <link name="panda_hand"/><link name="panda_leftfinger"/><link name="panda_rightfinger"/>
+    <joint name="panda_finger_joint1"/><joint name="panda_finger_joint2"/>
+  </group>
+  <group name="arm_and_hand"><group name="panda_arm"/><group name="hand"/></group>
+  <group_state name="ready" group="panda_arm">
+    <joint name="panda_joint1" value="0"/><joint name="panda_joint2" value="-0.785"/><joint name="panda_joint3" value="0"/>
+    <joint name="panda_joint4" value="-2.356"/><joint name="panda_joint5" value="0"/><joint name="panda_joint6" value="1.571"/>
+    <joint name="panda_joint7" value="0.785"/>
+  </group_state>
+  <group_state name="open" group="hand">
+    <joint name="panda_finger_joint1" value="0.04"/><joint name="panda_finger_joint2" value="0.04"/>
+  </group_state>
+  <end_effector name="hand" parent_link="panda_link8" group="hand" parent_group="panda_arm"/>
+</robot>
+)";
+
+// The bundled panda.yaml with `edit` applied to its text, written beside an SRDF.
+fs::path panda_variant(const fs::path& dir, const std::string& name, const std::string& srdf,
+                       const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::ifstream in(fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml");
+  std::stringstream yaml;
+  yaml << in.rdbuf();
+  std::string text = yaml.str();
+  text.replace(text.find("urdf: panda.urdf"), std::string("urdf: panda.urdf").size(),
+               "urdf: " + (fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.urdf").string());
+  for (const auto& [from, to] : edits) {
+    const auto at = text.find(from);
+    if (at == std::string::npos) ADD_FAILURE() << "no '" << from << "' in panda.yaml";
+    else text.replace(at, from.size(), to);
+  }
+  std::ofstream(dir / (name + ".srdf")) << srdf;
+  std::ofstream(dir / (name + ".yaml")) << text;
+  return dir / (name + ".yaml");
+}
+
+// The home line of panda.yaml, whatever its comment.
+std::string home_line() {
+  std::ifstream in(fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("home:", 0) == 0) return line;
+  }
+  return "home:";
+}
+
+TEST_F(SrdfFiles, AGroupGivesTheChainAndGroupStatesTheHome) {
+  const fs::path file = panda_variant(dir_, "g", kPandaSrdf,
+                                      {{"base_link: panda_link0\n", ""},
+                                       {"tip_link: panda_hand_tcp\n", "srdf: g.srdf\ngroup: panda_manipulator\n"},
+                                       {home_line(), "home: [ready, open]"}});
+  const robot::RobotDescription d = load_robot_description(file);
+  EXPECT_EQ(d.base_link(), panda_->base_link());
+  EXPECT_EQ(d.tip_link(), panda_->tip_link());
+  EXPECT_TRUE(d.home().isApprox(panda_->home(), 1e-12)) << d.home().transpose() << " vs " << panda_->home().transpose();
+  // The IK chain is the group's: the home's tool pose solves back to a configuration with that pose.
+  EXPECT_EQ(d.ik().base(), d.base_link());
+  EXPECT_EQ(d.ik().tip(), d.tip_link());
+  const Eigen::Isometry3d base_T_tool = d.ik().forward(d.home());
+  const auto solutions = d.ik().solve(base_T_tool, d.home());
+  ASSERT_FALSE(solutions.empty());
+  EXPECT_TRUE(d.ik().forward(solutions.front()).isApprox(base_T_tool, 1e-6));
+
+  const Srdf srdf = load_srdf(dir_ / "g.srdf", *panda_->model());
+  EXPECT_EQ(srdf.groups.size(), 4u);
+  EXPECT_EQ(srdf.end_effectors.size(), 1u);
+  // A group of joints is the chain they form; a fixed joint at its end counts.
+  EXPECT_EQ(srdf_chain(srdf, *srdf.find_group("panda_arm"), *panda_->model()),
+            std::make_pair(link("panda_link0"), link("panda_link8")));
+  // base_link and tip_link override the group's ends.
+  const robot::RobotDescription arm = load_robot_description(
+      panda_variant(dir_, "h", kPandaSrdf, {{"base_link: panda_link0\n", "srdf: h.srdf\ngroup: panda_arm\n"}}));
+  EXPECT_EQ(arm.base_link(), link("panda_link0"));
+  EXPECT_EQ(arm.tip_link(), link("panda_hand_tcp"));
+}
+
+TEST_F(SrdfFiles, GroupAndGroupStateErrorsAreLocated) {
+  // Line 5 of panda.yaml is base_link, 6 tip_link, 13 home; the edits below keep that numbering.
+  Diagnostics d = test::expect_input_error([&] {
+    load_robot_description(panda_variant(dir_, "a", kPandaSrdf,
+                                         {{"base_link: panda_link0", "group: panda_manipulatr"},
+                                          {"tip_link: panda_hand_tcp", "srdf: a.srdf"},
+                                          {home_line(), "home: [ready, opened]"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 5, 8, "has no group 'panda_manipulatr' (did you mean 'panda_manipulator'?); its groups: panda_arm, "))
+      << d.str();
+  EXPECT_TRUE(test::has_error(d, 13, 7, "has no group state 'opened' (did you mean 'open'?); its group states: ready, open")) << d.str();
+
+  d = test::expect_input_error([&] {
+    load_robot_description(panda_variant(dir_, "b", kPandaSrdf, {{"base_link: panda_link0", "group: hand"}, {"tip_link: panda_hand_tcp", "srdf: b.srdf"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 10, 3, "group 'hand' of ")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 10, 3, "is no single serial chain (joints 'panda_finger_joint1' and 'panda_finger_joint2' both start it)"))
+      << d.str();
+
+  d = test::expect_input_error([&] {
+    load_robot_description(panda_variant(dir_, "c", kPandaSrdf, {{"base_link: panda_link0", "group: panda_arm"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 5, 8, "group 'panda_arm' is a group of an SRDF: give the SRDF with srdf:")) << d.str();
+
+  std::string bad = kPandaSrdf;
+  bad.replace(bad.find(R"(<joint name="panda_joint4" value="-2.356"/>)"), std::string(R"(<joint name="panda_joint4" value="-2.356"/>)").size(),
+              R"(<joint name="panda_joint44" value="-2.356"/>)");
+  bad.replace(bad.find(R"(<joint name="panda_joint5" value="0"/>)"), std::string(R"(<joint name="panda_joint5" value="0"/>)").size(),
+              R"(<joint name="panda_hand_joint" value="0"/>)");
+  d = test::expect_input_error([&] {
+    load_robot_description(panda_variant(dir_, "e", bad, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: e.srdf"}, {home_line(), "home: ready"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 17, 5, "group state 'ready' sets joint 'panda_joint44', which the URDF (robot 'panda') does not have")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 17, 49, "group state 'ready' sets joint 'panda_hand_joint', which is fixed")) << d.str();
+  EXPECT_EQ(d.size(), 2u) << d.str();  // no consequent "outside the joint limits"
+
+  bad = kPandaSrdf;
+  bad.replace(bad.find(R"(value="0.785")"), std::string(R"(value="0.785")").size(), R"(value="0.785rad")");
+  std::ofstream(dir_ / "v.srdf") << bad;
+  d = test::expect_input_error([&] { load_srdf(dir_ / "v.srdf", *panda_->model()); });
+  EXPECT_TRUE(test::has_error(d, 18, 5, "<joint name='panda_joint7'> of group state 'ready' has value '0.785rad', which is not one finite number"))
+      << d.str();
+}
+
 TEST_F(SrdfFiles, ADescriptionsSrdfIsMergedWithItsOwnPairs) {
   ASSERT_FALSE(std::binary_search(panda_->disabled_collisions().begin(), panda_->disabled_collisions().end(),
                                   std::pair{link("panda_link0"), link("panda_link3")}));

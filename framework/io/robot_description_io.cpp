@@ -1,6 +1,8 @@
 #include "cluttertamp/io/robot_description_io.hpp"
 
+#include <cstdlib>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 
 #include "cluttertamp/io/srdf.hpp"
@@ -39,6 +41,85 @@ UrdfOptions urdf_options(const YamlFile& yaml, const MapReader& top) {
   }
   return options;
 }
+
+// group: the chain of an SRDF planning group, for base_link and tip_link not given.
+void chain_from_group(const YamlFile& yaml, const YAML::Node& node, const std::optional<Srdf>& srdf, const RobotModel& model,
+                      RobotDescription::Parts& robot) {
+  const auto name = yaml.string(node, "group");
+  if (!name) return;
+  if (!srdf) {
+    yaml.error(node, "group '" + *name + "' is a group of an SRDF: give the SRDF with srdf:");
+    return;
+  }
+  const SrdfGroup* g = srdf->find_group(*name);
+  if (!g) {
+    std::string names;
+    for (const std::string& n : srdf->group_names()) names += (names.empty() ? "" : ", ") + n;
+    yaml.error(node, "the SRDF " + srdf->file.string() + " has no group '" + *name + "'" +
+                         did_you_mean(*name, srdf->group_names()) + "; its groups: " + (names.empty() ? "none" : names));
+    return;
+  }
+  try {
+    const auto [base, tip] = srdf_chain(*srdf, *g, model);
+    if (robot.base_link < 0) robot.base_link = base;
+    if (robot.tip_link < 0) robot.tip_link = tip;
+  } catch (const InputError& e) {
+    for (const Diagnostic& d : e.diagnostics().items()) yaml.error(d.location, d.message);
+  }
+}
+
+// home: joint values in configuration order, or the names of SRDF group states applied
+// in turn over zeros (MoveIt's "ready" for the arm, "open" for the hand).
+void read_home(const YamlFile& yaml, const YAML::Node& home, const std::optional<Srdf>& srdf, const RobotModel& model,
+               Eigen::VectorXd& q) {
+  const auto is_name = [](const YAML::Node& n) {
+    if (!n.IsScalar()) return false;
+    char* end = nullptr;
+    const std::string text = n.Scalar();
+    std::strtod(text.c_str(), &end);
+    return end == text.c_str() || *end != '\0';
+  };
+  const bool names = is_name(home) || (home.IsSequence() && home.size() > 0 && is_name(home[0]));
+  if (names) {
+    const auto states = home.IsScalar() ? std::optional<std::vector<std::string>>({home.Scalar()}) : yaml.strings(home, "home");
+    if (!states) return;
+    bool failed = false;
+    if (!srdf) {
+      yaml.error(home, "home names group states of an SRDF: give the SRDF with srdf:, or list " +
+                           std::to_string(model.variable_count()) + " joint values");
+      return;
+    }
+    for (const std::string& name : *states) {
+      const SrdfGroupState* state = srdf->find_group_state(name);
+      if (!state) {
+        std::string known;
+        for (const std::string& n : srdf->group_state_names()) known += (known.empty() ? "" : ", ") + n;
+        yaml.error(home, "the SRDF " + srdf->file.string() + " has no group state '" + name + "'" +
+                             did_you_mean(name, srdf->group_state_names()) + "; its group states: " + (known.empty() ? "none" : known));
+        failed = true;
+        continue;
+      }
+      try {
+        apply_group_state(*srdf, *state, model, q);
+      } catch (const InputError& e) {
+        for (const Diagnostic& d : e.diagnostics().items()) yaml.error(d.location, d.message);
+        failed = true;
+      }
+    }
+    if (failed) return;  // its limits would only repeat the error
+  } else if (!home.IsSequence() || home.size() != model.variable_count()) {
+    std::string joints;
+    for (const std::string& n : model.variable_names()) joints += (joints.empty() ? "" : ", ") + n;
+    yaml.error(home, "home must list " + std::to_string(model.variable_count()) + " joint values (" + joints +
+                         ") or name group states of the SRDF");
+    return;
+  } else {
+    for (std::size_t i = 0; i < home.size(); ++i) {
+      if (auto v = yaml.number(home[i], "home[" + std::to_string(i) + "]")) q[static_cast<Eigen::Index>(i)] = *v;
+    }
+  }
+  if (!model.within_limits(q)) yaml.error(home, "home lies outside the joint limits");
+}
 }  // namespace
 
 void set_command_line_package_paths(std::vector<std::filesystem::path> directories) {
@@ -54,14 +135,16 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
   robot.name = file.stem().string();
   MapReader top(yaml, yaml.root(), "the robot description",
                 {"version", "name", "urdf", "base_link", "tip_link", "ik", "gripper", "home", "disabled_collisions",
-                  "package_paths", "mesh_collision", "srdf"});
+                  "package_paths", "mesh_collision", "srdf", "group"});
   if (!top.valid()) diagnostics.throw_if_any();
 
   yaml.check_version(top.required("version"), "robot description", 1);
   if (top.has("name")) robot.name = yaml.string(top.optional("name"), "name").value_or(robot.name);
   const YAML::Node urdf = top.required("urdf");
-  const YAML::Node base = top.required("base_link");
-  const YAML::Node tip = top.required("tip_link");
+  // An SRDF group may give the chain; base_link and tip_link then only override it.
+  const YAML::Node group = top.optional("group");
+  const YAML::Node base = group.IsDefined() ? top.optional("base_link") : top.required("base_link");
+  const YAML::Node tip = group.IsDefined() ? top.optional("tip_link") : top.required("tip_link");
   const YAML::Node ik = top.required("ik");
   const auto urdf_name = urdf.IsDefined() ? yaml.string(urdf, "urdf") : std::nullopt;
   const auto base_name = base.IsDefined() ? yaml.string(base, "base_link") : std::nullopt;
@@ -102,8 +185,13 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
     yaml.error(node, "the URDF " + robot.urdf.string() + " has no link '" + name + "'");
     return -1;
   };
-  robot.base_link = link(base, *base_name);
-  robot.tip_link = link(tip, *tip_name);
+  std::optional<Srdf> srdf;  // a MoveIt SRDF: its disable_collisions join ours
+  if (top.has("srdf")) {
+    if (const auto name = yaml.string(top.optional("srdf"), "srdf")) srdf = load_srdf(yaml.resolve(*name), model);
+  }
+  if (base_name) robot.base_link = link(base, *base_name);
+  if (tip_name) robot.tip_link = link(tip, *tip_name);
+  if (group.IsDefined()) chain_from_group(yaml, group, srdf, model, robot);
 
   if (top.has("disabled_collisions")) {
     const YAML::Node pairs = top.optional("disabled_collisions");
@@ -119,28 +207,11 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
       if (a >= 0 && b >= 0) robot.disabled_collisions.emplace_back(a, b);
     }
   }
-  if (top.has("srdf")) {  // a MoveIt SRDF's disable_collisions, merged with ours
-    const YAML::Node node = top.optional("srdf");
-    if (const auto name = yaml.string(node, "srdf")) {
-      for (const DisabledPair& p : load_srdf_disabled_collisions(yaml.resolve(*name), model)) {
-        robot.disabled_collisions.emplace_back(p.first, p.second);
-      }
-    }
+  if (srdf) {
+    for (const DisabledPair& p : srdf->disabled_collisions) robot.disabled_collisions.emplace_back(p.first, p.second);
   }
   robot.home = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.variable_count()));
-  if (top.has("home")) {
-    const YAML::Node home = top.optional("home");
-    if (!home.IsSequence() || home.size() != model.variable_count()) {
-      std::string names;
-      for (const std::string& n : model.variable_names()) names += (names.empty() ? "" : ", ") + n;
-      yaml.error(home, "home must list " + std::to_string(model.variable_count()) + " joint values: " + names);
-    } else {
-      for (std::size_t i = 0; i < home.size(); ++i) {
-        if (auto v = yaml.number(home[i], "home[" + std::to_string(i) + "]")) robot.home[static_cast<Eigen::Index>(i)] = *v;
-      }
-      if (!model.within_limits(robot.home)) yaml.error(home, "home lies outside the joint limits");
-    }
-  }
+  if (top.has("home")) read_home(yaml, top.optional("home"), srdf, model, robot.home);
   diagnostics.throw_if_any();
 
   try {
