@@ -1,6 +1,7 @@
 // The extension `cluttertamp._cluttertamp`: what the Python package (cluttertamp/*.py)
 // builds its API on. Results cross as the text of result.json, so that Python sees
 // exactly what the command line writes; geometry crosses as numpy arrays.
+#include <chrono>
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -143,7 +144,10 @@ Robot load_robot(const fs::path& file, const std::vector<fs::path>& package_path
 
 // A PDDL domain and problem searched as `cluttertamp pddl` does, the plan in IPC format.
 py::dict solve_pddl(const fs::path& domain_file, const fs::path& problem_file, const std::string& search,
-                    double time_limit, std::optional<std::uint64_t> max_expansions) {
+                    double time_limit, std::optional<std::uint64_t> max_expansions, const std::string& landmarks, bool anytime) {
+  // As `cluttertamp pddl`: the time limit counts from the start, parsing included.
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const pddl::Domain domain = pddl::load_domain(domain_file);
   const pddl::Problem problem = pddl::load_problem(problem_file, domain);
   search::SearchResult result;
@@ -152,7 +156,7 @@ py::dict solve_pddl(const fs::path& domain_file, const fs::path& problem_file, c
     const py::gil_scoped_release unlocked;
     search::Task task;
     try {
-      task = search::ground(domain, problem, nullptr, time_limit);
+      task = search::ground(domain, problem, nullptr, std::max(0.0, time_limit - elapsed()));
     } catch (const InputError&) {
       throw;
     } catch (const std::exception& e) {  // past the time limit, or too large to ground
@@ -160,9 +164,11 @@ py::dict solve_pddl(const fs::path& domain_file, const fs::path& problem_file, c
     }
     search::SearchOptions options;
     options.algorithm = search;
-    options.time_limit = time_limit;
+    options.landmarks = landmarks;
+    options.anytime = anytime;
     if (max_expansions) options.max_expansions = *max_expansions;
     if (result.reason.empty()) {
+      options.time_limit = std::max(0.0, time_limit - elapsed());
       result = search::plan(task, options);
       for (const search::OperatorId op : result.plan) steps.push_back(task.operators[op].name);
     }
@@ -176,6 +182,7 @@ py::dict solve_pddl(const fs::path& domain_file, const fs::path& problem_file, c
   out["generated"] = result.statistics.generated;
   out["evaluated"] = result.statistics.evaluated;
   out["search_time"] = result.statistics.seconds;
+  out["plans_found"] = result.plans_found;
   return out;
 }
 
@@ -308,7 +315,8 @@ PYBIND11_MODULE(_cluttertamp, m) {
   m.def("plan", &plan, py::arg("problem"), py::arg("seed") = py::none(), py::arg("time_limit") = py::none(),
         py::arg("planner") = py::none(), py::arg("plugin_paths") = std::vector<fs::path>{});
   m.def("solve_pddl", &solve_pddl, py::arg("domain"), py::arg("problem"), py::arg("search") = "lama-first",
-        py::arg("time_limit") = 60.0, py::arg("max_expansions") = py::none());
+        py::arg("time_limit") = 60.0, py::arg("max_expansions") = py::none(), py::arg("landmarks") = "rhw",
+        py::arg("anytime") = false);
   m.def("validate_pddl_plan", &validate_pddl_plan, py::arg("domain"), py::arg("problem"), py::arg("plan"),
         py::arg("plan_name") = "plan");
   m.def("search_names", [] { return ct::search::search_names(); });

@@ -162,6 +162,20 @@ def test_pddl_plans_are_accepted_by_the_validator_and_broken_ones_are_not():
     assert "lama-first" in cluttertamp.search_names()
 
 
+def test_pddl_searches_take_the_landmarks_and_the_anytime_mode_of_the_command():
+    domain, problem = os.path.join(BLOCKS, "domain.pddl"), os.path.join(BLOCKS, "p5-2.pddl")
+    first = cluttertamp.solve_pddl(domain, problem)
+    assert first["solved"] and first["plans_found"] == 1
+    other = cluttertamp.solve_pddl(domain, problem, landmarks="zhu-givan")
+    assert other["solved"] and cluttertamp.validate_pddl_plan(domain, problem, other["plan"])["valid"]
+    # Bounded by expansions, not by the clock: the same improvements on any machine.
+    better = cluttertamp.solve_pddl(domain, problem, anytime=True, max_expansions=20000)
+    assert better["solved"] and better["plans_found"] >= 1 and better["cost"] <= first["cost"]
+    assert cluttertamp.validate_pddl_plan(domain, problem, better["plan"])["valid"]
+    with pytest.raises(ValueError, match="unknown landmarks 'hm'; known: rhw, zhu-givan"):
+        cluttertamp.solve_pddl(domain, problem, landmarks="hm")
+
+
 @pytest.mark.skipif(os.environ.get("CLUTTERTAMP_SANITIZED") == "1",
                     reason="AddressSanitizer holds freed memory in quarantine: the process grows by design")
 def test_a_thousand_plans_do_not_grow_the_process(tmp_path):

@@ -211,11 +211,14 @@ def generate_shelf(scene_file, objects=12, seed=0, min_gap=0.0, problem_file=Non
     return load_problem(problem_file)
 
 
-def solve_pddl(domain, problem, search="lama-first", time_limit=60.0, max_expansions=None):
-    """Grounds and searches a PDDL domain and problem as `cluttertamp pddl` does: a dict
-    with solved, reason, plan (steps in IPC format, "(action arg ...)"), cost and the
-    search's counts."""
-    return _cluttertamp.solve_pddl(os.fspath(domain), os.fspath(problem), search, time_limit, max_expansions)
+def solve_pddl(domain, problem, search="lama-first", time_limit=60.0, max_expansions=None, landmarks="rhw",
+               anytime=False):
+    """Grounds and searches a PDDL domain and problem as `cluttertamp pddl` does (the time
+    limit, in seconds, counts parsing and grounding too; landmarks and anytime as the
+    command's --landmarks and --anytime): a dict with solved, reason, plan (steps in IPC
+    format, "(action arg ...)"), cost, the search's counts and plans_found."""
+    return _cluttertamp.solve_pddl(os.fspath(domain), os.fspath(problem), search, time_limit, max_expansions, landmarks,
+                                   bool(anytime))
 
 
 def validate_pddl_plan(domain, problem, plan):
