@@ -395,6 +395,11 @@ constexpr const char* kPandaSrdf = R"(<?xml version="1.0"?>
     <joint name="panda_finger_joint1"/><joint name="panda_finger_joint2"/>
   </group>
   <group name="arm_and_hand"><group name="panda_arm"/><group name="hand"/></group>
+  <group name="manipulator"><group name="panda_manipulator"/></group>
+  <group name="to_tcp">
+    <joint name="panda_joint1"/><joint name="panda_joint2"/><joint name="panda_joint3"/><joint name="panda_joint4"/>
+    <joint name="panda_joint5"/><joint name="panda_joint6"/><joint name="panda_joint7"/><joint name="panda_hand_tcp_joint"/>
+  </group>
   <group_state name="ready" group="panda_arm">
     <joint name="panda_joint1" value="0"/><joint name="panda_joint2" value="-0.785"/><joint name="panda_joint3" value="0"/>
     <joint name="panda_joint4" value="-2.356"/><joint name="panda_joint5" value="0"/><joint name="panda_joint6" value="1.571"/>
@@ -454,16 +459,45 @@ TEST_F(SrdfFiles, AGroupGivesTheChainAndGroupStatesTheHome) {
   EXPECT_TRUE(d.ik().forward(solutions.front()).isApprox(base_T_tool, 1e-6));
 
   const Srdf srdf = load_srdf(dir_ / "g.srdf", *panda_->model());
-  EXPECT_EQ(srdf.groups.size(), 4u);
+  EXPECT_EQ(srdf.groups.size(), 6u);
   EXPECT_EQ(srdf.end_effectors.size(), 1u);
-  // A group of joints is the chain they form; a fixed joint at its end counts.
+  // A group of joints is the chain they form; a fixed joint at its end counts, and so
+  // do fixed joints it leaves out on the way (to_tcp skips two).
   EXPECT_EQ(srdf_chain(srdf, *srdf.find_group("panda_arm"), *panda_->model()),
             std::make_pair(link("panda_link0"), link("panda_link8")));
+  EXPECT_EQ(srdf_chain(srdf, *srdf.find_group("to_tcp"), *panda_->model()),
+            std::make_pair(link("panda_link0"), link("panda_hand_tcp")));
+  // A group of one subgroup with a chain is that chain.
+  EXPECT_EQ(srdf_chain(srdf, *srdf.find_group("manipulator"), *panda_->model()),
+            std::make_pair(link("panda_link0"), link("panda_hand_tcp")));
   // base_link and tip_link override the group's ends.
   const robot::RobotDescription arm = load_robot_description(
       panda_variant(dir_, "h", kPandaSrdf, {{"base_link: panda_link0\n", "srdf: h.srdf\ngroup: panda_arm\n"}}));
   EXPECT_EQ(arm.base_link(), link("panda_link0"));
   EXPECT_EQ(arm.tip_link(), link("panda_hand_tcp"));
+  // Both named: a group that is no chain is fine (only its name is checked).
+  const robot::RobotDescription named = load_robot_description(
+      panda_variant(dir_, "i", kPandaSrdf, {{"base_link: panda_link0\n", "base_link: panda_link0\nsrdf: i.srdf\ngroup: arm_and_hand\n"}}));
+  EXPECT_EQ(named.tip_link(), link("panda_hand_tcp"));
+}
+
+// An SRDF describes more than a robot description uses: what is not used is not
+// checked (MoveIt's virtual joints take several numbers; an end effector may lack a
+// parent link), and what is used is checked when used.
+TEST_F(SrdfFiles, WhatADescriptionDoesNotUseIsNotChecked) {
+  std::string srdf = kPandaSrdf;
+  srdf.replace(srdf.find("</robot>"), 8, R"(<virtual_joint name="world_joint" type="planar" parent_frame="world" child_link="panda_link0"/>
+  <group name="base"><joint name="world_joint"/></group>
+  <group_state name="origin" group="base"><joint name="world_joint" value="0 0 0"/></group_state>
+  <end_effector name="loose" group="hand"/>
+</robot>)");
+  const robot::RobotDescription d = load_robot_description(
+      panda_variant(dir_, "u", srdf, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: u.srdf"}, {home_line(), "home: [ready, open]"}}));
+  EXPECT_TRUE(d.home().isApprox(panda_->home(), 1e-12));
+  const Diagnostics e = test::expect_input_error([&] {
+    load_robot_description(panda_variant(dir_, "w", srdf, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: w.srdf"}, {home_line(), "home: origin"}}));
+  });
+  EXPECT_TRUE(test::has_error(e, 31, 43, "group state 'origin' sets joint 'world_joint', which the URDF (robot 'panda') does not have")) << e.str();
 }
 
 TEST_F(SrdfFiles, GroupAndGroupStateErrorsAreLocated) {
@@ -476,13 +510,14 @@ TEST_F(SrdfFiles, GroupAndGroupStateErrorsAreLocated) {
   });
   EXPECT_TRUE(test::has_error(d, 5, 8, "has no group 'panda_manipulatr' (did you mean 'panda_manipulator'?); its groups: panda_arm, "))
       << d.str();
-  EXPECT_TRUE(test::has_error(d, 13, 7, "has no group state 'opened' (did you mean 'open'?); its group states: ready, open")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 13, 15, "has no group state 'opened' (did you mean 'open'?); its group states: ready, open")) << d.str();
 
   d = test::expect_input_error([&] {
     load_robot_description(panda_variant(dir_, "b", kPandaSrdf, {{"base_link: panda_link0", "group: hand"}, {"tip_link: panda_hand_tcp", "srdf: b.srdf"}}));
   });
   EXPECT_TRUE(test::has_error(d, 10, 3, "group 'hand' of ")) << d.str();
-  EXPECT_TRUE(test::has_error(d, 10, 3, "is no single serial chain (joints 'panda_finger_joint1' and 'panda_finger_joint2' both start it)"))
+  EXPECT_TRUE(test::has_error(d, 10, 3, "is no single serial chain (joint 'panda_finger_joint2' is off the chain from joint "
+                                        "'panda_finger_joint1' to joint 'panda_finger_joint1'); name base_link and tip_link instead"))
       << d.str();
 
   d = test::expect_input_error([&] {
@@ -498,16 +533,22 @@ TEST_F(SrdfFiles, GroupAndGroupStateErrorsAreLocated) {
   d = test::expect_input_error([&] {
     load_robot_description(panda_variant(dir_, "e", bad, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: e.srdf"}, {home_line(), "home: ready"}}));
   });
-  EXPECT_TRUE(test::has_error(d, 17, 5, "group state 'ready' sets joint 'panda_joint44', which the URDF (robot 'panda') does not have")) << d.str();
-  EXPECT_TRUE(test::has_error(d, 17, 49, "group state 'ready' sets joint 'panda_hand_joint', which is fixed")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 22, 5, "group state 'ready' sets joint 'panda_joint44', which the URDF (robot 'panda') does not have")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 22, 49, "group state 'ready' sets joint 'panda_hand_joint', which is fixed")) << d.str();
   EXPECT_EQ(d.size(), 2u) << d.str();  // no consequent "outside the joint limits"
 
   bad = kPandaSrdf;
   bad.replace(bad.find(R"(value="0.785")"), std::string(R"(value="0.785")").size(), R"(value="0.785rad")");
-  std::ofstream(dir_ / "v.srdf") << bad;
-  d = test::expect_input_error([&] { load_srdf(dir_ / "v.srdf", *panda_->model()); });
-  EXPECT_TRUE(test::has_error(d, 18, 5, "<joint name='panda_joint7'> of group state 'ready' has value '0.785rad', which is not one finite number"))
+  d = test::expect_input_error([&] {
+    load_robot_description(panda_variant(dir_, "v", bad, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: v.srdf"}, {home_line(), "home: ready"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 23, 5, "group state 'ready' gives joint 'panda_joint7' the value '0.785rad', which is not one finite number"))
       << d.str();
+  // Values and names mixed.
+  d = test::expect_input_error([&] {
+    load_robot_description(panda_variant(dir_, "m", kPandaSrdf, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: m.srdf"}, {home_line(), "home: [ready, 0.04]"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 14, 7, "home mixes joint values and group state names")) << d.str();
 }
 
 TEST_F(SrdfFiles, ADescriptionsSrdfIsMergedWithItsOwnPairs) {

@@ -1,5 +1,6 @@
 #include "cluttertamp/io/robot_description_io.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <mutex>
 #include <optional>
@@ -43,12 +44,12 @@ UrdfOptions urdf_options(const YamlFile& yaml, const MapReader& top) {
 }
 
 // group: the chain of an SRDF planning group, for base_link and tip_link not given.
-void chain_from_group(const YamlFile& yaml, const YAML::Node& node, const std::optional<Srdf>& srdf, const RobotModel& model,
-                      RobotDescription::Parts& robot) {
+void chain_from_group(const YamlFile& yaml, const YAML::Node& node, const std::optional<Srdf>& srdf, bool srdf_given,
+                      const RobotModel& model, RobotDescription::Parts& robot) {
   const auto name = yaml.string(node, "group");
   if (!name) return;
   if (!srdf) {
-    yaml.error(node, "group '" + *name + "' is a group of an SRDF: give the SRDF with srdf:");
+    if (!srdf_given) yaml.error(node, "group '" + *name + "' is a group of an SRDF: give the SRDF with srdf:");
     return;
   }
   const SrdfGroup* g = srdf->find_group(*name);
@@ -59,6 +60,7 @@ void chain_from_group(const YamlFile& yaml, const YAML::Node& node, const std::o
                          did_you_mean(*name, srdf->group_names()) + "; its groups: " + (names.empty() ? "none" : names));
     return;
   }
+  if (robot.base_link >= 0 && robot.tip_link >= 0) return;  // both named: the group's chain is not used
   try {
     const auto [base, tip] = srdf_chain(*srdf, *g, model);
     if (robot.base_link < 0) robot.base_link = base;
@@ -70,32 +72,39 @@ void chain_from_group(const YamlFile& yaml, const YAML::Node& node, const std::o
 
 // home: joint values in configuration order, or the names of SRDF group states applied
 // in turn over zeros (MoveIt's "ready" for the arm, "open" for the hand).
-void read_home(const YamlFile& yaml, const YAML::Node& home, const std::optional<Srdf>& srdf, const RobotModel& model,
-               Eigen::VectorXd& q) {
+void read_home(const YamlFile& yaml, const YAML::Node& home, const std::optional<Srdf>& srdf, bool srdf_given,
+               const RobotModel& model, Eigen::VectorXd& q) {
+  // A name is what YAML does not read as a number (as yaml.number decides).
   const auto is_name = [](const YAML::Node& n) {
-    if (!n.IsScalar()) return false;
-    char* end = nullptr;
-    const std::string text = n.Scalar();
-    std::strtod(text.c_str(), &end);
-    return end == text.c_str() || *end != '\0';
+    double unused = 0;
+    return n.IsScalar() && !YAML::convert<double>::decode(n, unused);
   };
-  const bool names = is_name(home) || (home.IsSequence() && home.size() > 0 && is_name(home[0]));
-  if (names) {
-    const auto states = home.IsScalar() ? std::optional<std::vector<std::string>>({home.Scalar()}) : yaml.strings(home, "home");
-    if (!states) return;
-    bool failed = false;
+  std::vector<YAML::Node> entries;
+  if (home.IsScalar()) entries.push_back(home);
+  for (std::size_t i = 0; home.IsSequence() && i < home.size(); ++i) entries.push_back(home[i]);
+  const auto names = static_cast<std::size_t>(std::count_if(entries.begin(), entries.end(), is_name));
+  if (names > 0 && names < entries.size()) {
+    yaml.error(home, "home mixes joint values and group state names: give " + std::to_string(model.variable_count()) +
+                         " joint values, or names of group states of the SRDF");
+    return;
+  }
+  if (names > 0) {
     if (!srdf) {
-      yaml.error(home, "home names group states of an SRDF: give the SRDF with srdf:, or list " +
-                           std::to_string(model.variable_count()) + " joint values");
+      if (!srdf_given) {
+        yaml.error(home, "home names group states of an SRDF: give the SRDF with srdf:, or list " +
+                             std::to_string(model.variable_count()) + " joint values");
+      }
       return;
     }
-    for (const std::string& name : *states) {
+    bool failed = false;
+    for (const YAML::Node& entry : entries) {
+      const std::string name = entry.Scalar();
       const SrdfGroupState* state = srdf->find_group_state(name);
       if (!state) {
         std::string known;
         for (const std::string& n : srdf->group_state_names()) known += (known.empty() ? "" : ", ") + n;
-        yaml.error(home, "the SRDF " + srdf->file.string() + " has no group state '" + name + "'" +
-                             did_you_mean(name, srdf->group_state_names()) + "; its group states: " + (known.empty() ? "none" : known));
+        yaml.error(entry, "the SRDF " + srdf->file.string() + " has no group state '" + name + "'" +
+                              did_you_mean(name, srdf->group_state_names()) + "; its group states: " + (known.empty() ? "none" : known));
         failed = true;
         continue;
       }
@@ -191,7 +200,7 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
   }
   if (base_name) robot.base_link = link(base, *base_name);
   if (tip_name) robot.tip_link = link(tip, *tip_name);
-  if (group.IsDefined()) chain_from_group(yaml, group, srdf, model, robot);
+  if (group.IsDefined()) chain_from_group(yaml, group, srdf, top.has("srdf"), model, robot);
 
   if (top.has("disabled_collisions")) {
     const YAML::Node pairs = top.optional("disabled_collisions");
@@ -211,7 +220,7 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
     for (const DisabledPair& p : srdf->disabled_collisions) robot.disabled_collisions.emplace_back(p.first, p.second);
   }
   robot.home = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.variable_count()));
-  if (top.has("home")) read_home(yaml, top.optional("home"), srdf, model, robot.home);
+  if (top.has("home")) read_home(yaml, top.optional("home"), srdf, top.has("srdf"), model, robot.home);
   diagnostics.throw_if_any();
 
   try {

@@ -49,7 +49,7 @@ Srdf load_srdf(const fs::path& file, const robot::RobotModel& model) {
     throw InputError(root ? at(file, *root) : SourceLocation{file.string(), 0, 0}, "an SRDF's root element must be <robot>");
   }
   Diagnostics errors;
-  // An attribute every element of its kind needs.
+  // An attribute every disable_collisions needs.
   const auto required = [&](const TiXmlElement& e, const char* attribute) -> std::string {
     if (const char* value = e.Attribute(attribute)) return value;
     errors.error(at(file, e), "<" + e.ValueStr() + "> needs a " + attribute + " attribute");
@@ -69,38 +69,38 @@ Srdf load_srdf(const fs::path& file, const robot::RobotModel& model) {
     DisabledPair p{link("link1"), link("link2"), e->Attribute("reason") ? e->Attribute("reason") : ""};
     if (p.first >= 0 && p.second >= 0 && p.first != p.second) out.disabled_collisions.push_back(std::move(p));
   }
+  // Groups, states and end effectors are checked when used: here only what they say.
+  const auto attribute = [](const TiXmlElement& e, const char* name) { return std::string(e.Attribute(name) ? e.Attribute(name) : ""); };
   for (const TiXmlElement* e = root->FirstChildElement("group"); e; e = e->NextSiblingElement("group")) {
-    SrdfGroup group{required(*e, "name"), at(file, *e), {}, {}, {}, {}};
+    SrdfGroup group{attribute(*e, "name"), at(file, *e), {}, {}, {}, {}};
+    if (group.name.empty()) continue;
     for (const TiXmlElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
-      if (c->ValueStr() == "chain") group.chains.emplace_back(required(*c, "base_link"), required(*c, "tip_link"));
-      else if (c->ValueStr() == "joint") group.joints.push_back(required(*c, "name"));
-      else if (c->ValueStr() == "link") group.links.push_back(required(*c, "name"));
-      else if (c->ValueStr() == "group") group.subgroups.push_back(required(*c, "name"));
+      if (c->ValueStr() == "chain") group.chains.emplace_back(attribute(*c, "base_link"), attribute(*c, "tip_link"));
+      else if (c->ValueStr() == "joint") group.joints.push_back(attribute(*c, "name"));
+      else if (c->ValueStr() == "link") group.links.push_back(attribute(*c, "name"));
+      else if (c->ValueStr() == "group") group.subgroups.push_back(attribute(*c, "name"));
     }
     out.groups.push_back(std::move(group));
   }
   for (const TiXmlElement* e = root->FirstChildElement("group_state"); e; e = e->NextSiblingElement("group_state")) {
-    SrdfGroupState state{required(*e, "name"), required(*e, "group"), at(file, *e), {}};
+    SrdfGroupState state{attribute(*e, "name"), attribute(*e, "group"), at(file, *e), {}};
+    if (state.name.empty()) continue;
     for (const TiXmlElement* j = e->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
-      const std::string name = required(*j, "name"), value = required(*j, "value");
-      if (value.empty()) continue;
+      SrdfGroupState::Value v{attribute(*j, "name"), attribute(*j, "value"), std::nullopt, at(file, *j)};
       // One number: MoveIt writes several only for planar and floating joints.
       char* end = nullptr;
-      const double number = std::strtod(value.c_str(), &end);
+      const double number = std::strtod(v.text.c_str(), &end);
       const char* rest = end;
       while (*rest == ' ' || *rest == '\t' || *rest == '\n') ++rest;
-      if (end == value.c_str() || *rest != '\0' || !std::isfinite(number)) {
-        errors.error(at(file, *j), "<joint name='" + name + "'> of group state '" + state.name + "' has value '" + value +
-                                       "', which is not one finite number");
-        continue;
-      }
-      state.values.push_back({name, number, at(file, *j)});
+      if (end != v.text.c_str() && *rest == '\0' && std::isfinite(number)) v.value = number;
+      state.values.push_back(std::move(v));
     }
     out.group_states.push_back(std::move(state));
   }
   for (const TiXmlElement* e = root->FirstChildElement("end_effector"); e; e = e->NextSiblingElement("end_effector")) {
-    out.end_effectors.push_back({required(*e, "name"), required(*e, "group"), required(*e, "parent_link"),
-                                 e->Attribute("parent_group") ? e->Attribute("parent_group") : "", at(file, *e)});
+    SrdfEndEffector effector{attribute(*e, "name"), attribute(*e, "group"), attribute(*e, "parent_link"), attribute(*e, "parent_group"),
+                             at(file, *e)};
+    if (!effector.name.empty()) out.end_effectors.push_back(std::move(effector));
   }
   errors.throw_if_any();
   return out;
@@ -138,17 +138,25 @@ std::vector<std::string> Srdf::group_state_names() const {
 
 namespace {
 
-// The joints of `group` and of its subgroups (each group once: MoveIt refuses cycles,
-// and so do we by not following a group twice).
-void collect_joints(const Srdf& srdf, const SrdfGroup& group, std::vector<const SrdfGroup*>& seen,
-                    std::vector<std::string>& joints, std::size_t& chains, std::size_t& links) {
-  if (std::find(seen.begin(), seen.end(), &group) != seen.end()) return;
-  seen.push_back(&group);
-  joints.insert(joints.end(), group.joints.begin(), group.joints.end());
-  chains += group.chains.size();
-  links += group.links.size();
+// What `group` and its subgroups name, each group once (MoveIt refuses cycles; we do
+// not follow a group twice).
+struct Members {
+  std::vector<const SrdfGroup*> seen;
+  std::vector<std::pair<std::string, std::string>> chains;
+  std::vector<std::string> joints;
+  std::size_t links = 0;
+};
+
+void collect(const Srdf& srdf, const SrdfGroup& group, const std::string& about, Members& out) {
+  if (std::find(out.seen.begin(), out.seen.end(), &group) != out.seen.end()) return;
+  out.seen.push_back(&group);
+  out.chains.insert(out.chains.end(), group.chains.begin(), group.chains.end());
+  out.joints.insert(out.joints.end(), group.joints.begin(), group.joints.end());
+  out.links += group.links.size();
   for (const std::string& name : group.subgroups) {
-    if (const SrdfGroup* sub = srdf.find_group(name)) collect_joints(srdf, *sub, seen, joints, chains, links);
+    const SrdfGroup* sub = srdf.find_group(name);
+    if (!sub) throw InputError(group.where, about + " includes group '" + name + "', which the SRDF does not define");
+    collect(srdf, *sub, about, out);
   }
 }
 
@@ -156,60 +164,59 @@ void collect_joints(const Srdf& srdf, const SrdfGroup& group, std::vector<const 
 
 std::pair<robot::LinkIndex, robot::LinkIndex> srdf_chain(const Srdf& srdf, const SrdfGroup& group, const robot::RobotModel& model) {
   const std::string about = "group '" + group.name + "' of " + srdf.file.string();
+  const auto fail = [&](const std::string& message) { return InputError(group.where, about + message); };
+  const auto no_chain = [&](const std::string& why) {
+    return fail(" is no single serial chain (" + why + "); name base_link and tip_link instead");
+  };
+  Members members;
+  collect(srdf, group, about, members);
   const auto link = [&](const std::string& name) {
     if (const auto index = model.find_link(name)) return *index;
-    throw InputError(group.where, about + " names link '" + name + "', which the URDF (robot '" + model.name() + "') does not have");
+    throw fail(" names link '" + name + "', which the URDF (robot '" + model.name() + "') does not have");
   };
-  if (group.chains.size() == 1 && group.joints.empty() && group.subgroups.empty()) {
-    const robot::LinkIndex base = link(group.chains[0].first), tip = link(group.chains[0].second);
-    for (robot::LinkIndex l = tip; l != base; l = model.joints()[static_cast<std::size_t>(model.links()[static_cast<std::size_t>(l)].parent_joint)].parent) {
-      if (model.links()[static_cast<std::size_t>(l)].parent_joint < 0) {
-        throw InputError(group.where, about + ": tip link '" + group.chains[0].second + "' does not hang below base link '" +
-                                          group.chains[0].first + "'");
-      }
+  const auto joint = [&](robot::JointIndex j) -> const robot::Joint& { return model.joints()[static_cast<std::size_t>(j)]; };
+  const auto parent_joint = [&](robot::LinkIndex l) { return model.links()[static_cast<std::size_t>(l)].parent_joint; };
+  if (members.chains.size() > 1) throw no_chain(std::to_string(members.chains.size()) + " chains");
+  if (members.chains.size() == 1) {
+    if (!members.joints.empty()) throw no_chain("a chain and joints");
+    const auto& [base_name, tip_name] = members.chains[0];
+    if (base_name.empty() || tip_name.empty()) throw fail(": its <chain> needs both base_link and tip_link");
+    const robot::LinkIndex base = link(base_name), tip = link(tip_name);
+    if (base == tip) throw fail(": its chain from '" + base_name + "' to itself is empty");
+    for (robot::LinkIndex l = tip; l != base; l = joint(parent_joint(l)).parent) {
+      if (parent_joint(l) < 0) throw fail(": tip link '" + tip_name + "' does not hang below base link '" + base_name + "'");
     }
     return {base, tip};
   }
-  for (const std::string& name : group.subgroups) {
-    if (!srdf.find_group(name)) throw InputError(group.where, about + " includes group '" + name + "', which the SRDF does not define");
-  }
-  std::vector<const SrdfGroup*> seen;
-  std::vector<std::string> names;
-  std::size_t chains = 0, links = 0;
-  collect_joints(srdf, group, seen, names, chains, links);
-  const auto no_chain = [&](const std::string& why) {
-    return InputError(group.where, about + " is no single serial chain (" + why + "); name base_link and tip_link instead");
-  };
-  if (chains > 0) throw no_chain(std::to_string(chains) + " <chain> elements beside other elements");
-  if (names.empty()) throw no_chain(links > 0 ? "it lists links only" : "it lists no joints");
+  if (members.joints.empty()) throw no_chain(members.links > 0 ? "it lists links only" : "it lists no joints");
   std::vector<robot::JointIndex> joints;
-  for (const std::string& name : names) {
+  for (const std::string& name : members.joints) {
     const auto index = model.find_joint(name);
-    if (!index) throw InputError(group.where, about + " names joint '" + name + "', which the URDF (robot '" + model.name() + "') does not have");
+    if (!index) throw fail(" names joint '" + name + "', which the URDF (robot '" + model.name() + "') does not have");
     if (std::find(joints.begin(), joints.end(), *index) == joints.end()) joints.push_back(*index);
   }
-  // Serial: every joint's parent link is the child link of exactly one other, but one's.
-  const auto joint = [&](robot::JointIndex j) -> const robot::Joint& { return model.joints()[static_cast<std::size_t>(j)]; };
-  const robot::Joint* first = nullptr;
+  // The lowest joint (farthest from the root) ends the chain, the highest starts it;
+  // every joint named must lie on the path between them.
+  const auto depth = [&](robot::JointIndex j) {
+    std::size_t d = 0;
+    for (robot::LinkIndex l = joint(j).parent; parent_joint(l) >= 0; l = joint(parent_joint(l)).parent) ++d;
+    return d;
+  };
+  const auto by_depth = [&](robot::JointIndex a, robot::JointIndex b) { return depth(a) < depth(b); };
+  const robot::JointIndex top = *std::min_element(joints.begin(), joints.end(), by_depth);
+  const robot::JointIndex bottom = *std::max_element(joints.begin(), joints.end(), by_depth);
+  std::vector<robot::JointIndex> path;  // from bottom up to top
+  for (robot::JointIndex j = bottom;; j = parent_joint(joint(j).parent)) {
+    path.push_back(j);
+    if (j == top || parent_joint(joint(j).parent) < 0) break;
+  }
+  if (path.back() != top) throw no_chain("joints '" + joint(top).name + "' and '" + joint(bottom).name + "' lie on two branches");
   for (robot::JointIndex j : joints) {
-    const bool below_another = std::any_of(joints.begin(), joints.end(), [&](robot::JointIndex k) { return joint(k).child == joint(j).parent; });
-    if (below_another) continue;
-    if (first) throw no_chain("joints '" + first->name + "' and '" + joint(j).name + "' both start it");
-    first = &joint(j);
-  }
-  if (!first) throw no_chain("its joints form a loop");
-  const robot::Joint* last = first;
-  for (std::size_t taken = 1; taken < joints.size(); ++taken) {
-    const robot::Joint* next = nullptr;
-    for (robot::JointIndex k : joints) {
-      if (joint(k).parent != last->child) continue;
-      if (next) throw no_chain("it branches below joint '" + last->name + "'");
-      next = &joint(k);
+    if (std::find(path.begin(), path.end(), j) == path.end()) {
+      throw no_chain("joint '" + joint(j).name + "' is off the chain from joint '" + joint(top).name + "' to joint '" + joint(bottom).name + "'");
     }
-    if (!next) throw no_chain("its joints are not connected");
-    last = next;
   }
-  return {first->parent, last->child};
+  return {joint(top).parent, joint(bottom).child};
 }
 
 void apply_group_state(const Srdf& srdf, const SrdfGroupState& state, const robot::RobotModel& model, Eigen::VectorXd& q) {
@@ -230,7 +237,12 @@ void apply_group_state(const Srdf& srdf, const SrdfGroupState& state, const robo
       errors.error(v.where, "group state '" + state.name + "' sets joint '" + v.joint + "', which is fixed");
       continue;
     }
-    q[j.variable] = v.value;
+    if (!v.value) {
+      errors.error(v.where, "group state '" + state.name + "' gives joint '" + v.joint + "' the value '" + v.text +
+                                "', which is not one finite number");
+      continue;
+    }
+    q[j.variable] = *v.value;
   }
   errors.throw_if_any();
 }

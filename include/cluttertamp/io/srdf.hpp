@@ -37,7 +37,8 @@ struct SrdfGroup {
 struct SrdfGroupState {
   struct Value {
     std::string joint;
-    double value = 0.0;  ///< rad or m
+    std::string text;             ///< the value attribute as written
+    std::optional<double> value;  ///< rad or m; none when `text` is not one finite number
     SourceLocation where;
   };
   std::string name;
@@ -55,8 +56,10 @@ struct SrdfEndEffector {
   SourceLocation where;
 };
 
-/// What an SRDF file says. Only the disable_collisions pairs are checked against the
-/// model while reading; a group or group state is checked when it is used.
+/// What an SRDF file says. Only the disable_collisions pairs are checked while reading;
+/// a group or group state is checked when it is used (an SRDF often describes more of a
+/// robot than one URDF has, and joints no single number sets). Elements without a name
+/// are left out.
 struct Srdf {
   std::filesystem::path file;
   std::vector<DisabledPair> disabled_collisions;
@@ -72,10 +75,8 @@ struct Srdf {
 
 /// Reads an SRDF file; the disable_collisions links are looked up in `model`. Throws
 /// InputError at the element's line and column for malformed XML, a root that is not
-/// <robot>, a missing attribute (disable_collisions link1/link2, a group's or group
-/// state's name, a chain's base_link/tip_link, a joint's value), a value that is not a
-/// number, or a disable_collisions link the model does not have; every such error of
-/// the file is reported at once.
+/// <robot>, a disable_collisions without link1 or link2, or with a link the model does
+/// not have; every such error of the file is reported at once.
 CLUTTERTAMP_API Srdf load_srdf(const std::filesystem::path& file, const robot::RobotModel& model);
 
 /// The disable_collisions pairs of an SRDF file (load_srdf's, the rest unused).
@@ -83,19 +84,21 @@ CLUTTERTAMP_API std::vector<DisabledPair> load_srdf_disabled_collisions(const st
                                                                         const robot::RobotModel& model);
 
 /// The serial chain group `group` of `srdf` moves in `model`, as (base link, tip link):
-/// its one <chain>, or else the chain its <joint>s (with those of its subgroups) form,
-/// from the first joint's parent link to the last one's child link. Throws InputError
-/// at the group's line for a link or joint `model` does not have, a chain that is not
-/// one (no path from base to tip), or a group that is no single serial chain (several
-/// chains, branching or disconnected joints, links only).
+/// the one <chain> of the group and its subgroups, or else the chain their <joint>s lie
+/// on, from the highest joint's parent link to the lowest one's child link (joints left
+/// out between them, fixed ones, are on it too). Throws InputError at the group's line
+/// for a subgroup the SRDF does not define, a link or joint `model` does not have, a
+/// chain without base_link or tip_link, with its tip not below its base or empty, or a
+/// group that is no single serial chain (several chains, chains and joints, joints on
+/// two branches, links only).
 CLUTTERTAMP_API std::pair<robot::LinkIndex, robot::LinkIndex> srdf_chain(const Srdf& srdf, const SrdfGroup& group,
                                                                          const robot::RobotModel& model);
 
 /// `q` with the values of group state `state` set: one configuration value per named
 /// joint; a joint that mimics another is skipped (it follows). Throws InputError at the
-/// value's line for a joint `model` does not have or a fixed joint, and at the state's
-/// line for a group `srdf` does not have; every such error at once. Joint limits are the
-/// caller's to check.
+/// value's line for a joint `model` does not have, a fixed joint, or a value that is not
+/// one finite number, and at the state's line for a group `srdf` does not have; every
+/// such error at once. Joint limits are the caller's to check.
 CLUTTERTAMP_API void apply_group_state(const Srdf& srdf, const SrdfGroupState& state, const robot::RobotModel& model,
                                        Eigen::VectorXd& q);
 

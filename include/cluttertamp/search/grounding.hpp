@@ -24,8 +24,9 @@ struct GroundingStats {
 /// (never the cross product of all objects). Static facts are folded away, quantifiers
 /// expanded over the objects of their types, preconditions and goals put in
 /// disjunctive normal form (a disjunctive precondition splits an operator). Operators
-/// come in name order (by action name, then by the names of its objects), as Fast
-/// Downward's translator sorts them; the operators of one split action stay together.
+/// come by action name, then by the names of their objects: the order of their names
+/// in which Fast Downward's translator sorts them, for names of letters, digits, '-' and
+/// '_'. The operators of one split action stay together.
 /// Throws InputError (located) for a cost function without a value when costs count or
 /// derived predicates that are not stratified; TooLarge for a formula whose normal form
 /// exceeds 10000 disjuncts; TimeLimit when grounding takes longer than `time_limit`
