@@ -544,6 +544,15 @@ TEST_F(SrdfFiles, GroupAndGroupStateErrorsAreLocated) {
   });
   EXPECT_TRUE(test::has_error(d, 23, 5, "group state 'ready' gives joint 'panda_joint7' the value '0.785rad', which is not one finite number"))
       << d.str();
+  // A chain whose tip is not below its base.
+  bad = kPandaSrdf;
+  bad.replace(bad.find(R"(<chain base_link="panda_link0" tip_link="panda_hand_tcp"/>)"),
+              std::string(R"(<chain base_link="panda_link0" tip_link="panda_hand_tcp"/>)").size(),
+              R"(<chain base_link="panda_hand" tip_link="panda_link3"/>)");
+  std::ofstream(dir_ / "up.srdf") << bad;
+  const Srdf up = load_srdf(dir_ / "up.srdf", *panda_->model());
+  d = test::expect_input_error([&] { srdf_chain(up, *up.find_group("panda_manipulator"), *panda_->model()); });
+  EXPECT_TRUE(test::has_error(d, 7, 3, "tip link 'panda_link3' does not hang below base link 'panda_hand'")) << d.str();
   // Values and names mixed.
   d = test::expect_input_error([&] {
     load_robot_description(panda_variant(dir_, "m", kPandaSrdf, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: m.srdf"}, {home_line(), "home: [ready, 0.04]"}}));

@@ -43,6 +43,20 @@ UrdfOptions urdf_options(const YamlFile& yaml, const MapReader& top) {
   return options;
 }
 
+// The errors of an SRDF check, reported with the description's own.
+void report(const YamlFile& yaml, const InputError& e) {
+  for (const Diagnostic& d : e.diagnostics().items()) yaml.error(d.location, d.message);
+}
+
+// "the SRDF F has no group 'x' (did you mean ...); its groups: a, b".
+void no_such(const YamlFile& yaml, const YAML::Node& node, const Srdf& srdf, const std::string& what, const std::string& plural,
+             const std::string& name, const std::vector<std::string>& known) {
+  std::string list;
+  for (const std::string& n : known) list += (list.empty() ? "" : ", ") + n;
+  yaml.error(node, "the SRDF " + srdf.file.string() + " has no " + what + " '" + name + "'" + did_you_mean(name, known) + "; its " +
+                       plural + ": " + (list.empty() ? "none" : list));
+}
+
 // group: the chain of an SRDF planning group, for base_link and tip_link not given.
 void chain_from_group(const YamlFile& yaml, const YAML::Node& node, const std::optional<Srdf>& srdf, bool srdf_given,
                       const RobotModel& model, RobotDescription::Parts& robot) {
@@ -54,10 +68,7 @@ void chain_from_group(const YamlFile& yaml, const YAML::Node& node, const std::o
   }
   const SrdfGroup* g = srdf->find_group(*name);
   if (!g) {
-    std::string names;
-    for (const std::string& n : srdf->group_names()) names += (names.empty() ? "" : ", ") + n;
-    yaml.error(node, "the SRDF " + srdf->file.string() + " has no group '" + *name + "'" +
-                         did_you_mean(*name, srdf->group_names()) + "; its groups: " + (names.empty() ? "none" : names));
+    no_such(yaml, node, *srdf, "group", "groups", *name, srdf->group_names());
     return;
   }
   if (robot.base_link >= 0 && robot.tip_link >= 0) return;  // both named: the group's chain is not used
@@ -66,7 +77,7 @@ void chain_from_group(const YamlFile& yaml, const YAML::Node& node, const std::o
     if (robot.base_link < 0) robot.base_link = base;
     if (robot.tip_link < 0) robot.tip_link = tip;
   } catch (const InputError& e) {
-    for (const Diagnostic& d : e.diagnostics().items()) yaml.error(d.location, d.message);
+    report(yaml, e);
   }
 }
 
@@ -101,17 +112,14 @@ void read_home(const YamlFile& yaml, const YAML::Node& home, const std::optional
       const std::string name = entry.Scalar();
       const SrdfGroupState* state = srdf->find_group_state(name);
       if (!state) {
-        std::string known;
-        for (const std::string& n : srdf->group_state_names()) known += (known.empty() ? "" : ", ") + n;
-        yaml.error(entry, "the SRDF " + srdf->file.string() + " has no group state '" + name + "'" +
-                              did_you_mean(name, srdf->group_state_names()) + "; its group states: " + (known.empty() ? "none" : known));
+        no_such(yaml, entry, *srdf, "group state", "group states", name, srdf->group_state_names());
         failed = true;
         continue;
       }
       try {
         apply_group_state(*srdf, *state, model, q);
       } catch (const InputError& e) {
-        for (const Diagnostic& d : e.diagnostics().items()) yaml.error(d.location, d.message);
+        report(yaml, e);
         failed = true;
       }
     }

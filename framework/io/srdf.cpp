@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include <tinyxml.h>
 
@@ -183,8 +184,10 @@ std::pair<robot::LinkIndex, robot::LinkIndex> srdf_chain(const Srdf& srdf, const
     if (base_name.empty() || tip_name.empty()) throw fail(": its <chain> needs both base_link and tip_link");
     const robot::LinkIndex base = link(base_name), tip = link(tip_name);
     if (base == tip) throw fail(": its chain from '" + base_name + "' to itself is empty");
-    for (robot::LinkIndex l = tip; l != base; l = joint(parent_joint(l)).parent) {
-      if (parent_joint(l) < 0) throw fail(": tip link '" + tip_name + "' does not hang below base link '" + base_name + "'");
+    try {
+      model.chain(base, tip);
+    } catch (const std::invalid_argument&) {
+      throw fail(": tip link '" + tip_name + "' does not hang below base link '" + base_name + "'");
     }
     return {base, tip};
   }

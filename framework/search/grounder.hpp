@@ -190,6 +190,8 @@ class __attribute__((visibility("hidden"))) Grounder {
     return found >= 0 ? found : atom_id(a.predicate, ground_args(a, binding));
   }
   std::vector<int> ground_args(const CAtom& a, const std::vector<int>& binding) const;
+  /// The object a term stands for under `binding`.
+  static int object_of(const CTerm& t, const std::vector<int>& binding) { return t.variable ? binding[t.value] : t.value; }
 
   // -- compilation
   CTerm term(const pddl::Term& t, const std::map<std::string, int>& scope) const;
@@ -284,7 +286,7 @@ class __attribute__((visibility("hidden"))) Grounder {
     key_scratch_.resize(a.args.size() + 1);
     key_scratch_[0] = a.predicate;
     for (std::size_t i = 0; i < a.args.size(); ++i) {
-      key_scratch_[i + 1] = a.args[i].variable ? binding[a.args[i].value] : a.args[i].value;
+      key_scratch_[i + 1] = object_of(a.args[i], binding);
     }
     const auto it = atom_ids_.find(key_scratch_);
     return it == atom_ids_.end() ? -1 : it->second;
@@ -362,7 +364,7 @@ inline int Grounder::atom_id(int predicate, const std::vector<int>& args) {
 
 inline std::vector<int> Grounder::ground_args(const CAtom& a, const std::vector<int>& binding) const {
   std::vector<int> args(a.args.size());
-  for (std::size_t i = 0; i < a.args.size(); ++i) args[i] = a.args[i].variable ? binding[a.args[i].value] : a.args[i].value;
+  for (std::size_t i = 0; i < a.args.size(); ++i) args[i] = object_of(a.args[i], binding);
   return args;
 }
 

@@ -35,13 +35,12 @@ Grounder::Dnf Grounder::conjoin(const Dnf& a, const Dnf& b) {
 Grounder::Known Grounder::literal(const CAtom& a, std::vector<int>& b, bool negated, Lit& out) const {
   bool value = false;
   if (a.predicate < 0) {
-    const auto value_of = [&](const CTerm& t) { return t.variable ? b[t.value] : t.value; };
-    value = value_of(a.args[0]) == value_of(a.args[1]);
+    value = object_of(a.args[0], b) == object_of(a.args[1], b);
   } else {
     int found = find_ground(a, b);
     if (rec_ && rec_->reusable) {
       // An atom not interned yet may be reached later: interned, its state is noted.
-      if (found < 0) found = const_cast<Grounder&>(*this).atom_id(a.predicate, ground_args(a, b));
+      if (found < 0) found = const_cast<Grounder&>(*this).intern(a, b);
       note_atom(found);
     }
     if (found >= 0 && reached_[found]) {
