@@ -408,6 +408,15 @@ TEST_F(BenchSweep, TimingBenchesShardAndMerge) {
   EXPECT_EQ(collision["ik_reachable"]["poses"], 1000);
   const auto physics = nlohmann::json::parse(test::read_text(at("physics.json")));
   EXPECT_EQ(physics["pushes"], 50);
+  EXPECT_EQ(physics["pusher"], "gripper");
+  // With the arm on its base, in a pushing shelf: its pushes touch objects too.
+  ASSERT_EQ(run_cli("bench physics -q --pusher arm --json " + at("arm.json")).exit_code, 0);
+  const auto arm = nlohmann::json::parse(test::read_text(at("arm.json")));
+  EXPECT_EQ(arm["pusher"], "arm");
+  EXPECT_EQ(arm["pushes"], 50);
+  EXPECT_GT(arm["touching"].get<int>(), 0);
+  EXPECT_EQ(arm["goal"], 10.0);
+  EXPECT_EQ(run_cli("bench physics --pusher hand").exit_code, 2);
   // Records timed elsewhere merge too, and the report says whose speeds it mixes.
   std::string shard = test::read_text(at("physics1.jsonl"));
   for (std::size_t host = shard.find("\"host\":\""); host != std::string::npos; host = shard.find("\"host\":\"", host + 1)) {

@@ -1372,25 +1372,52 @@ TEST_F(Cli, PushPlansReachTheTargetWhenTheirControlsAreReplayed) {
 
 // bench push reaches within the tolerances it is given, for every planner, and says
 // which; a tolerance that is not positive is bad input. One easy scene, one seed, 3 s.
-TEST_F(Cli, BenchPushTakesTheReachTolerancesItIsGiven) {
+// bench push plans each problem with its own planner parameters (here a work budget of
+// one propagation), and the bench's options override them for every run.
+TEST_F(Cli, BenchPushTakesEachProblemsParametersAndItsOwnOverrides) {
   const fs::path scenes = dir_ / "push";
   fs::create_directories(scenes);
-  bundled_copy(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/easy.yaml", "push/p01.yaml", {});
+  bundled_copy(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/easy.yaml", "push/p01.yaml",
+               {{"max_propagations: 20000", "max_propagations: 1"}});
+  const fs::path csv = dir_ / "push.csv";
+  const CliRun own = run("bench push -q --runs 1 --time-limit 30 --push-scenes " + scenes.string() + " --csv " + csv.string());
+  EXPECT_EQ(own.exit_code, 0) << own.output;
+  const auto unwrapped = [](std::string text) {
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    return text;
+  };
+  EXPECT_NE(unwrapped(own.output).find("each problem's planner parameters as written"), std::string::npos) << own.output;
+  std::string rows = test::read_text(csv);
+  for (const char* planner : {",rrt,", ",kpiece,"}) {
+    const std::size_t row = rows.find(planner);
+    ASSERT_NE(row, std::string::npos) << rows;
+    EXPECT_NE(rows.substr(row, rows.find('\n', row) - row).find("propagation budget (1) used up"), std::string::npos) << rows;
+  }
+
   const fs::path json_file = dir_ / "push.json";
-  const CliRun r = run("bench push -q --runs 1 --time-limit 3 --goal-distance 0.02 --goal-heading 0.4 --steer 0.25 "
-                       "--push-scenes " + scenes.string() + " --json " + json_file.string());
+  const CliRun r = run("bench push -q --runs 1 --time-limit 30 --goal-distance 0.02 --goal-heading 0.4 --steer 0.25 "
+                       "--param max_propagations=2 --push-scenes " + scenes.string() + " --json " + json_file.string() +
+                       " --csv " + csv.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("reached within 0.020 m and 0.40 rad, steering 0.25"), std::string::npos) << r.output;
+  EXPECT_NE(unwrapped(r.output).find("with goal_distance = 0.02, goal_heading = 0.4, max_propagations = 2, steer = 0.25 for every run"),
+            std::string::npos) << r.output;
+  rows = test::read_text(csv);
+  EXPECT_NE(rows.find(",rrt,"), std::string::npos) << rows;
+  EXPECT_NE(rows.find("propagation budget (2) used up"), std::string::npos) << rows;
+  EXPECT_EQ(rows.find("propagation budget (1) used up"), std::string::npos) << rows;
   const auto json = nlohmann::json::parse(test::read_text(json_file));
-  EXPECT_DOUBLE_EQ(json["goal_distance_m"].get<double>(), 0.02);
-  EXPECT_DOUBLE_EQ(json["goal_heading_rad"].get<double>(), 0.4);
-  EXPECT_DOUBLE_EQ(json["steer"].get<double>(), 0.25);
+  EXPECT_EQ(json["overrides"]["goal_distance"], "0.02") << json.dump();
+  EXPECT_EQ(json["overrides"]["max_propagations"], "2") << json.dump();
   EXPECT_TRUE(json["goal_p_values"].contains("rrt") && json["goal_p_values"].contains("kpiece")) << json.dump();
   EXPECT_NE(r.output.find("Fisher's exact p "), std::string::npos) << r.output;
   EXPECT_EQ(json["planners"].size(), 3u);
   EXPECT_EQ(run("bench push --goal-distance 0 --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --goal-heading -1 --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --steer 1.5 --push-scenes " + scenes.string()).exit_code, 2);
+  EXPECT_EQ(run("bench push --param max_propagations --push-scenes " + scenes.string()).exit_code, 2);
+  const CliRun unknown = run("bench push --runs 1 --param max_propagation=3 --push-scenes " + scenes.string());
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
+  EXPECT_NE(unknown.output.find("max_propagation"), std::string::npos) << unknown.output;
 }
 
 // plan --repeat plans again and finds the same result; --expect finds where an earlier

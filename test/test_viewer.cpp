@@ -59,7 +59,8 @@ TEST_F(ViewerTest, ReplayMovesPushedAndHeldObjectsToWhereThePlanLeavesThem) {
   // The pusher drawn as the physics' gripper: the palm, then a finger either side ahead.
   const physics::PushSettings gripper;
   ASSERT_EQ(replay["pusher"]["parts"].size(), 3u);
-  EXPECT_EQ(replay["pusher"]["parts"][0]["offset"], Json::array({0.0, 0.0}));
+  EXPECT_EQ(replay["pusher"]["parts"][0]["offset"], Json::array({0.0, 0.0, 0.0}));
+  EXPECT_EQ(replay["pusher"]["parts"][0]["rotation"], Json::array({0.0, 0.0, 0.0, 1.0}));
   for (const int k : {1, 2}) {
     const Json& finger = replay["pusher"]["parts"][k];
     EXPECT_DOUBLE_EQ(finger["offset"][0].get<double>(), gripper.gripper_size.x() / 2 + gripper.finger_length / 2);
@@ -189,9 +190,10 @@ TEST_F(ViewerTest, APushWithoutObjectPathsMovesItsObjectsToTheirEndPosesAndSaysS
   EXPECT_NEAR(o3.y(), pushed[1], 1e-5);
 }
 
-// The pusher is drawn from what the result recorded (its boxes and height), not from
-// the physics' settings: a result that records other boxes gets other parts, at the
-// recorded height; one that records none is replayed without a pusher, and says so.
+// The pusher is drawn from what the result recorded (its parts, or an older result's
+// boxes, and its height), not from the physics' settings: a result that records other
+// parts gets other parts, at the recorded height; one that records none is replayed
+// without a pusher, and says so.
 TEST_F(ViewerTest, ThePusherIsDrawnFromTheResultAlone) {
   const Problem problem = io::load_problem(kProblems / "push/retrieve-push.yaml");
   const run::RunOutcome run = run::plan(problem, registry_, {});
@@ -199,12 +201,24 @@ TEST_F(ViewerTest, ThePusherIsDrawnFromTheResultAlone) {
   Json result = Json::parse(io::result_to_json(problem, run.result, run.info));
   Json& values = result["plan"][0]["values"];
   ASSERT_EQ(values["pusher_boxes"].size(), 15u);  // palm and two fingers, 5 numbers each
+  ASSERT_EQ(values["pusher_parts"].size(), 33u);  // the same, 11 numbers each
   ASSERT_EQ(values["pusher_z"].size(), 1u);
-  values["pusher_boxes"] = Json::array({0.1, 0.2, 0.05, 0.01, 0.0});  // one box, off centre
+  // A cylinder standing 2 cm up, turned a quarter about x.
+  values["pusher_parts"] = Json::array({1, 0.03, 0.2, 0, 0.01, 0.0, 0.02, std::sqrt(0.5), 0, 0, std::sqrt(0.5)});
   values["pusher_z"] = Json::array({0.5});
+  const Json turned = Json::parse(viewer::replay_json(problem, {result.dump(), "", "edited.json"}));
+  ASSERT_EQ(turned["pusher"]["parts"].size(), 1u);
+  EXPECT_EQ(turned["pusher"]["parts"][0]["offset"], Json::array({0.01, 0.0, 0.02}));
+  EXPECT_TRUE(turned["pusher"]["parts"][0]["shape"].contains("cylinder")) << turned["pusher"]["parts"][0];
+  EXPECT_NEAR(turned["pusher"]["parts"][0]["rotation"][0].get<double>(), std::sqrt(0.5), 1e-12);
+  values["pusher_parts"] = Json::array({1, 0.03});  // not eleven numbers per part
+  EXPECT_THROW(viewer::replay_json(problem, {result.dump(), "", "bad.json"}), InputError);
+
+  values.erase("pusher_parts");  // an older result: boxes only
+  values["pusher_boxes"] = Json::array({0.1, 0.2, 0.05, 0.01, 0.0});  // one box, off centre
   const Json replay = Json::parse(viewer::replay_json(problem, {result.dump(), "", "edited.json"}));
   ASSERT_EQ(replay["pusher"]["parts"].size(), 1u);
-  EXPECT_EQ(replay["pusher"]["parts"][0]["offset"], Json::array({0.01, 0.0}));
+  EXPECT_EQ(replay["pusher"]["parts"][0]["offset"], Json::array({0.01, 0.0, 0.0}));
   int with_pusher = 0;
   for (const Json& f : replay["frames"]) {
     if (!f.contains("pusher")) continue;

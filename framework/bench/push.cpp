@@ -1,6 +1,8 @@
 // `cluttertamp bench push`: reaching through clutter on the bundled shelf scenes by
 // unguided RRT and KPIECE1 (rtc_ompl) and by guided planning (grtc with each scene's
 // guidance file), several seeds each, beside Papallas & Dogar's Fig. 6.
+#include <cmath>
+#include <cstdlib>
 #include <algorithm>
 #include <iomanip>
 #include <iostream>
@@ -46,30 +48,98 @@ struct Run {
   double seconds = 0, guidance_seconds = 0;
   std::uint64_t propagations = 0, guides = 0, guides_satisfied = 0, guides_skipped = 0;
   std::string reason;
+  std::string guidance;  // guided: where the guidance came from and each guide, as followed
 };
+
+// The guidance a guided run followed, as the records keep it: {source, guides: [{object,
+// centre, diameter, satisfied}]}; null for the others.
+nlohmann::ordered_json guidance_json(const Scene& scene, const Result& r) {
+  if (!r.guidance) return nullptr;
+  nlohmann::ordered_json guides = nlohmann::ordered_json::array();
+  for (const GuideRecord& g : r.guidance->guides) {
+    guides.push_back({{"object", scene.objects.at(g.object).id}, {"centre", {g.centre.x(), g.centre.y()}},
+                      {"diameter", g.diameter}, {"satisfied", g.satisfied}});
+  }
+  return {{"source", r.guidance->source}, {"guides", guides}};
+}
+
+// One line: "SOURCE: o3 to (0.850, 0.300) d 0.1 satisfied; ...".
+std::string guidance_text(const nlohmann::ordered_json& g) {
+  if (g.is_null()) return "";
+  std::string text = g.at("source").get<std::string>() + ":";
+  for (const auto& guide : g.at("guides")) {
+    text += " " + guide.at("object").get<std::string>() + " to (" + fixed(guide.at("centre")[0].get<double>(), 3) + ", " +
+            fixed(guide.at("centre")[1].get<double>(), 3) + ") d " + fixed(guide.at("diameter").get<double>(), 3) +
+            (guide.at("satisfied").get<bool>() ? " satisfied;" : " not satisfied;");
+  }
+  return text;
+}
 
 std::uint64_t counter(const Result& r, const std::string& name) {
   const auto it = r.counters.find(name);
   return it == r.counters.end() ? 0 : it->second;
 }
 
-// The problem a setting runs: the scene's problem with its planner (and, guided, the
-// push sampler and the scene's guidance file) replaced, reaching within the bench's
-// tolerances.
+// Keys grtc reads that rtc_ompl does not know: left out when a guided problem's
+// parameters configure the unguided planners.
+bool guided_only(const std::string& key) {
+  return key == "guidance" || key == "max_guides" || key == "guide_diameter" || key == "unsatisfied_guides";
+}
+
+// A value as written on the command line: true/false, a number, [a, b, ...] or text.
+ParameterValue parameter_value(const std::string& text) {
+  if (text == "true" || text == "false") return text == "true";
+  const auto number = [](const std::string& t) -> std::optional<double> {
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || end != t.c_str() + t.size()) return std::nullopt;
+    return v;
+  };
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']') {
+    std::vector<double> values;
+    std::stringstream items(text.substr(1, text.size() - 2));
+    for (std::string item; std::getline(items, item, ',');) {
+      item.erase(0, item.find_first_not_of(' '));
+      item.erase(item.find_last_not_of(' ') + 1);
+      const auto v = number(item);
+      if (!v) return text;
+      values.push_back(*v);
+    }
+    return values;
+  }
+  if (const auto v = number(text)) {
+    if (text.find_first_of(".eE") == std::string::npos && std::abs(*v) < 9e15) return static_cast<std::int64_t>(*v);
+    return *v;
+  }
+  return text;
+}
+
+// The problem a setting runs: the scene's problem with its own planner parameters (the
+// guided planner's keys left out of the unguided ones), the planner and its search
+// chosen by the setting, then the bench's overrides. Guided: grtc with the problem's
+// guidance, else the scene's guidance file, else generated, and the problem's push
+// sampler, else push_ompl.
 Problem configured(Problem problem, const std::string& setting, const fs::path& guidance, const BenchArgs& args) {
-  problem.planner.parameters = Parameters{};
-  problem.planner.parameters.set("goal_distance", args.goal_distance);
-  problem.planner.parameters.set("goal_heading", args.goal_heading);
-  problem.planner.parameters.set("steer", args.steer);
-  if (setting == "guided") {
+  const bool guided = setting == "guided";
+  Parameters parameters;
+  for (const std::string& key : problem.planner.parameters.keys()) {
+    if (!guided && guided_only(key)) continue;
+    parameters.set(key, *problem.planner.parameters.get(key));
+  }
+  parameters.set("planner", std::string(guided ? "rrt" : setting));
+  for (const auto& [key, value] : args.push_overrides) parameters.set(key, parameter_value(value), {"bench push --param", 0, 0});
+  if (guided) {
     problem.planner.name = "grtc";
-    problem.planner.parameters.set("guidance", fs::exists(guidance) ? guidance.string() : std::string("auto"));
-    problem.planner.parameters.set("planner", std::string("rrt"));
-    problem.samplers[plugin::KindOf<plugin::PushSampler>::name] = PluginChoice{"push_ompl", {}, {}};
+    if (!parameters.contains("guidance")) {
+      parameters.set("guidance", fs::exists(guidance) ? guidance.string() : std::string("auto"));
+    }
+    if (!problem.samplers.count(plugin::KindOf<plugin::PushSampler>::name)) {
+      problem.samplers[plugin::KindOf<plugin::PushSampler>::name] = PluginChoice{"push_ompl", {}, {}};
+    }
   } else {
     problem.planner.name = "rtc_ompl";
-    problem.planner.parameters.set("planner", setting);
   }
+  problem.planner.parameters = std::move(parameters);
   return problem;
 }
 
@@ -166,10 +236,11 @@ PushRef push_ref(std::size_t i, int runs) {
   return {i / per_file, (i % per_file) / static_cast<std::size_t>(runs), static_cast<int>(i % static_cast<std::size_t>(runs))};
 }
 
-Record record_of(const Run& run, const Result& r) {
+Record record_of(const Run& run, const Result& r, const Scene& scene) {
   return {{"problem", run.scene},     {"planner", run.setting},          {"seed", run.seed},
           {"solved", run.solved},     {"time_s", run.seconds},           {"guidance_time_s", run.guidance_seconds},
-          {"counters", r.counters},   {"reason", run.reason},            {"version", std::string(version())}};
+          {"counters", r.counters},   {"reason", run.reason},            {"guidance", guidance_json(scene, r)},
+          {"version", std::string(version())}};
 }
 
 Run run_of(const Record& r) {
@@ -179,7 +250,8 @@ Run run_of(const Record& r) {
   };
   return {r.at("problem").get<std::string>(), r.at("planner").get<std::string>(), r.at("seed").get<std::uint64_t>(),
           r.at("solved").get<bool>(), number(r, "time_s"), number(r, "guidance_time_s"), count(counter::propagations),
-          count(counter::guides), count(counter::guides_satisfied), count(counter::guides_skipped), r.at("reason").get<std::string>()};
+          count(counter::guides), count(counter::guides_satisfied), count(counter::guides_skipped), r.at("reason").get<std::string>(),
+          r.contains("guidance") ? guidance_text(r.at("guidance")) : std::string()};
 }
 
 // Plans the runs it is given, loading each problem file once.
@@ -196,8 +268,8 @@ class PushRunner {
     const Result r = run::plan(configured(loaded.problem, setting.name, loaded.guidance, args_), *loaded.registry, options).result;
     const Run run{loaded.problem.name, setting.name, *options.seed, r.solved, r.time.total,
                   setting.name == "guided" ? r.time.task_planning : 0.0, counter(r, counter::propagations),
-                  counter(r, counter::guides), counter(r, counter::guides_satisfied), counter(r, counter::guides_skipped), r.reason};
-    return record_of(run, r);
+                  counter(r, counter::guides), counter(r, counter::guides_satisfied), counter(r, counter::guides_skipped), r.reason, std::string()};
+    return record_of(run, r, loaded.problem.scene);
   }
 
  private:
@@ -227,11 +299,11 @@ class PushRunner {
 
 void write_csv(const fs::path& file, const std::vector<Run>& runs) {
   std::ostringstream csv;
-  csv << "scene,planner,seed,solved,time_s,guidance_time_s,propagations,guides,guides_satisfied,reason,guides_skipped\n";
+  csv << "scene,planner,seed,solved,time_s,guidance_time_s,propagations,guides,guides_satisfied,reason,guides_skipped,guidance\n";
   for (const Run& run : runs) {
     csv << run.scene << ',' << run.setting << ',' << run.seed << ',' << run.solved << ',' << run.seconds << ',' << run.guidance_seconds
         << ',' << run.propagations << ',' << run.guides << ',' << run.guides_satisfied << ',' << csv_field(run.reason) << ','
-        << run.guides_skipped << "\n";
+        << run.guides_skipped << ',' << csv_field(run.guidance) << "\n";
   }
   io::write_text_file(file, csv.str(), "CSV file");
 }
@@ -259,18 +331,19 @@ int report_push(const BenchArgs& args, const std::vector<Record>& records) {
     if (std::find(scenes.begin(), scenes.end(), runs.back().scene) == scenes.end()) scenes.push_back(runs.back().scene);
   }
   if (!args.csv.empty()) write_csv(args.csv, runs);
+  std::string overrides;
+  for (const auto& [key, value] : args.push_overrides) overrides += (overrides.empty() ? "" : ", ") + key + " = " + value;
   std::cout << wrapped("Reaching through clutter on " + std::to_string(scenes.size()) + " scenes (" + args.push_scenes.string() + "), " +
-                           std::to_string(args.runs) + " seeds each, " + fixed(args.time_limit, 0) + " s per run, reached within " +
-                           fixed(args.goal_distance, 3) + " m and " + fixed(args.goal_heading, 2) + " rad, steering " + fixed(args.steer, 2))
+                           std::to_string(args.runs) + " seeds each, " + fixed(args.time_limit, 0) +
+                           " s per run; each problem's planner parameters" +
+                           (overrides.empty() ? std::string(" as written") : ", with " + overrides + " for every run"))
             << "\n";
   std::cout << std::left << std::setw(9) << "planner" << std::setw(7) << "runs" << std::setw(9) << "success" << std::setw(14)
             << "paper (300 s)" << std::setw(26) << "mean time s [95% CI]" << std::setw(9) << "median" << "propagations\n";
   nlohmann::ordered_json json{{"scenes", scenes},
                               {"runs_per_scene", args.runs},
                               {"time_limit_s", args.time_limit},
-                              {"goal_distance_m", args.goal_distance},
-                              {"goal_heading_rad", args.goal_heading},
-                              {"steer", args.steer},
+                              {"overrides", args.push_overrides},
                               {"planners", nlohmann::ordered_json::array()}};
   std::map<std::string, Summary> summaries;
   for (const Setting& s : kSettings) {

@@ -26,9 +26,8 @@ void each_setting(Args& a, Visit&& visit) {
   visit("instances", a.instances);
   visit("sizes", a.sizes);
   visit("push_scenes", a.push_scenes);
-  visit("goal_distance", a.goal_distance);
-  visit("goal_heading", a.goal_heading);
-  visit("steer", a.steer);
+  visit("push_overrides", a.push_overrides);
+  visit("pusher", a.pusher);
   visit("tables", a.tables);
   visit("planners", a.planners);
   visit("table_vi_scenes", a.table_vi_scenes);
@@ -46,7 +45,8 @@ void each_setting(Args& a, Visit&& visit) {
 
 // Settings that records written before them do not have; reading those, they keep their defaults.
 bool added_later(const std::string& name) {
-  return name == "mobile_table_seeds" || name == "sweep_file" || name == "problems" || name == "plugin_paths";
+  return name == "mobile_table_seeds" || name == "sweep_file" || name == "problems" || name == "plugin_paths" ||
+         name == "push_overrides" || name == "pusher";
 }
 
 fs::path absolute_path(const fs::path& p) { return p.empty() ? p : fs::absolute(p).lexically_normal(); }

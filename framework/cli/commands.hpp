@@ -92,6 +92,7 @@ struct GenerateArgs {
   bool occlusion = false;  ///< an occlusion shelf (columns of 4 hidden behind a front row)
   std::string occlusion_layout = "columns";  ///< with occlusion: "columns" or "random"
   bool table = false;      ///< a table for a mobile manipulator, reachable from every side
+  bool push = false;       ///< a pushing shelf like Papallas & Dogar's, with a reach problem
   bool fit_to_robot = false;  ///< --robot given: the shelf goes where that robot reaches it
   Verbosity verbosity = Verbosity::normal;
 };

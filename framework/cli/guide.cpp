@@ -40,9 +40,9 @@ int write_automatic_guidance(const GuideArgs& args, const Problem& problem) {
   io::check_writable(*args.output, "guidance file");
   const Scene& scene = problem.scene;
   const WorldState initial = WorldState::initial(scene);
-  const physics::PushWorld world(scene, initial);
-  const Eigen::Vector3d exit = physics::gripper_at_exit(scene);
-  const physics::Guidance guidance = physics::generate_guidance(world, world.state_of(initial, exit), exit.head<2>(),
+  const physics::PushWorld world(scene, initial, physics::push_settings(problem));
+  const Eigen::Vector3d start = world.start_pose();
+  const physics::Guidance guidance = physics::generate_guidance(world, world.state_of(initial, start), world.hand(start).head<2>(),
                                                                 args.max_guides, args.diameter);
   io::write_text_file(*args.output, io::guidance_to_yaml(scene, guidance), "guidance file");
   if (args.verbosity != Verbosity::quiet) {

@@ -95,7 +95,7 @@ Problem ProblemReader::read() {
     file_.error(SourceLocation{file_.path().string(), 1, 1}, "the problem file is empty");
     return problem_;
   }
-  MapReader top(file_, file_.root(), "the problem", {"version", "name", "scene", "robot", "task", "planner", "plugins"});
+  MapReader top(file_, file_.root(), "the problem", {"version", "name", "scene", "robot", "task", "planner", "plugins", "physics"});
   if (!top.valid()) return problem_;
   file_.check_version(top.required("version"), "problem", kProblemFormatVersion);
   if (top.has("name")) {
@@ -118,6 +118,7 @@ Problem ProblemReader::read() {
   const std::size_t before_plugins = diagnostics_.size();
   read_planner(top.required("planner"));
   if (top.has("plugins")) read_plugins(top.optional("plugins"));
+  if (top.has("physics")) problem_.physics = file_.parameters(top.optional("physics"), "physics");
   plugins_whole_ = diagnostics_.size() == before_plugins;
   check_target();
   return problem_;

@@ -90,6 +90,14 @@ std::string result_to_json(const Problem& problem, const Result& result, const R
   }
   out["phases"] = phases;
   out["failures"] = failures;
+  if (result.guidance) {
+    Json guides = Json::array();
+    for (const GuideRecord& g : result.guidance->guides) {
+      guides.push_back({{"object", scene.objects.at(g.object).id}, {"centre", {g.centre.x(), g.centre.y()}}, {"diameter", g.diameter},
+                        {"satisfied", g.satisfied}, {"reason", g.satisfied ? Json(nullptr) : Json(g.reason)}});
+    }
+    out["guidance"] = {{"source", result.guidance->source}, {"guides", guides}};
+  }
   if (run.human_guidance) {
     const HumanGuidance& h = *run.human_guidance;
     Json inputs = Json::array();

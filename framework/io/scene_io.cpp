@@ -167,7 +167,7 @@ void SceneReader::read_fixed(const YAML::Node& node) {
   }
   for (std::size_t i = 0; i < node.size(); ++i) {
     const YAML::Node item = node[i];
-    MapReader map(file_, item, "fixed body #" + std::to_string(i + 1), {"id", "box", "cylinder", "sphere", "pose"});
+    MapReader map(file_, item, "fixed body #" + std::to_string(i + 1), {"id", "box", "cylinder", "sphere", "pose", "friction"});
     if (!map.valid()) continue;
     FixedBody body;
     body.where = file_.at(item);
@@ -179,6 +179,7 @@ void SceneReader::read_fixed(const YAML::Node& node) {
     auto shape = read_shape(file_, map, what);
     const YAML::Node pose_node = map.required("pose");
     auto pose = pose_node.IsDefined() ? file_.pose(pose_node, what + " pose") : std::nullopt;
+    if (map.has("friction")) body.friction = file_.number_in(map.optional("friction"), what + " friction", 0, 10, "").value_or(1.0);
     if (!shape || !pose) continue;
     body.shape = *shape;
     body.world_T_body = *pose;

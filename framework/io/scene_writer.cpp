@@ -53,7 +53,9 @@ std::string scene_to_yaml(const Scene& scene) {
   if (!scene.fixed.empty()) {
     out << "fixed:\n";
     for (const FixedBody& f : scene.fixed) {
-      out << "  - {id: " << f.id << ", " << shape(f.shape) << ", pose: " << pose(f.world_T_body) << "}\n";
+      out << "  - {id: " << f.id << ", " << shape(f.shape) << ", pose: " << pose(f.world_T_body);
+      if (f.friction != FixedBody{}.friction) out << ", friction: " << num(f.friction);
+      out << "}\n";
     }
   }
   if (!scene.regions.empty()) {

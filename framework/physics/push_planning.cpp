@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 #include <utility>
+#include <variant>
 
 #include <Eigen/Geometry>
 
@@ -131,9 +132,9 @@ class Propagator final : public oc::StatePropagator {
 // the start state, drawn from our own seeded generator.
 class OmplGoal final : public ob::GoalSampleableRegion {
  public:
-  OmplGoal(const oc::SpaceInformationPtr& si, const Layout& layout, const PushGoal& goal, const PushState& start,
-           std::uint64_t seed)
-      : ob::GoalSampleableRegion(si), layout_(layout), goal_(goal), start_(start), rng_(seed) {
+  OmplGoal(const oc::SpaceInformationPtr& si, const Layout& layout, const PushWorld& world, const PushGoal& goal,
+           const PushState& start, std::uint64_t seed)
+      : ob::GoalSampleableRegion(si), layout_(layout), world_(world), goal_(goal), start_(start), rng_(seed) {
     setThreshold(goal.tolerance());
   }
 
@@ -145,7 +146,7 @@ class OmplGoal final : public ob::GoalSampleableRegion {
     const Eigen::Vector3d spread = goal_.sample_spread();
     PushState s = start_;  // the objects' part does not count for distances
     for (int k = 0; k < 3; ++k) s.gripper[k] = centre[k] + std::uniform_real_distribution<double>(-1, 1)(rng_) * spread[k];
-    s.gripper.z() = std::remainder(s.gripper.z(), 2 * M_PI);
+    s.gripper.z() = std::remainder(world_.clamp_yaw(s.gripper.z()), 2 * M_PI);
     layout_.write(s, true, state);
   }
 
@@ -153,32 +154,38 @@ class OmplGoal final : public ob::GoalSampleableRegion {
 
  private:
   const Layout& layout_;
+  const PushWorld& world_;
   const PushGoal& goal_;
   PushState start_;
   mutable std::mt19937_64 rng_;
 };
 
-// Uniform gripper poses in the gripper's region (the objects' part is the start's: it
-// does not count for distances), from a seeded generator.
+// Uniform pusher poses whose hand is in the hand's region, headed within the yaw limits
+// (the objects' part is the start's: it does not count for distances), from a seeded
+// generator.
 class GripperSampler final : public ob::StateSampler {
  public:
-  GripperSampler(const ob::StateSpace* space, const Layout& layout, const PushState& start,
-                 const Eigen::AlignedBox2d& region, std::uint64_t seed)
-      : ob::StateSampler(space), layout_(layout), start_(start), region_(region), rng_(seed) {}
+  GripperSampler(const ob::StateSpace* space, const Layout& layout, const PushWorld& world, const PushState& start,
+                 std::uint64_t seed)
+      : ob::StateSampler(space), layout_(layout), world_(world), start_(start), region_(world.gripper_region()), rng_(seed) {
+    const Eigen::Vector2d& limits = world.settings().yaw_limits;
+    yaw_low_ = std::isfinite(limits.x()) ? limits.x() : -M_PI;
+    yaw_high_ = std::isfinite(limits.y()) ? limits.y() : M_PI;
+  }
 
+  // Drawn in the order x, y, yaw.
   void sampleUniform(ob::State* state) override {
-    PushState s = start_;
-    s.gripper = {uniform(region_.min().x(), region_.max().x()), uniform(region_.min().y(), region_.max().y()),
-                 uniform(-M_PI, M_PI)};
-    layout_.write(s, true, state);
+    const double x = uniform(region_.min().x(), region_.max().x());
+    const double y = uniform(region_.min().y(), region_.max().y());
+    const double yaw = uniform(yaw_low_, yaw_high_);
+    write(world_.pose_for_hand({x, y, yaw + world_.hand({0, 0, 0}).z()}), state);
   }
   void sampleUniformNear(ob::State* state, const ob::State* near, double distance) override {
-    PushState s = start_;
-    const Eigen::Vector3d c = Layout::gripper_pose(near);
-    s.gripper = {std::clamp(c.x() + uniform(-distance, distance), region_.min().x(), region_.max().x()),
-                 std::clamp(c.y() + uniform(-distance, distance), region_.min().y(), region_.max().y()),
-                 std::remainder(c.z() + uniform(-distance, distance), 2 * M_PI)};
-    layout_.write(s, true, state);
+    const Eigen::Vector3d c = world_.hand(Layout::gripper_pose(near));
+    const double x = std::clamp(c.x() + uniform(-distance, distance), region_.min().x(), region_.max().x());
+    const double y = std::clamp(c.y() + uniform(-distance, distance), region_.min().y(), region_.max().y());
+    const double yaw = world_.clamp_yaw(Layout::gripper_pose(near).z() + uniform(-distance, distance));
+    write(world_.pose_for_hand({x, y, yaw + world_.hand({0, 0, 0}).z()}), state);
   }
   void sampleGaussian(ob::State* state, const ob::State* mean, double stdDev) override {
     sampleUniformNear(state, mean, stdDev);
@@ -186,10 +193,18 @@ class GripperSampler final : public ob::StateSampler {
 
  private:
   double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+  void write(const Eigen::Vector3d& pose, ob::State* state) const {
+    PushState s = start_;
+    s.gripper = pose;
+    s.gripper.z() = std::remainder(s.gripper.z(), 2 * M_PI);
+    layout_.write(s, true, state);
+  }
 
   const Layout& layout_;
+  const PushWorld& world_;
   const PushState& start_;
   Eigen::AlignedBox2d region_;
+  double yaw_low_ = -M_PI, yaw_high_ = M_PI;
   std::mt19937_64 rng_;
 };
 
@@ -279,7 +294,11 @@ class SeededKpiece final : public oc::KPIECE1 {
 
 // Why `s` cannot start a valid plan (the rules of valid_outcome), or nothing.
 std::optional<std::string> invalid_start(const PushWorld& world, const PushState& s) {
-  if (!world.gripper_region().contains(s.gripper.head<2>())) return std::string("the gripper is outside its region");
+  if (!world.gripper_region().contains(world.hand(s.gripper).head<2>())) return std::string("the hand is outside its region");
+  if (!world.yaw_allowed(s.gripper.z())) return std::string("the pusher's heading is outside its yaw limits");
+  if (world.propagate(s, {Eigen::Vector3d::Zero(), world.settings().time_step}).gripper_hit_fixed) {
+    return std::string("the pusher starts inside fixed geometry (a wall or board): move its start, or the arm's posture or hand height");
+  }
   for (ObjectIndex i : world.pushable()) {
     if (!world.support_region().contains(s.objects[i].pose.head<2>())) {
       return "'" + world.scene().objects[i].id + "' is not over the target's support";
@@ -318,77 +337,113 @@ void KinodynamicSettings::read(const Parameters& p) {
 PushGoal::~PushGoal() = default;
 
 void ReachTolerances::read(const Parameters& p) {
-  distance = p.get_double("goal_distance", distance,
-                          "m the target's centre may be from the pocket between the fingers (no fingers: the palm's "
-                          "face from its surface)",
+  const std::string name = p.get_string("goal", "pocket",
+                                        "pocket (the target between the fingers, or at the hand's face) or point (the hand's "
+                                        "reach point near the target's centre, as the paper's code)");
+  p.require(name == "pocket" || name == "point", "goal", "must be pocket or point");
+  kind = name == "point" ? Kind::point : Kind::pocket;
+  distance = p.get_double("goal_distance", kind == Kind::point ? 0.07 : distance,
+                          "m the target's centre may be from the pocket between the fingers (no fingers or an arm: the "
+                          "hand's face from its surface; point: from the reach point)",
                           Range::above(0));
-  heading = p.get_double("goal_heading", heading, "rad the target may be off the gripper's heading", Range::above(0));
+  const bool heading_given = p.contains("goal_heading");
+  const double h = p.get_double("goal_heading", 0.5, "rad the target may be off the hand's heading (point: unchecked unless given)",
+                                Range::above(0));
+  heading = kind == Kind::pocket || heading_given ? std::optional<double>(h) : std::nullopt;
 }
 
 ReachGoal::ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTolerances& tolerances)
-    : PushGoal(tolerances.distance), target_(target), heading_(tolerances.heading) {
+    : PushGoal(tolerances.distance), world_(&world), target_(target), kind_(tolerances.kind), heading_(tolerances.heading) {
   const PushSettings& g = world.settings();
   const double r = world.footprint_radius(target);
-  pocket_near_ = g.gripper_size.x() / 2;
-  pocket_far_ = pocket_near_ + g.finger_length;
+  const bool fingers = !g.arm && g.finger_length > 0;
+  pocket_near_ = world.hand_face();
+  pocket_far_ = pocket_near_ + (fingers ? g.finger_length : 0.0);
   pocket_half_width_ = g.gripper_size.y() / 2 - g.finger_width - r;
   // A target too wide for the gap is reached as by a plain box: the face at its surface.
   if (pocket_half_width_ <= 0) pocket_far_ = pocket_near_;
+  if (kind_ == ReachTolerances::Kind::point) {
+    // The floating gripper's reach point: the pocket's middle; the arm's: its tool.
+    ahead_ = g.arm ? 0.0 : (pocket_near_ + pocket_far_) / 2;
+    reach_ = std::max(ahead_, pocket_near_ + r + 0.005);
+    return;
+  }
   // The palm's face at the target's surface, or the target's centre at the fingertips
   // when they are shorter than its radius.
   reach_ = pocket_near_ + (has_pocket() ? std::min(r, g.finger_length) : r);
 }
 
 Eigen::Vector3d ReachGoal::sample_spread() const {
+  const double heading = heading_.value_or(0.3);
   // In the pocket, the target's bearing stays within what its width allows.
-  const double yaw = has_pocket() ? std::min(heading_, std::atan2(pocket_half_width_, reach_)) : heading_;
+  const double yaw = kind_ == ReachTolerances::Kind::pocket && has_pocket() ? std::min(heading, std::atan2(pocket_half_width_, reach_)) : heading;
   return {0.0, 0.0, yaw};
 }
 
+double ReachGoal::heading_excess(const Eigen::Vector3d& hand, const Eigen::Vector2d& target) const {
+  if (!heading_) return 0.0;
+  const Eigen::Vector2d to = target - hand.head<2>();
+  return std::max(0.0, angle_between(std::atan2(to.y(), to.x()), hand.z()) - *heading_);
+}
+
 double ReachGoal::distance(const PushState& s) const {
-  const Eigen::Vector2d to = s.objects.at(target_).pose.head<2>() - s.gripper.head<2>();
-  const double off = angle_between(std::atan2(to.y(), to.x()), s.gripper.z());
-  if (!has_pocket()) return std::abs(to.norm() - reach_) + std::max(0.0, off - heading_);
-  // The target's centre in the gripper's frame, and how far it is from the pocket.
-  const Eigen::Vector2d local = Eigen::Rotation2Dd(-s.gripper.z()) * to;
+  const Eigen::Vector3d hand = world_->hand(s.gripper);
+  const Eigen::Vector2d target = s.objects.at(target_).pose.head<2>();
+  const Eigen::Vector2d to = target - hand.head<2>();
+  if (kind_ == ReachTolerances::Kind::point) {
+    const Eigen::Vector2d reach_point = hand.head<2>() + ahead_ * Eigen::Vector2d(std::cos(hand.z()), std::sin(hand.z()));
+    return (target - reach_point).norm() + heading_excess(hand, target);
+  }
+  if (!has_pocket()) return std::abs(to.norm() - reach_) + heading_excess(hand, target);
+  // The target's centre in the hand's frame, and how far it is from the pocket.
+  const Eigen::Vector2d local = Eigen::Rotation2Dd(-hand.z()) * to;
   const double dx = std::max({0.0, pocket_near_ - local.x(), local.x() - pocket_far_});
   const double dy = std::max(0.0, std::abs(local.y()) - pocket_half_width_);
-  return std::hypot(dx, dy) + std::max(0.0, off - heading_);
+  return std::hypot(dx, dy) + heading_excess(hand, target);
 }
 
 Eigen::Vector3d ReachGoal::gripper_target(const PushState& s) const {
   const Eigen::Vector2d target = s.objects.at(target_).pose.head<2>();
-  Eigen::Vector2d from = target - s.gripper.head<2>();
-  // Straight at the target from where the gripper is; from the front (-x) when on it.
+  const Eigen::Vector3d hand = world_->hand(s.gripper);
+  Eigen::Vector2d from = target - hand.head<2>();
+  // Straight at the target from where the hand is; from the front (-x) when on it.
   const double yaw = from.norm() > 1e-6 ? std::atan2(from.y(), from.x()) : 0.0;
-  return {target.x() - reach_ * std::cos(yaw), target.y() - reach_ * std::sin(yaw), yaw};
+  return world_->pose_for_hand({target.x() - reach_ * std::cos(yaw), target.y() - reach_ * std::sin(yaw), yaw});
 }
 
-GripperPoseGoal::GripperPoseGoal(std::vector<Eigen::Vector3d> poses, double position, double heading)
-    : PushGoal(position), poses_(std::move(poses)), position_(position), heading_(heading) {
+GripperPoseGoal::GripperPoseGoal(const PushWorld& world, std::vector<Eigen::Vector3d> poses, double position, double heading)
+    : PushGoal(position), world_(&world), poses_(std::move(poses)), position_(position), heading_(heading) {
   if (poses_.empty()) throw std::invalid_argument("GripperPoseGoal: no pose");
 }
 
 double GripperPoseGoal::distance(const PushState& s) const {
+  const Eigen::Vector3d hand = world_->hand(s.gripper);
   double best = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& p : poses_) {
-    const double off = angle_between(s.gripper.z(), p.z());
-    best = std::min(best, (s.gripper.head<2>() - p.head<2>()).norm() + std::max(0.0, off - heading_));
+    const double off = angle_between(hand.z(), p.z());
+    best = std::min(best, (hand.head<2>() - p.head<2>()).norm() + std::max(0.0, off - heading_));
   }
   return best;
 }
 
 Eigen::Vector3d GripperPoseGoal::gripper_target(const PushState& s) const {
-  return *std::min_element(poses_.begin(), poses_.end(), [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return (a.head<2>() - s.gripper.head<2>()).norm() < (b.head<2>() - s.gripper.head<2>()).norm();
-  });
+  const Eigen::Vector2d hand = world_->hand(s.gripper).head<2>();
+  return world_->pose_for_hand(*std::min_element(poses_.begin(), poses_.end(), [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a.head<2>() - hand).norm() < (b.head<2>() - hand).norm();
+  }));
+}
+
+std::vector<Eigen::Vector3d> GripperPoseGoal::goal_grippers(const PushState&) const {
+  std::vector<Eigen::Vector3d> poses;
+  for (const Eigen::Vector3d& p : poses_) poses.push_back(world_->pose_for_hand(p));
+  return poses;
 }
 
 ObjectInRegionGoal::ObjectInRegionGoal(const PushWorld& world, ObjectIndex object, const Eigen::Vector2d& centre,
                                        double radius)
-    : PushGoal(radius), object_(object), centre_(centre),
-      standoff_(world.settings().gripper_size.x() / 2 + world.footprint_radius(object)),
-      approach_(standoff_ + world.settings().finger_length + 0.01) {}
+    : PushGoal(radius), world_(&world), object_(object), centre_(centre),
+      standoff_(world.hand_face() + world.footprint_radius(object)),
+      approach_(standoff_ + (world.settings().arm ? 0.0 : world.settings().finger_length) + 0.01) {}
 
 double ObjectInRegionGoal::distance(const PushState& s) const {
   return (s.objects.at(object_).pose.head<2>() - centre_).norm();
@@ -396,25 +451,26 @@ double ObjectInRegionGoal::distance(const PushState& s) const {
 
 Eigen::Vector3d ObjectInRegionGoal::gripper_target(const PushState& s) const {
   const Eigen::Vector2d object = s.objects.at(object_).pose.head<2>();
+  const Eigen::Vector3d hand = world_->hand(s.gripper);
   const Eigen::Vector2d along = centre_ - object;
-  const double yaw = along.norm() > 1e-6 ? std::atan2(along.y(), along.x()) : s.gripper.z();
+  const double yaw = along.norm() > 1e-6 ? std::atan2(along.y(), along.x()) : hand.z();
   // Until lined up behind the object on the line that pushes it to the centre (its
   // fingertips short of it, or closer in on that line), head for the approach point;
-  // once lined up, for where the palm's face leaves the object at the centre.
+  // once lined up, for where the hand's face leaves the object at the centre.
   const Eigen::Vector2d dir(std::cos(yaw), std::sin(yaw));
-  const Eigen::Vector2d rel = s.gripper.head<2>() - object;
+  const Eigen::Vector2d rel = hand.head<2>() - object;
   const double behind = -rel.dot(dir), aside = std::abs(rel.dot(Eigen::Vector2d(-dir.y(), dir.x())));
-  const bool lined_up = aside < 0.02 && angle_between(s.gripper.z(), yaw) < 0.3 && behind > standoff_ - 0.01 &&
+  const bool lined_up = aside < 0.02 && angle_between(hand.z(), yaw) < 0.3 && behind > standoff_ - 0.01 &&
                         behind < approach_ + 0.02;
   const Eigen::Vector2d at = lined_up ? Eigen::Vector2d(centre_ - standoff_ * dir) : Eigen::Vector2d(object - approach_ * dir);
-  return {at.x(), at.y(), yaw};
+  return world_->pose_for_hand({at.x(), at.y(), yaw});
 }
 
 std::vector<Eigen::Vector3d> ObjectInRegionGoal::goal_grippers(const PushState& start) const {
   const Eigen::Vector2d along = centre_ - start.objects.at(object_).pose.head<2>();
-  const double yaw = along.norm() > 1e-6 ? std::atan2(along.y(), along.x()) : start.gripper.z();
+  const double yaw = along.norm() > 1e-6 ? std::atan2(along.y(), along.x()) : world_->hand(start.gripper).z();
   const Eigen::Vector2d at = centre_ - standoff_ * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
-  return {Eigen::Vector3d(at.x(), at.y(), yaw)};
+  return {world_->pose_for_hand({at.x(), at.y(), yaw})};
 }
 
 double PushPath::duration() const {
@@ -424,7 +480,8 @@ double PushPath::duration() const {
 }
 
 bool valid_outcome(const PushWorld& world, const PushOutcome& out) {
-  if (out.gripper_hit_fixed || !out.fallen.empty() || !world.gripper_region().contains(out.state.gripper.head<2>())) {
+  if (out.gripper_hit_fixed || !out.fallen.empty() || !world.yaw_allowed(out.state.gripper.z()) ||
+      !world.gripper_region().contains(world.hand(out.state.gripper).head<2>())) {
     return false;
   }
   const Eigen::AlignedBox2d& support = world.support_region();
@@ -445,7 +502,11 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
   }
   const double seconds = std::clamp(budget.seconds, 0.0, 1e7);  // no limit (Deadline::never) overflows OMPL's clock
   const Layout layout(start.objects.size());
-  const Eigen::AlignedBox2d region = world.gripper_region();
+  // The pusher's positions: the hand's region widened by the lever from pusher to hand.
+  Eigen::AlignedBox2d region = world.gripper_region();
+  const double lever = world.hand({0, 0, 0}).head<2>().norm();
+  region.min().array() -= lever;
+  region.max().array() += lever;
 
   auto se2 = std::make_shared<ob::SE2StateSpace>();
   ob::RealVectorBounds xy(2);
@@ -460,7 +521,7 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
   space->addSubspace(se2, 1.0);
   space->addSubspace(rest, 0.0);
   space->setStateSamplerAllocator([&, s = mix(seed, 1)](const ob::StateSpace* sp) {
-    return std::make_shared<GripperSampler>(sp, layout, start, region, s);
+    return std::make_shared<GripperSampler>(sp, layout, world, start, s);
   });
 
   auto controls = std::make_shared<oc::RealVectorControlSpace>(space, 3);
@@ -488,7 +549,7 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
   ob::ScopedState<> start_state(space);
   layout.write(start, true, start_state.get());
   pdef->addStartState(start_state);
-  pdef->setGoal(std::make_shared<OmplGoal>(si, layout, goal, start, mix(seed, 0)));
+  pdef->setGoal(std::make_shared<OmplGoal>(si, layout, world, goal, start, mix(seed, 0)));
 
   ob::PlannerPtr planner;
   if (settings.planner == "kpiece") {
@@ -581,7 +642,8 @@ Replay replay(const PushWorld& world, const PushState& start, const std::vector<
 PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldState& before) {
   const Scene& scene = world.scene();
   Trajectory t;
-  t.joint_names = {"gripper_x", "gripper_y", "gripper_yaw"};
+  if (world.settings().arm) t.joint_names = {"base_x", "base_y", "base_yaw"};
+  else t.joint_names = {"gripper_x", "gripper_y", "gripper_yaw"};
   for (std::size_t i = 0; i < path.states.size(); ++i) {
     t.positions.push_back(path.states[i].gripper);
     t.times.push_back(i == 0 ? 0.0 : t.times.back() + path.controls[i - 1].duration);
@@ -601,12 +663,31 @@ PlanStep push_step(const PushWorld& world, const PushPath& path, const WorldStat
   std::vector<double>& controls = step.values["controls"];
   for (const PushControl& c : path.controls) controls.insert(controls.end(), {c.velocity.x(), c.velocity.y(), c.velocity.z(), c.duration});
   // The pusher as the physics moved it, so the replay draws it from the result alone:
-  // its boxes (size x, y, z, then centre x, y in its own frame, m) and its centre's height.
-  std::vector<double>& boxes = step.values["pusher_boxes"];
-  for (const GripperBox& box : gripper_boxes(world.settings())) {
-    boxes.insert(boxes.end(), {box.size.x(), box.size.y(), box.size.z(), box.offset.x(), box.offset.y()});
+  // the floating gripper's boxes (size x, y, z, then centre x, y in its own frame, m),
+  // every part (pusher_parts: kind 0 box [x y z] / 1 cylinder [r h 0] / 2 sphere [r 0 0],
+  // then its position x y z and quaternion x y z w in the pusher's frame; a hull as
+  // its bounding box) and the frame's height.
+  if (!world.settings().arm) {
+    std::vector<double>& boxes = step.values["pusher_boxes"];
+    for (const GripperBox& box : gripper_boxes(world.settings())) {
+      boxes.insert(boxes.end(), {box.size.x(), box.size.y(), box.size.z(), box.offset.x(), box.offset.y()});
+    }
   }
-  step.values["pusher_z"] = {world.plane_z() + world.settings().gripper_size.z() / 2};
+  std::vector<double>& parts = step.values["pusher_parts"];
+  for (const PusherPart& part : world.pusher_parts()) {
+    std::visit(
+        [&](const auto& shape) {
+          using T = std::decay_t<decltype(shape)>;
+          if constexpr (std::is_same_v<T, Box>) parts.insert(parts.end(), {0.0, shape.size.x(), shape.size.y(), shape.size.z()});
+          else if constexpr (std::is_same_v<T, Cylinder>) parts.insert(parts.end(), {1.0, shape.radius, shape.height, 0.0});
+          else parts.insert(parts.end(), {2.0, shape.radius, 0.0, 0.0});
+        },
+        part.shape);
+    const Eigen::Vector3d at = part.frame_T_part.translation();
+    const Eigen::Quaterniond q(part.frame_T_part.rotation());
+    parts.insert(parts.end(), {at.x(), at.y(), at.z(), q.x(), q.y(), q.z(), q.w()});
+  }
+  step.values["pusher_z"] = {world.pusher_z()};
   const PushState& end = path.states.back();
   for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
     if ((end.objects[i].pose.head<2>() - before.world_T_objects[i].translation().head<2>()).norm() > 0.01) {

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 #include <variant>
 
 #include <btBulletDynamicsCommon.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 
 namespace cluttertamp::physics {
 
@@ -52,6 +54,60 @@ double yaw_of(const btTransform& t) {
 
 double bottom_of(const Shape& shape, const Eigen::Isometry3d& pose) { return world_bounds(shape, pose).min().z(); }
 
+// Bodies marked so (user index 2) combine their friction coefficients by the larger
+// (MuJoCo's rule); any other pair as Bullet does, by the product clamped to 10.
+constexpr int kMaxFriction = 0x6d6178;
+btScalar combined_friction(const btCollisionObject* a, const btCollisionObject* b) {
+  const btScalar fa = a->getFriction(), fb = b->getFriction();
+  if (a->getUserIndex2() == kMaxFriction && b->getUserIndex2() == kMaxFriction) return std::max(fa, fb);
+  return std::clamp(fa * fb, btScalar(-10), btScalar(10));
+}
+// Torsional friction of an object sliding on its base: a torque up to the contact's
+// friction times its normal force times the object's spin radius (its spinning
+// friction; (2/3) r for a disc of radius r under even pressure). Without it Bullet spins
+// a sliding cylinder up from its few contact points and leaves it drifting.
+btScalar combined_spinning_friction(const btCollisionObject* a, const btCollisionObject* b) {
+  return std::clamp((a->getSpinningFriction() + b->getSpinningFriction()) * combined_friction(a, b), btScalar(0), btScalar(10));
+}
+// Bullet's rules are globals; ours keep its results for unmarked bodies without spin radii.
+void install_friction_rule() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    gCalculateCombinedFrictionCallback = &combined_friction;
+    gCalculateCombinedSpinningFrictionCallback = &combined_spinning_friction;
+  });
+}
+
+// The convex hull of a part's points, or its primitive.
+std::unique_ptr<btCollisionShape> make_part_shape(const PusherPart& part) {
+  if (part.hull.empty()) return make_shape(part.shape);
+  auto hull = std::make_unique<btConvexHullShape>();
+  for (const Eigen::Vector3d& v : part.hull) hull->addPoint(btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())), false);
+  hull->recalcLocalAabb();
+  hull->optimizeConvexHull();
+  hull->setMargin(btScalar(0.001));  // Bullet's default 4 cm would inflate the hull
+  return hull;
+}
+
+// The corners of a part in the pusher's frame: of its hull, or of its primitive's bounds.
+std::vector<Eigen::Vector3d> part_points(const PusherPart& part) {
+  std::vector<Eigen::Vector3d> points;
+  if (!part.hull.empty()) {
+    for (const Eigen::Vector3d& v : part.hull) points.push_back(part.frame_T_part * v);
+    return points;
+  }
+  const Eigen::AlignedBox3d box = world_bounds(part.shape, Eigen::Isometry3d::Identity());
+  for (int corner = 0; corner < 8; ++corner) {
+    points.push_back(part.frame_T_part * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
+  }
+  return points;
+}
+
+Eigen::Vector3d compose(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double c = std::cos(a.z()), s = std::sin(a.z());
+  return {a.x() + c * b.x() - s * b.y(), a.y() + s * b.x() + c * b.y(), std::remainder(a.z() + b.z(), 2 * M_PI)};
+}
+
 }  // namespace
 
 struct PushWorld::Impl {
@@ -62,11 +118,23 @@ struct PushWorld::Impl {
   std::vector<ObjectIndex> pushable = {};
   Eigen::AlignedBox2d support = {};
   double plane = 0;           // the gripper's bottom, m
-  double gripper_z = 0;       // the gripper's centre, m
+  double frame_z = 0;         // the pusher's frame, m
+  std::vector<PusherPart> parts = {};                   // in the pusher's frame
+  Eigen::Vector3d frame_T_hand = Eigen::Vector3d::Zero();  // planar
+  double hand_face = 0;       // m
   std::vector<std::unique_ptr<btCollisionShape>> fixed_shapes = {}, object_shapes = {};
-  std::vector<std::unique_ptr<btCollisionShape>> gripper_parts = {};  // the boxes of gripper_shape
-  std::unique_ptr<btCompoundShape> gripper_shape = nullptr;
+  std::vector<std::unique_ptr<btCollisionShape>> pusher_children = {};  // the parts of pusher_shape
+  std::unique_ptr<btCompoundShape> pusher_shape = nullptr;
   std::vector<btVector3> inertia = {};  // per object, for its mass
+  std::vector<double> mass = {}, friction = {}, spin_radius = {};  // per object
+  std::vector<double> fixed_friction = {};      // per fixed body
+
+  void make_gripper(double support_top);
+  void make_arm(double support_top);
+  void set_friction(btCollisionObject& body, double coefficient) const {
+    body.setFriction(btScalar(coefficient));
+    if (settings.friction_combine == PushSettings::FrictionCombine::max) body.setUserIndex2(kMaxFriction);
+  }
 
   // One simulation, built afresh per propagation: Bullet keeps contact caches and
   // solver warm starts between steps, so reusing a world would make the outcome depend
@@ -166,6 +234,46 @@ std::vector<GripperBox> gripper_boxes(const PushSettings& settings) {
   return boxes;
 }
 
+void PushWorld::Impl::make_gripper(double support_top) {
+  plane = support_top + settings.gripper_clearance;
+  frame_z = plane + settings.gripper_size.z() / 2;
+  for (const GripperBox& box : gripper_boxes(settings)) {
+    parts.push_back({Box{box.size}, Eigen::Isometry3d(Eigen::Translation3d(box.offset.x(), box.offset.y(), 0)), {}});
+  }
+  hand_face = settings.gripper_size.x() / 2;
+}
+
+// The arm's parts in the mobile base's frame; the hand's tool centre point at
+// hand_height above the support (by default its lowest point at gripper_clearance).
+void PushWorld::Impl::make_arm(double support_top) {
+  const ArmPusher& arm = *settings.arm;
+  if (arm.parts.empty() || arm.hand.size() != arm.parts.size()) throw std::invalid_argument("PushWorld: an arm needs parts, each marked hand or not");
+  const Eigen::Isometry3d base_T_arm(Eigen::Translation3d(arm.base_offset.x(), arm.base_offset.y(), 0));
+  const Eigen::Isometry3d base_T_tcp = base_T_arm * arm.arm_T_tcp;
+  const Eigen::Vector3d approach = base_T_tcp.linear().col(2);
+  if (approach.head<2>().norm() < 0.1) throw std::invalid_argument("PushWorld: the arm's posture points its tool up or down; it cannot push in the plane");
+  const Eigen::Vector2d heading = approach.head<2>().normalized();
+  frame_T_hand = {base_T_tcp.translation().x(), base_T_tcp.translation().y(), std::atan2(heading.y(), heading.x())};
+  double lowest = std::numeric_limits<double>::infinity();
+  hand_face = 0;
+  for (std::size_t i = 0; i < arm.parts.size(); ++i) {
+    PusherPart part = arm.parts[i];
+    part.frame_T_part = base_T_arm * part.frame_T_part;
+    if (arm.hand[i]) {
+      for (const Eigen::Vector3d& p : part_points(part)) {
+        lowest = std::min(lowest, p.z());
+        hand_face = std::max(hand_face, (p.head<2>() - base_T_tcp.translation().head<2>()).dot(heading));
+      }
+    }
+    parts.push_back(std::move(part));
+  }
+  if (!std::isfinite(lowest)) lowest = base_T_tcp.translation().z();
+  const double tcp_above_lowest = base_T_tcp.translation().z() - lowest;
+  const double hand_height = settings.hand_height.value_or(settings.gripper_clearance + tcp_above_lowest);
+  frame_z = support_top + hand_height - base_T_tcp.translation().z();
+  plane = support_top + hand_height - tcp_above_lowest;
+}
+
 PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings settings)
     : impl_(std::make_unique<Impl>(Impl{scene, settings})) {
   Impl& w = *impl_;
@@ -173,30 +281,37 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
   if (settings.finger_length < 0 || !(settings.finger_width > 0) || 2 * settings.finger_width >= settings.gripper_size.y()) {
     throw std::invalid_argument("PushWorld: fingers need a length >= 0 and a width > 0 that leaves a gap between them");
   }
-  for (const FixedBody& f : scene.fixed) w.fixed_shapes.push_back(make_shape(f.shape));
+  if (!(settings.yaw_limits.x() <= settings.yaw_limits.y())) throw std::invalid_argument("PushWorld: yaw limits need min <= max");
+  install_friction_rule();
+  for (const FixedBody& f : scene.fixed) {
+    w.fixed_shapes.push_back(make_shape(f.shape));
+    w.fixed_friction.push_back(settings.fixed_friction.value_or(f.friction));
+  }
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     w.present.push_back(!initial.removed.at(i));
     w.initial_pose.push_back(initial.world_T_objects.at(i));
     w.object_shapes.push_back(make_shape(o.shape));
+    w.mass.push_back(o.movable ? settings.object_mass.value_or(o.mass) : 0.0);
+    w.friction.push_back(o.movable ? settings.object_friction.value_or(o.friction) : settings.fixed_friction.value_or(o.friction));
+    w.spin_radius.push_back(cluttertamp::footprint_radius(o.shape, initial.world_T_objects.at(i)));
     btVector3 inertia(0, 0, 0);
     if (o.movable) {
-      if (!(o.mass > 0)) throw std::invalid_argument("PushWorld: movable object '" + o.id + "' needs a positive mass");
-      w.object_shapes.back()->calculateLocalInertia(btScalar(o.mass), inertia);
+      if (!(w.mass.back() > 0)) throw std::invalid_argument("PushWorld: movable object '" + o.id + "' needs a positive mass");
+      w.object_shapes.back()->calculateLocalInertia(btScalar(w.mass.back()), inertia);
     }
     w.inertia.push_back(inertia);
     if (o.movable && w.present.back()) w.pushable.push_back(i);
   }
   const ObjectIndex target = scene.target;
   const double support_top = bottom_of(scene.objects.at(target).shape, initial.world_T_objects.at(target));
-  w.plane = support_top + settings.gripper_clearance;
   w.support = physics::support_region(scene, initial, settings);
-  w.gripper_z = w.plane + settings.gripper_size.z() / 2;
-  w.gripper_shape = std::make_unique<btCompoundShape>();
-  for (const GripperBox& box : gripper_boxes(settings)) {
-    w.gripper_parts.push_back(make_shape(Box{box.size}));
-    const btVector3 at(btScalar(box.offset.x()), btScalar(box.offset.y()), 0);
-    w.gripper_shape->addChildShape(btTransform(btQuaternion::getIdentity(), at), w.gripper_parts.back().get());
+  if (settings.arm) w.make_arm(support_top);
+  else w.make_gripper(support_top);
+  w.pusher_shape = std::make_unique<btCompoundShape>();
+  for (const PusherPart& part : w.parts) {
+    w.pusher_children.push_back(make_part_shape(part));
+    w.pusher_shape->addChildShape(bt(part.frame_T_part), w.pusher_children.back().get());
   }
 }
 
@@ -205,6 +320,38 @@ PushWorld::~PushWorld() = default;
 const PushSettings& PushWorld::settings() const { return impl_->settings; }
 const Scene& PushWorld::scene() const { return impl_->scene; }
 double PushWorld::plane_z() const { return impl_->plane; }
+const std::vector<PusherPart>& PushWorld::pusher_parts() const { return impl_->parts; }
+double PushWorld::pusher_z() const { return impl_->frame_z; }
+double PushWorld::hand_face() const { return impl_->hand_face; }
+
+Eigen::Vector3d PushWorld::hand(const Eigen::Vector3d& pose) const { return compose(pose, impl_->frame_T_hand); }
+
+Eigen::Vector3d PushWorld::pose_for_hand(const Eigen::Vector3d& hand) const {
+  const Eigen::Vector3d& h = impl_->frame_T_hand;
+  const double yaw = std::remainder(hand.z() - h.z(), 2 * M_PI);
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  return {hand.x() - (c * h.x() - s * h.y()), hand.y() - (s * h.x() + c * h.y()), yaw};
+}
+
+bool PushWorld::yaw_allowed(double yaw) const { return clamp_yaw(yaw) == yaw; }
+
+double PushWorld::clamp_yaw(double yaw) const {
+  const Eigen::Vector2d& limits = impl_->settings.yaw_limits;
+  if (!std::isfinite(limits.x()) || !std::isfinite(limits.y())) return yaw;
+  // The turn nearest the limits' middle, then into them.
+  const double middle = (limits.x() + limits.y()) / 2;
+  const double near = middle + std::remainder(yaw - middle, 2 * M_PI);
+  const double clamped = std::clamp(near, limits.x(), limits.y());
+  return clamped == near ? yaw : clamped;
+}
+
+Eigen::Vector3d PushWorld::start_pose() const {
+  const Scene& scene = impl_->scene;
+  Eigen::Vector3d hand_pose = impl_->settings.start_hand.value_or(gripper_at_exit(scene));
+  const double yaw = clamp_yaw(pose_for_hand(hand_pose).z());
+  hand_pose.z() = std::remainder(yaw + impl_->frame_T_hand.z(), 2 * M_PI);
+  return pose_for_hand(hand_pose);
+}
 const std::vector<ObjectIndex>& PushWorld::pushable() const { return impl_->pushable; }
 const Eigen::AlignedBox2d& PushWorld::support_region() const { return impl_->support; }
 
@@ -245,7 +392,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
   sim.world.setGravity(btVector3(0, 0, btScalar(-kGravity)));
   for (std::size_t i = 0; i < scene.fixed.size(); ++i) {
     btRigidBody* b = sim.add(w.fixed_shapes[i].get(), bt(scene.fixed[i].world_T_body), 0.0, btVector3(0, 0, 0));
-    b->setFriction(1.0);
+    w.set_friction(*b, w.fixed_friction[i]);
     sim.fixed.insert(b);
   }
   sim.objects.assign(scene.objects.size(), nullptr);
@@ -254,9 +401,14 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
     const SceneObject& o = scene.objects[i];
     const double z = w.initial_pose[i].translation().z();
     const PlanarBody& body = from.objects[i];
-    btRigidBody* b = sim.add(w.object_shapes[i].get(), planar(body.pose, z), o.movable ? o.mass : 0.0, w.inertia[i]);
-    // The support's friction: Bullet multiplies the two bodies' coefficients.
-    b->setFriction(btScalar(o.friction));
+    btRigidBody* b = sim.add(w.object_shapes[i].get(), planar(body.pose, z), w.mass[i], w.inertia[i]);
+    w.set_friction(*b, w.friction[i]);
+    if (o.movable) {
+      b->setSpinningFriction(btScalar(2.0 / 3.0 * w.spin_radius[i]));
+      // Bullet's rigid-body solver adds torsional friction only beside rolling friction;
+      // a trace of it (the object never tips, so it does nothing else).
+      b->setRollingFriction(btScalar(1e-6));
+    }
     if (o.movable) {
       b->setAngularFactor(btVector3(0, 0, 1));  // slides and turns; never tips
       b->setLinearVelocity(btVector3(btScalar(body.velocity.x()), btScalar(body.velocity.y()), 0));
@@ -267,8 +419,8 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
     }
     sim.objects[i] = b;
   }
-  sim.gripper = sim.add(w.gripper_shape.get(), planar(from.gripper, w.gripper_z), 0.0, btVector3(0, 0, 0), true);
-  sim.gripper->setFriction(0.5);
+  sim.gripper = sim.add(w.pusher_shape.get(), planar(from.gripper, w.frame_z), 0.0, btVector3(0, 0, 0), true);
+  w.set_friction(*sim.gripper, w.settings.pusher_friction);
 
   PushOutcome out;
   std::set<ObjectIndex> touched;
@@ -277,7 +429,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
   Eigen::Vector3d gripper = from.gripper;
   for (int k = 0; k < steps && dt > 0; ++k) {
     gripper += control.velocity * dt;
-    sim.gripper->getMotionState()->setWorldTransform(planar(gripper, w.gripper_z));  // the kinematic body follows
+    sim.gripper->getMotionState()->setWorldTransform(planar(gripper, w.frame_z));  // the kinematic body follows
     sim.world.stepSimulation(btScalar(dt), 0);
     const int manifolds = sim.dispatcher.getNumManifolds();
     for (int m = 0; m < manifolds; ++m) {

@@ -587,7 +587,7 @@ class PythonPushSampler final : public plugin::PushSampler {
   plugin::PushAnswer push(plugin::PlanningContext& context, const plugin::PushQuery& query) override {
     plugin::PushAnswer answer;
     const Scene& scene = context.scene();
-    const physics::PushWorld physics(scene, query.state);
+    const physics::PushWorld physics(scene, query.state, physics::push_settings(context.problem));
     const std::string& id = scene.objects.at(query.object).id;
     auto fail = [&](const std::string& reason) {
       answer.failure = Failure{"push", "the Python push_sampler '" + python_.name() + "': " + reason, {}};

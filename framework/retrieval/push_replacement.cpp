@@ -60,7 +60,8 @@ PushReplacement write_plan_with_pushes(plugin::PlanningContext& context, Removal
   PushReplacement done;
   const auto start = std::chrono::steady_clock::now();  // for done.seconds only
   const Scene& scene = context.scene();
-  const Eigen::Vector3d from_exit = physics::gripper_at_exit(scene);
+  const Eigen::Vector3d from_exit =
+      physics::PushWorld(scene, WorldState::initial(scene), physics::push_settings(context.problem)).start_pose();
   std::vector<std::unique_ptr<RemovalChecker>> owned;
   RemovalChecker* current = &checker;   // rooted where the last push left the world (or at checker's)
   std::vector<ObjectIndex> picked;      // objects picked and placed since `current`'s root

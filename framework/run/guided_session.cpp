@@ -46,6 +46,7 @@ struct GuidedSession::Impl {
   Plugins plugins;
   physics::KinodynamicSettings search;
   physics::ReachTolerances reach;
+  physics::PushSettings push;  // the problem's physics: what pushes
   Clock::time_point started = Clock::now();
   std::map<std::string, std::uint64_t> counters;
   WorldState state;
@@ -89,9 +90,11 @@ GuidedSession::GuidedSession(Problem problem, const plugin::Registry& registry, 
   s.reach.read(s.problem.planner.parameters);
   s.state = WorldState::initial(s.problem.scene);
   s.state.robot_configuration = robot::initial_configuration(s.problem.robot);
-  s.gripper = physics::gripper_at_exit(s.problem.scene);
-  s.shelf = physics::support_region(s.problem.scene, s.state, physics::PushSettings{});
-  s.view = physics::PushWorld(s.problem.scene, s.state).gripper_region();
+  s.push = physics::push_settings(s.problem);
+  const physics::PushWorld world(s.problem.scene, s.state, s.push);
+  s.gripper = world.start_pose();
+  s.shelf = world.support_region();
+  s.view = world.gripper_region();
   s.result.reason = "the operator has not let the robot finish";
 }
 
@@ -159,7 +162,7 @@ GuidedSession::Outcome GuidedSession::finish() {
   if (s.finished) return {false, false, "the session is finished"};
   const Scene& scene = s.problem.scene;
   const auto t0 = Clock::now();
-  const physics::PushWorld world(scene, s.state);
+  const physics::PushWorld world(scene, s.state, s.push);
   const physics::ReachGoal goal(world, scene.target, s.reach);
   const physics::KinodynamicOutcome out = physics::plan_pushes(world, world.state_of(s.state, s.gripper), goal, s.search,
                                                                physics::PushBudget::of(s.search, s.time_left()),
@@ -206,7 +209,7 @@ Json gripper_boxes_json(const physics::PushSettings& settings) {
 std::string GuidedSession::state_json() const {
   const Impl& s = *impl_;
   const Scene& scene = s.problem.scene;
-  const physics::PushSettings settings;
+  const physics::PushSettings& settings = s.push;
   Json objects = Json::array();
   for (ObjectIndex i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
@@ -230,13 +233,14 @@ std::string GuidedSession::state_json() const {
                    {"satisfied", in.satisfied}, {"planning_time", in.planning_time}, {"reason", in.reason}});
   }
   const io::RunInfo info = s.info();
+  // The page draws the hand: the floating gripper, or the arm's tool drawn as one.
+  const Eigen::Vector3d hand = physics::PushWorld(scene, s.state, s.push).hand(s.gripper);
   Json out{{"problem", s.problem.name},
            {"shelf", box_json(s.shelf)},
            {"view", box_json(s.view)},
            {"walls", walls},
            {"objects", objects},
-           {"gripper", {{"pose", {s.gripper.x(), s.gripper.y(), s.gripper.z()}},
-                        {"boxes", gripper_boxes_json(settings)}}},
+           {"gripper", {{"pose", {hand.x(), hand.y(), hand.z()}}, {"boxes", gripper_boxes_json(settings)}}},
            {"diameter", s.options.diameter},
            {"time_limit", s.problem.time_limit},
            {"time_left", s.time_left()},

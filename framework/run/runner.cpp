@@ -10,6 +10,7 @@
 #include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/core/world_state.hpp"
+#include "cluttertamp/physics/push_world.hpp"
 #include "cluttertamp/plugin/stream_sampler.hpp"
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/plugin/task_planner.hpp"
@@ -99,6 +100,8 @@ Plugins create_plugins(const Problem& problem, const plugin::Registry& registry,
       collecting(errors, [&] { plugins.planner->check_inputs(problem); });
     }
   }
+  // The physics block is read by whichever plugin pushes: checked here, whole, once.
+  if (read == ProblemPart::whole && problem.physics.size() > 0) collecting(errors, [&] { physics::push_settings(problem); });
   return plugins;
 }
 

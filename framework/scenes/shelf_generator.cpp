@@ -59,7 +59,7 @@ void add_buffer_table(Scene& scene, const Eigen::Vector2d& xy, double top) {
 // buffer table with its region, the robot base, the exit x_s, a camera above the robot
 // and the workspace; no objects.
 Scene cabinet(double x0, double depth, double width, double height, double z0, double object_height,
-              double exit_distance = 0.2) {
+              double exit_distance = 0.2, bool buffer_table = true) {
   const double x1 = x0 + depth;
   constexpr double wall = 0.02;
   Scene scene;
@@ -70,7 +70,7 @@ Scene cabinet(double x0, double depth, double width, double height, double z0, d
   scene.fixed.push_back(board("cabinet_left", {depth, wall, height}, {cx, width / 2 + wall / 2, z0 + height / 2}));
   scene.fixed.push_back(board("cabinet_right", {depth, wall, height}, {cx, -width / 2 - wall / 2, z0 + height / 2}));
   // A buffer table to the robot's right, its top level with the cabinet floor.
-  add_buffer_table(scene, {0.2, -width / 2 - 0.25}, z0);
+  if (buffer_table) add_buffer_table(scene, {0.2, -width / 2 - 0.25}, z0);
   scene.world_T_exit = at(x0 - exit_distance, 0.0, z0 + object_height / 2);
   scene.world_T_robot_base = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d camera = at(0.1, 0.0, z0 + height + 0.2);
@@ -139,6 +139,37 @@ Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
     scene.objects.push_back(standing_cylinder(it == target ? "target" : "o" + std::to_string(next++), it->centre, it->radius,
                                               it->height, z0));
   }
+  return scene;
+}
+
+Scene generate_push_shelf(const PushShelfSpec& spec, std::uint64_t seed) {
+  const double x0 = spec.front, x1 = spec.front + spec.depth, z0 = spec.floor_height, r = spec.radius;
+  Scene scene = cabinet(x0, spec.depth, spec.width, spec.height, z0, spec.object_height, spec.exit_distance, false);
+  scene.name = "push-shelf" + std::to_string(spec.obstacles) + "-seed" + std::to_string(seed);
+  for (FixedBody& f : scene.fixed) f.friction = spec.shelf_friction;
+  const double margin = r + spec.min_gap;
+  if (spec.depth < 2 * margin || spec.width < 2 * margin || spec.back_band < 0) throw std::runtime_error("the shelf is too small for one object");
+  std::mt19937_64 rng(seed);
+  const auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  std::vector<Eigen::Vector2d> centres{{uniform(std::max(x0 + margin, x1 - margin - spec.back_band), x1 - margin),
+                                        uniform(-spec.width / 2 + margin, spec.width / 2 - margin)}};
+  for (int attempt = 0; static_cast<int>(centres.size()) < spec.obstacles + 1; ++attempt) {
+    if (attempt > 100000) {
+      throw std::runtime_error("cannot place " + std::to_string(spec.obstacles) + " obstacles in the shelf (" +
+                               std::to_string(centres.size() - 1) + " fitted in 100000 tries)");
+    }
+    const Eigen::Vector2d c(uniform(x0 + margin, x1 - margin), uniform(-spec.width / 2 + margin, spec.width / 2 - margin));
+    if (std::all_of(centres.begin(), centres.end(), [&](const Eigen::Vector2d& d) { return (d - c).norm() >= 2 * r + spec.min_gap; })) {
+      centres.push_back(c);
+    }
+  }
+  for (std::size_t i = 0; i < centres.size(); ++i) {
+    SceneObject o = standing_cylinder(i == 0 ? "target" : "o" + std::to_string(i), centres[i], r, spec.object_height, z0);
+    o.mass = spec.mass;
+    o.friction = spec.friction;
+    scene.objects.push_back(o);
+  }
+  scene.target = 0;
   return scene;
 }
 

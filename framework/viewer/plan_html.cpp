@@ -338,31 +338,55 @@ class Replayer {
     if (state_.held) tool_T_held_ = tool_pose(links).inverse() * state_.world_T_objects[*state_.held];
   }
 
-  // The pusher's boxes and height as the push step recorded them (values pusher_boxes
-  // and pusher_z); the first push that records them gives the page its pusher. A step
-  // without them (an older result) is replayed without drawing the pusher.
+  // The pusher's parts and height as the push step recorded them (values pusher_parts,
+  // or an older result's pusher_boxes, and pusher_z); the first push that records them
+  // gives the page its pusher. A step without them (an older result) is replayed
+  // without drawing the pusher.
   std::optional<double> pusher_of(const Json& step) {
     const Json& values = step.at("values");
+    const auto parts = values.find("pusher_parts");
     const auto boxes = values.find("pusher_boxes");
     const auto z = values.find("pusher_z");
-    if (boxes == values.end() || z == values.end()) {
+    if ((parts == values.end() && boxes == values.end()) || z == values.end()) {
       warnings_.push_back("step " + std::to_string(step.value("index", 0)) +
                           ": the result does not record the pusher (written by an older cluttertamp); it is not drawn");
       return std::nullopt;
     }
-    const auto numbers = boxes->get<std::vector<double>>();
+    const auto finite = [](const std::vector<double>& v) { return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }); };
     const auto height = z->get<std::vector<double>>();
-    const bool finite = std::all_of(numbers.begin(), numbers.end(), [](double v) { return std::isfinite(v); });
-    if (numbers.empty() || numbers.size() % 5 != 0 || !finite || height.size() != 1 || !std::isfinite(height[0])) {
+    if (height.size() != 1 || !std::isfinite(height[0])) throw InputError({name_, 0, 0}, "a push step's pusher_z must be one finite height");
+    if (parts != values.end()) {
+      const auto numbers = parts->get<std::vector<double>>();
+      if (numbers.empty() || numbers.size() % 11 != 0 || !finite(numbers)) {
+        throw InputError({name_, 0, 0}, "a push step's pusher_parts must be finite [kind, 3 sizes, position x y z, quaternion x y z w] per part");
+      }
+      if (pusher_parts_.empty()) {
+        for (std::size_t i = 0; i < numbers.size(); i += 11) pusher_parts_.push_back(part_json(&numbers[i]));
+      }
+      return height[0];
+    }
+    const auto numbers = boxes->get<std::vector<double>>();
+    if (numbers.empty() || numbers.size() % 5 != 0 || !finite(numbers)) {
       throw InputError({name_, 0, 0}, "a push step's pusher_boxes must be finite [size x y z, centre x y] per box and its pusher_z one height");
     }
     if (pusher_parts_.empty()) {
       for (std::size_t i = 0; i < numbers.size(); i += 5) {
         pusher_parts_.push_back({{"shape", shape_json(Box{Eigen::Vector3d(numbers[i], numbers[i + 1], numbers[i + 2])})},
-                                 {"offset", {numbers[i + 3], numbers[i + 4]}}});
+                                 {"offset", {numbers[i + 3], numbers[i + 4], 0.0}},
+                                 {"rotation", {0.0, 0.0, 0.0, 1.0}}});
       }
     }
     return height[0];
+  }
+
+  // One of pusher_parts' records: kind (0 box, 1 cylinder, 2 sphere; any other a box),
+  // its sizes, its position and quaternion in the pusher's frame.
+  Json part_json(const double* v) const {
+    const int kind = static_cast<int>(v[0]);
+    const Shape shape = kind == 1   ? Shape{Cylinder{std::abs(v[1]), std::abs(v[2])}}
+                        : kind == 2 ? Shape{Sphere{std::abs(v[1])}}
+                                    : Shape{Box{Eigen::Vector3d(v[1], v[2], v[3]).cwiseAbs()}};
+    return {{"shape", shape_json(shape)}, {"offset", {v[4], v[5], v[6]}}, {"rotation", {v[7], v[8], v[9], v[10]}}};
   }
 
   // A push drawn from what the result recorded: the pusher's planar poses and, for each

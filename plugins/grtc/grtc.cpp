@@ -70,25 +70,28 @@ class GrtcPlanner final : public plugin::TaskPlanner {
                       "(plugins: {push_sampler: push_ompl})";
       return result;
     }
-    const Eigen::Vector3d exit = physics::gripper_at_exit(scene);
-    const physics::PushWorld initial_world(scene, initial);
+    const physics::PushSettings settings = physics::push_settings(context.problem);
+    const physics::PushWorld initial_world(scene, initial, settings);
+    const Eigen::Vector3d start = initial_world.start_pose();
     const physics::Guidance guidance = guidance_ == "auto"
-                                      ? physics::generate_guidance(initial_world, initial_world.state_of(initial, exit), exit.head<2>(),
-                                                          max_guides_, diameter_)
+                                      ? physics::generate_guidance(initial_world, initial_world.state_of(initial, start),
+                                                          initial_world.hand(start).head<2>(), max_guides_, diameter_)
                                       : io::load_guidance(guidance_file(context.problem), scene, initial_world.support_region());
+    result.guidance = GuidanceRecord{guidance_ == "auto" ? std::string("auto") : guidance_file(context.problem).string(), {}};
+    for (const physics::Guide& g : guidance) result.guidance->guides.push_back({g.object, g.centre, g.diameter, false, ""});
     result.counters[counter::guides] = guidance.size();
     result.counters[counter::guides_satisfied] = 0;
     result.counters[counter::guides_skipped] = 0;
 
     // Algorithm 1, lines 2-6: satisfy each guide in order, from where the last push left things.
     WorldState state = initial;
-    Eigen::Vector3d gripper = exit;
+    Eigen::Vector3d gripper = start;
     if (!satisfy(guidance, unsatisfied_ == "skip", context, state, gripper, result)) return finish(result, context, started);
     // The guidance time t_g counts as task planning, the remaining reach as motion planning.
     result.time.task_planning = std::chrono::duration<double>(Clock::now() - started).count();
 
     // Line 7: the remaining reaching problem, in the time left.
-    const physics::PushWorld world(scene, state);
+    const physics::PushWorld world(scene, state, settings);
     const physics::ReachGoal goal(world, scene.target, reach_);
     const physics::KinodynamicOutcome out =
         physics::plan_pushes(world, world.state_of(state, gripper), goal, search_,
@@ -135,6 +138,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
         Failure f = answer.failure.value_or(Failure{"push", "the push sampler gave no push and no reason", {}});
         f.reason = "guide " + std::to_string(k + 1) + " (" + describe(scene, g) + ") not satisfied: " + f.reason;
         result.failures.push_back(f);
+        result.guidance->guides[k].reason = f.reason;
         if (skip) {
           result.counters[counter::guides_skipped] += 1;
           continue;
@@ -148,6 +152,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
       state = std::move(*answer.resulting_state);
       gripper = answer.gripper_end;
       result.counters[counter::guides_satisfied] += 1;
+      result.guidance->guides[k].satisfied = true;
     }
     return true;
   }

@@ -70,7 +70,7 @@ class PushOmpl final : public plugin::PushSampler {
     plugin::PushAnswer answer;
     const Scene& scene = context.scene();
     const WorldState& before = q.state;
-    const physics::PushWorld world(scene, before);
+    const physics::PushWorld world(scene, before, physics::push_settings(context.problem));
     const std::string& id = scene.objects.at(q.object).id;
     const auto fail = [&](const std::string& reason, std::vector<ObjectIndex> blocking = {}) {
       answer.failure = Failure{"push", reason, std::move(blocking)};
@@ -98,7 +98,11 @@ class PushOmpl final : public plugin::PushSampler {
     // share, the push the rest.
     const physics::PushBudget budget = physics::PushBudget::of(
         search_, context.deadline.remaining(), q.max_propagations > 0 ? q.max_propagations : physics::PushBudget::kNone);
-    const physics::GripperPoseGoal approach(approach_states(world, start, q), approach_position_, approach_heading_);
+    const std::vector<Eigen::Vector3d> approaches = approach_states(world, start, q);
+    if (approaches.empty()) {
+      return fail("no approach to '" + id + "' towards " + xy(q.goal_xy) + " within the pusher's yaw limits");
+    }
+    const physics::GripperPoseGoal approach(world, approaches, approach_position_, approach_heading_);
     const auto approached = physics::plan_pushes(world, start, approach, search_, budget.share(approach_share_), seed);
     context.count(counter::propagations, approached.propagations);
     if (!approached.path) {
@@ -119,10 +123,11 @@ class PushOmpl final : public plugin::PushSampler {
   }
 
  private:
-  // Fig. 2: a point behind the object on the line from the region's centre through it,
-  // as far from the object's centre as its enclosing circle plus a gap plus the
-  // gripper's reach ahead (the fingertips: face towards the region) or half width (side
-  // edge towards it, the side's middle, palm and finger, facing the object).
+  // Fig. 2: hand poses at a point behind the object on the line from the region's
+  // centre through it, as far from the object's centre as its enclosing circle plus a
+  // gap plus the hand's reach ahead (the fingertips: face towards the region) or half
+  // width (side edge towards it, the side's middle, palm and finger, facing the object;
+  // the floating gripper only). Those the pusher's yaw limits allow.
   std::vector<Eigen::Vector3d> approach_states(const physics::PushWorld& world, const physics::PushState& s,
                                                const plugin::PushQuery& q) const {
     const Eigen::Vector2d object = s.objects.at(q.object).pose.head<2>();
@@ -131,15 +136,23 @@ class PushOmpl final : public plugin::PushSampler {
     const double yaw = std::atan2(dir.y(), dir.x());
     const double r = world.footprint_radius(q.object) + gap_;
     const physics::PushSettings& g = world.settings();
-    const Eigen::Vector2d face = object - (r + ahead(g)) * dir;
-    // Turned +90 degrees, the gripper's x is `across`: its side's middle lies at x =
-    // finger_length / 2 in its frame.
-    const Eigen::Vector2d side = object - (r + g.gripper_size.y() / 2) * dir - g.finger_length / 2 * across;
-    return {{face.x(), face.y(), yaw}, {side.x(), side.y(), std::remainder(yaw + M_PI / 2, 2 * M_PI)}};
+    const Eigen::Vector2d face = object - (r + ahead(world)) * dir;
+    std::vector<Eigen::Vector3d> states{{face.x(), face.y(), yaw}};
+    if (!g.arm) {
+      // Turned +90 degrees, the gripper's x is `across`: its side's middle lies at x =
+      // finger_length / 2 in its frame.
+      const Eigen::Vector2d side = object - (r + g.gripper_size.y() / 2) * dir - g.finger_length / 2 * across;
+      states.push_back({side.x(), side.y(), std::remainder(yaw + M_PI / 2, 2 * M_PI)});
+    }
+    std::erase_if(states, [&](const Eigen::Vector3d& hand) { return !world.yaw_allowed(world.pose_for_hand(hand).z()); });
+    return states;
   }
 
-  // How far the gripper reaches ahead of its centre: the fingertips (or the palm's face).
-  static double ahead(const physics::PushSettings& g) { return g.gripper_size.x() / 2 + g.finger_length; }
+  // How far the hand reaches ahead of its point: the fingertips (or the palm's face).
+  static double ahead(const physics::PushWorld& world) {
+    const physics::PushSettings& g = world.settings();
+    return g.arm ? world.hand_face() : g.gripper_size.x() / 2 + g.finger_length;
+  }
 
   // The quick pass, before any search: a feedback pusher simulated in the physics.
   // Each round lines the gripper up behind the object on its line to the region's
@@ -154,9 +167,10 @@ class PushOmpl final : public plugin::PushSampler {
     // Lined up with the fingertips a gap behind the object; the push then carries it
     // in the pocket, against the palm.
     const physics::PushSettings& g = world.settings();
-    const double standoff = world.footprint_radius(q.object) + ahead(g) + gap_;
-    // In front of the shelf, the gripper may turn without reaching into it.
-    const double front = world.support_region().min().x() - std::hypot(ahead(g), g.gripper_size.y() / 2) - gap_;
+    const double standoff = world.footprint_radius(q.object) + ahead(world) + gap_;
+    // In front of the shelf, the hand may turn without reaching into it.
+    const double front = world.support_region().min().x() - std::hypot(ahead(world), g.gripper_size.y() / 2) - gap_;
+    const double fingers = g.arm ? 0.0 : g.finger_length;
     physics::PushPath path{{start}, {}, search_.step};
     for (int round = 0; round < quick_rounds_; ++round) {
       if (deadline.expired()) {
@@ -172,12 +186,14 @@ class PushOmpl final : public plugin::PushSampler {
       const Eigen::Vector3d behind(object.x() - standoff * dir.x(), object.y() - standoff * dir.y(), yaw);
       std::optional<physics::PushPath> best;
       std::size_t best_disturbed = 0;
-      for (const std::vector<Eigen::Vector3d>& route : line_up_routes(s.gripper, behind, front, g.finger_length + 0.03)) {
+      for (const std::vector<Eigen::Vector3d>& route : line_up_routes(world.hand(s.gripper), behind, front, fingers + 0.03)) {
         if (deadline.expired()) break;
         physics::PushPath lined{{s}, {}, search_.step};
         bool ok = true;
         for (const Eigen::Vector3d& waypoint : route) {
-          ok = ok && physics::simulate(world, lined, physics::straight_controls(lined.states.back().gripper, waypoint, search_));
+          const Eigen::Vector3d to = world.pose_for_hand(waypoint);
+          ok = ok && world.yaw_allowed(to.z()) &&
+               physics::simulate(world, lined, physics::straight_controls(lined.states.back().gripper, to, search_));
         }
         if (!ok) continue;
         const std::size_t disturbed = disturbed_objects(s, lined.states.back(), q.object);
@@ -194,7 +210,7 @@ class PushOmpl final : public plugin::PushSampler {
       const physics::PushState& lined_up = best->states.back();
       const Eigen::Vector2d now = q.goal_xy - lined_up.objects[q.object].pose.head<2>();
       // The fingers pass the object first: it moves once the palm's face meets it.
-      const double stroke = std::min(quick_stroke_, std::max(0.0, now.dot(dir))) + g.finger_length + gap_;
+      const double stroke = std::min(quick_stroke_, std::max(0.0, now.dot(dir))) + fingers + gap_;
       const Eigen::Vector3d pushed = lined_up.gripper + Eigen::Vector3d(stroke * dir.x(), stroke * dir.y(), 0.0);
       if (!physics::simulate(world, *best, physics::straight_controls(lined_up.gripper, pushed, search_))) {
         why = "round " + std::to_string(round + 1) +
@@ -215,7 +231,7 @@ class PushOmpl final : public plugin::PushSampler {
     return why.empty() ? "" : " (the quick pass failed first: " + why + ")";
   }
 
-  // Ways from the gripper pose `g` to the pose `behind`, as waypoints: straight there,
+  // Ways from the hand pose `g` to the hand pose `behind`, as waypoints: straight there,
   // turning on the way; turning first, then straight; straight, then turning; and, from
   // inside the shelf (front of it at x = `front`), backing `back_off` m away from what
   // the palm touches (out of the fingers), out to the front, across and in.

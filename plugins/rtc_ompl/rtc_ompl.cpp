@@ -1,7 +1,8 @@
 // rtc_ompl: reaching through clutter (RTC) by pushing, Papallas & Dogar (ICRA 2020),
 // Section IV — a kinodynamic planner of OMPL's control layer (RRT or KPIECE1) over the
-// planar pushing physics (physics::plan_pushes). The gripper starts at the exit x_s
-// facing into the shelf; the goal: in front of the target, facing it, within a tolerance.
+// planar pushing physics (physics::plan_pushes), with the problem's pusher (`physics:`:
+// a floating gripper, or the robot's arm on a planar base). The hand starts at the exit
+// x_s facing into the shelf; the goal: the target in the hand, within a tolerance.
 #include <chrono>
 #include <cmath>
 
@@ -29,8 +30,8 @@ class RtcPlanner final : public plugin::TaskPlanner {
       result.reason = "rtc_ompl plans reach tasks only (task: {reach: <target>})";
       return result;
     }
-    const physics::PushWorld world(scene, initial);
-    const physics::PushState start = world.state_of(initial, physics::gripper_at_exit(scene));
+    const physics::PushWorld world(scene, initial, physics::push_settings(context.problem));
+    const physics::PushState start = world.state_of(initial, world.start_pose());
     const physics::ReachGoal goal(world, scene.target, reach_);
     const physics::KinodynamicOutcome out =
         physics::plan_pushes(world, start, goal, search_, physics::PushBudget::of(search_, context.deadline.remaining()),

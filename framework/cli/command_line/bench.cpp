@@ -157,7 +157,13 @@ BenchCommand declare_physics(CLI::App& bench, CommonOptions& common) {
       .json("the measurements")
       .svg("the speed of each batch of pushes beside the goal")
       .timed_sweep()
-      .goals("at least 20 times real time with 10 objects");
+      .goals("at least 20 times real time with 10 objects (the arm: 10 times)");
+  c.app->add_option("--pusher", c.args->pusher,
+                    "gripper: a floating gripper in a Table I shelf; arm: the robot's arm on a planar base in a pushing shelf "
+                    "like Papallas & Dogar's (generate --push)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"gripper", "arm"}));
+  BenchOptions(*c.app, *c.args).robot("Robot description (--pusher arm)", "domains/robots/ur10_ag95.yaml");
   return c;
 }
 
@@ -260,24 +266,46 @@ BenchCommand declare_push(CLI::App& bench, CommonOptions& common) {
       .svg("success rates beside the paper's and the times per scene")
       .goals("guided planning beats RRT and KPIECE on success rate")
       .sweep();
-  args.push_scenes = source_file("problems/push/shelf10");
+  args.push_scenes = source_file("problems/push/paper10");
   c.app->add_option("--push-scenes", args.push_scenes,
                     "Directory of reach problems pNN.yaml, each with its guidance pNN-guidance.yaml (else: generated)")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);
-  args.goal_distance = physics::ReachTolerances{}.distance;
-  args.goal_heading = physics::ReachTolerances{}.heading;
-  args.steer = physics::KinodynamicSettings{}.steer;
-  c.app->add_option("--goal-distance", args.goal_distance,
-                    "The target counts as reached with its centre this close to the pocket between the gripper's fingers, m")
-      ->capture_default_str()
-      ->check(finite_positive());
-  c.app->add_option("--goal-heading", args.goal_heading, "... and the target within this angle of the gripper's heading, rad")
-      ->capture_default_str()
-      ->check(finite_positive());
-  c.app->add_option("--steer", args.steer, "Fraction of every planner's sampled controls steered towards the target (guided: its reach)")
-      ->capture_default_str()
-      ->check(finite_range(0.0, 1.0));
+  // Given, each overrides the parameter of every problem's planner.
+  auto goal_distance = std::make_shared<double>(), goal_heading = std::make_shared<double>(), steer = std::make_shared<double>();
+  auto params = std::make_shared<std::vector<std::string>>();
+  CLI::Option* distance_option =
+      c.app->add_option("--goal-distance", *goal_distance,
+                        "The target counts as reached this close, m (goal_distance: the pocket's, or the reach point's with goal: point); "
+                        "default: each problem's own")
+          ->check(finite_positive());
+  CLI::Option* heading_option =
+      c.app->add_option("--goal-heading", *goal_heading, "... and within this angle of the hand's heading, rad (goal_heading); default: each problem's own")
+          ->check(finite_positive());
+  CLI::Option* steer_option =
+      c.app->add_option("--steer", *steer, "Fraction of every planner's sampled controls steered towards the target (steer); default: each problem's own")
+          ->check(finite_range(0.0, 1.0));
+  c.app->add_option("--param", *params,
+                    "KEY=VALUE: a planner parameter every run takes over its problem's own (repeatable; VALUE a number, true/false, "
+                    "[a, b, ...] or text), e.g. --param max_propagations=0");
+  c.run = [=](BenchArgs& a) {
+    const auto number = [](double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.10g", v);
+      return std::string(text);
+    };
+    for (const std::string& kv : *params) {
+      const std::size_t eq = kv.find('=');
+      if (eq == 0 || eq == std::string::npos || eq + 1 == kv.size()) {
+        throw InputError({"--param", 0, 0}, "'" + kv + "' is not KEY=VALUE");
+      }
+      a.push_overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
+    }
+    if (distance_option->count()) a.push_overrides["goal_distance"] = number(*goal_distance);
+    if (heading_option->count()) a.push_overrides["goal_heading"] = number(*goal_heading);
+    if (steer_option->count()) a.push_overrides["steer"] = number(*steer);
+    return bench::push(a);
+  };
   return c;
 }
 

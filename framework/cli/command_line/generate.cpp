@@ -6,9 +6,11 @@ Command declare_generate(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<GenerateArgs>();
   auto* generate = app.add_subcommand("generate", "Generate a shelf scene (Tian et al., Section VI-B) and optionally a problem file");
   add_package_paths(*generate, common);
-  generate->add_option("--objects", args->objects, "Cylinders in the shelf (12 to 20, and 100, in the paper)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 500));
+  auto* objects = generate->add_option("--objects", args->objects,
+                                       "Cylinders in the shelf (12 to 20, and 100, in the paper); with --push the obstacles "
+                                       "besides the target (default 10)")
+                      ->capture_default_str()
+                      ->check(CLI::Range(1, 500));
   generate->add_option("--width", args->width,
                        "Cabinet interior width, m (default: 0.9 for 12 objects to 1.2 for 20, +0.0225 per object beyond)")
       ->check(finite_range(0.1, 10.0));
@@ -47,6 +49,11 @@ Command declare_generate(CLI::App& app, CommonOptions& common) {
       ->capture_default_str()
       ->check(CLI::IsMember({"columns", "random"}))
       ->needs(occlusion);
+  generate->add_flag("--push", args->push,
+                     "A pushing shelf like Papallas & Dogar's (2020, Section VI-B): 0.59 m deep, 0.584 m wide, 0.26 m "
+                     "high, the target (radius 3 cm, 10 cm tall) at the back and --objects such obstacles (friction 0.4, "
+                     "boards 0.5) where they fit; its problem reaches the target by pushing with the robot's arm on a planar "
+                     "base, with the paper's controls and goal (rtc_ompl)");
   generate->add_flag("!--any", args->require_removal,
                      "Keep the first scene even if the target comes out without removing anything");
   generate->add_option("--attempts", args->max_attempts, "Scenes tried (seeds seed, seed+1, ...)")
@@ -54,9 +61,10 @@ Command declare_generate(CLI::App& app, CommonOptions& common) {
       ->check(CLI::Range(1, 100000));
   add_memory_limit(*generate, common);
   add_verbosity(*generate, args->verbosity, "Also say which seeds were rejected");
-  return {generate, [args, robot] {
+  return {generate, [args, robot, objects] {
             if (args->table && !robot->count()) args->robot = source_file("domains/robots/pr2_mobile.yaml");
-            args->fit_to_robot = robot->count() > 0 && !args->table && !args->occlusion;
+            if (args->push && !objects->count()) args->objects = 10;
+            args->fit_to_robot = robot->count() > 0 && !args->table && !args->occlusion && !args->push;
             return cli::generate(*args);
           }};
 }

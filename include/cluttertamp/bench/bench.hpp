@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -73,9 +74,10 @@ struct BenchArgs {
   std::filesystem::path csv;             ///< bench pddl, retrieval, push
   std::filesystem::path svg;             ///< bench push
   std::filesystem::path push_scenes;     ///< bench push: directory of reach problems
-  double goal_distance = 0.005;          ///< bench push: ReachTolerances::distance for every planner, m
-  double goal_heading = 0.5;             ///< bench push: ReachTolerances::heading for every planner, rad
-  double steer = 0.0;                    ///< bench push: KinodynamicSettings::steer for every planner's reach
+  /// bench push: planner parameters every run takes over its problem file's own (from
+  /// --goal-distance, --goal-heading, --steer and --param KEY=VALUE), values as written
+  std::map<std::string, std::string> push_overrides;
+  std::string pusher = "gripper";        ///< bench physics: "gripper" or "arm" (the robot's, on a planar base)
   std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
   std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
   std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml

@@ -87,6 +87,9 @@ struct Problem {
   /// or any kind a plugin declares); the task planner and stream samplers are not here.
   std::map<std::string, PluginChoice> samplers;
   std::map<std::string, PluginChoice> streams;  ///< stream name -> stream sampler plugin
+  /// The `physics:` block: what pushes and how bodies slide in pushing problems (read
+  /// by physics::push_settings; docs/file-formats.md, "Problem files"). Empty: defaults.
+  Parameters physics;
 };
 
 }  // namespace cluttertamp

@@ -121,6 +121,23 @@ inline constexpr const char* plans_found = "plans_found";  ///< plans the stream
 
 /// The outcome of a planning run. A failed run is a Result with solved = false and a
 /// reason, never an exception.
+/// One guide of a guided run as it was followed: push `object` until its centre is in
+/// the disc (world x, y and diameter, m).
+struct GuideRecord {
+  ObjectIndex object = 0;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double diameter = 0.0;
+  bool satisfied = false;
+  std::string reason;  ///< why not, when not satisfied
+};
+
+/// The guidance a guided planner followed (Papallas & Dogar's guides, in order) and
+/// where it came from: enough to run the same guidance again.
+struct GuidanceRecord {
+  std::string source;  ///< the guidance file's path, or "auto" (generated)
+  std::vector<GuideRecord> guides;
+};
+
 struct Result {
   bool solved = false;
   std::string reason;  ///< why not solved; empty when solved
@@ -136,6 +153,7 @@ struct Result {
   std::map<std::string, PhaseTotals> phases;
   std::vector<Failure> failures;  ///< what went wrong along the way, solved or not
   std::vector<PlaneDrawing> drawings;  ///< optional: what the planner built, for the viewer
+  std::optional<GuidanceRecord> guidance;  ///< a guided planner's guidance, as followed
 };
 
 }  // namespace cluttertamp

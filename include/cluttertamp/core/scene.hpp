@@ -22,6 +22,10 @@ struct FixedBody {
   std::string id;
   Shape shape;
   Eigen::Isometry3d world_T_body = Eigen::Isometry3d::Identity();
+  /// Coulomb coefficient of its surface in the pushing physics (physics::PushSettings
+  /// says how two bodies' coefficients combine). The default 1 leaves an object's own
+  /// coefficient as the one against it under the default product rule.
+  double friction = 1.0;
   SourceLocation where;  ///< where the scene file declares it
 };
 

@@ -51,8 +51,8 @@ class CLUTTERTAMP_API PushGoal {
   virtual ~PushGoal();
 
   virtual double distance(const PushState& state) const = 0;
-  /// A gripper pose (x, y m, yaw rad) to head for from `state` to get nearer the goal:
-  /// steered controls head for it.
+  /// A pose of the pusher (x, y m, yaw rad; PushState::gripper) to head for from
+  /// `state` to get nearer the goal: steered controls head for it.
   virtual Eigen::Vector3d gripper_target(const PushState& state) const = 0;
   /// Where the gripper may be once the goal holds, as foreseen from `start`: goal
   /// samples are drawn about one of them at random. Defaults to gripper_target(start).
@@ -66,17 +66,27 @@ class CLUTTERTAMP_API PushGoal {
   double tolerance_;
 };
 
-/// When the target counts as reached. A gripper with fingers: the target's centre
-/// within `distance` m of the pocket between them (from the palm's face to the
-/// fingertips, as wide as the gap less the target's radius), which is "the target
-/// within the end-effector" of Papallas & Dogar, Section II-A. A plain box, or a target
-/// too wide for the gap: the palm's face within `distance` of the target's surface. Either way the target within `heading`
-/// rad of the gripper's heading, seen from the gripper's centre.
+/// When the target counts as reached; the hand is the floating gripper or the arm's
+/// tool (PushWorld::hand).
+///
+/// `pocket` (the default): with fingers, the target's centre within `distance` m of the
+/// pocket between them (from the palm's face to the fingertips, as wide as the gap less
+/// the target's radius): "the target within the end-effector" of Papallas & Dogar,
+/// Section II-A. A plain box, a target too wide for the gap, or an arm's hand: the
+/// hand's face within `distance` of the target's surface. And the target within
+/// `heading` rad of the hand's heading, seen from the hand's point.
+///
+/// `point`: the hand's reach point (the arm's tool centre point; the middle of the
+/// floating gripper's pocket) within `distance` of the target's centre (the paper's
+/// public code: 0.07 m); the heading checked only when `heading` is set.
 struct ReachTolerances {
+  enum class Kind { pocket, point };
+  Kind kind = Kind::pocket;
   double distance = 0.005;
-  double heading = 0.5;
+  std::optional<double> heading = 0.5;
 
-  /// Reads `goal_distance` and `goal_heading`; throws InputError for a bad one.
+  /// Reads `goal` (pocket or point), `goal_distance` (default 0.005 m, point 0.07 m) and
+  /// `goal_heading` (default 0.5 rad, point: none); throws InputError for a bad one.
   void read(const Parameters& parameters);
 };
 
@@ -86,40 +96,47 @@ class CLUTTERTAMP_API ReachGoal final : public PushGoal {
  public:
   ReachGoal(const PushWorld& world, ObjectIndex target, const ReachTolerances& tolerances);
   double distance(const PushState& state) const override;
-  /// Facing the target, its centre at the palm's face plus its radius (at most the
-  /// fingers' length).
+  /// The pusher's pose that faces the target with its centre at the hand's face plus
+  /// its radius (at most the fingers' length) or, for `point`, just short of the
+  /// hand's face.
   Eigen::Vector3d gripper_target(const PushState& state) const override;
   Eigen::Vector3d sample_spread() const override;
 
  private:
+  const PushWorld* world_;
   ObjectIndex target_;
-  double reach_ = 0;     // gripper centre to target centre at gripper_target, m
-  double heading_;       // rad
-  // The pocket the target's centre must be in, in the gripper's frame (m): x from
+  ReachTolerances::Kind kind_;
+  std::optional<double> heading_;  // rad
+  double reach_ = 0;     // hand point to target centre at gripper_target, m
+  double ahead_ = 0;     // point: the reach point ahead of the hand's point, m
+  // The pocket the target's centre must be in, in the hand's frame (m): x from
   // near to far (equal without fingers), |y| up to half_width.
   double pocket_near_ = 0, pocket_far_ = 0, pocket_half_width_ = 0;
   bool has_pocket() const { return pocket_far_ > pocket_near_; }
+  double heading_excess(const Eigen::Vector3d& hand, const Eigen::Vector2d& target) const;
 };
 
-/// The gripper at one of `poses` (x, y m, yaw rad): an approach state of Section V-A.
-/// Distance: metres off the pose plus radians beyond `heading` (a sum, so a heading
-/// error may exceed `heading` by what the position leaves of `position`).
+/// The hand at one of `poses` (x, y m, yaw rad; PushWorld::hand): an approach state
+/// of Section V-A. Distance: metres off the pose plus radians beyond `heading` (a sum,
+/// so a heading error may exceed `heading` by what the position leaves of `position`).
 class CLUTTERTAMP_API GripperPoseGoal final : public PushGoal {
  public:
-  GripperPoseGoal(std::vector<Eigen::Vector3d> poses, double position, double heading);
+  /// Throws std::invalid_argument without a pose.
+  GripperPoseGoal(const PushWorld& world, std::vector<Eigen::Vector3d> poses, double position, double heading);
   double distance(const PushState& state) const override;
-  Eigen::Vector3d gripper_target(const PushState& state) const override;  ///< the nearest pose
-  std::vector<Eigen::Vector3d> goal_grippers(const PushState&) const override { return poses_; }
+  Eigen::Vector3d gripper_target(const PushState& state) const override;  ///< the pusher's pose for the nearest
+  std::vector<Eigen::Vector3d> goal_grippers(const PushState&) const override;
   Eigen::Vector3d sample_spread() const override { return {position_ / 2, position_ / 2, heading_ / 2}; }
 
  private:
-  std::vector<Eigen::Vector3d> poses_;
+  const PushWorld* world_;
+  std::vector<Eigen::Vector3d> poses_;  // of the hand
   double position_, heading_;
 };
 
 /// An object's centre within `radius` of `centre` (world x, y, m): a guide satisfied.
-/// The gripper target: lined up behind the object on the line through the centre (the
-/// fingertips short of it), then where the palm's face leaves it at the centre.
+/// The hand's target: lined up behind the object on the line through the centre (the
+/// fingertips short of it), then where the hand's face leaves it at the centre.
 class CLUTTERTAMP_API ObjectInRegionGoal final : public PushGoal {
  public:
   ObjectInRegionGoal(const PushWorld& world, ObjectIndex object, const Eigen::Vector2d& centre, double radius);
@@ -128,6 +145,7 @@ class CLUTTERTAMP_API ObjectInRegionGoal final : public PushGoal {
   std::vector<Eigen::Vector3d> goal_grippers(const PushState& start) const override;
 
  private:
+  const PushWorld* world_;
   ObjectIndex object_;
   Eigen::Vector2d centre_;
   double standoff_;  // gripper centre behind the object's centre when the palm pushes it, m

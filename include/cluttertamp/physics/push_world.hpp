@@ -3,7 +3,10 @@
 // in the shelf plane pushes the movable objects, which slide on their support under
 // friction. Bullet does the dynamics; it stays in the .cpp file.
 
+#include <limits>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -12,6 +15,13 @@
 #include "cluttertamp/core/scene.hpp"
 #include "cluttertamp/core/world_state.hpp"
 #include "cluttertamp/export.hpp"
+
+namespace cluttertamp {
+struct Problem;
+namespace robot {
+class RobotDescription;
+}
+}  // namespace cluttertamp
 
 namespace cluttertamp::physics {
 
@@ -22,19 +32,48 @@ struct PlanarBody {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
 };
 
-/// The state of a pushing problem: the gripper's planar pose and every scene object's
-/// planar body, indexed like Scene::objects (objects removed in the initial world state
-/// and fixed objects keep their entry and never move).
+/// The state of a pushing problem: the pusher's planar pose (the pose the controls move:
+/// the floating gripper's, or the mobile base's under an arm, see PushSettings) and every
+/// scene object's planar body, indexed like Scene::objects (objects removed in the
+/// initial world state and fixed objects keep their entry and never move).
 struct PushState {
-  Eigen::Vector3d gripper = Eigen::Vector3d::Zero();  ///< x, y (m), yaw (rad)
+  Eigen::Vector3d gripper = Eigen::Vector3d::Zero();  ///< the pusher's x, y (m), yaw (rad), world frame
   std::vector<PlanarBody> objects;
 };
 
-/// A control: the gripper's planar velocity (vx, vy in m/s, yaw rate in rad/s, world
+/// A control: the pusher's planar velocity (vx, vy in m/s, yaw rate in rad/s, world
 /// frame) held for `duration` seconds.
 struct PushControl {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   double duration = 0.0;
+};
+
+/// A rigid part of a pusher, fixed in the pusher's frame: a primitive, or the convex
+/// hull of `hull` points.
+struct PusherPart {
+  /// The primitive; for a hull, the box bounding its points in the part's frame (what a
+  /// viewer draws).
+  Shape shape;
+  /// The part in the pusher's frame (m): origin at the pose the controls move, x ahead
+  /// at yaw 0, z up from the frame's height (PushWorld::pusher_z).
+  Eigen::Isometry3d frame_T_part = Eigen::Isometry3d::Identity();
+  std::vector<Eigen::Vector3d> hull;  ///< points in the part's frame whose hull collides; empty: `shape` does
+};
+
+/// A robot arm held in one posture on a holonomic planar base: what pushes in Papallas &
+/// Dogar's experiments (a UR5 on an omnidirectional base that turns within +-pi/4). Its
+/// links sweep objects and walls at their own heights, and turning the base swings the
+/// hand on the lever from the base's centre to the tool. Made by arm_pusher().
+struct ArmPusher {
+  std::string robot;                  ///< the robot's name
+  std::vector<PusherPart> parts;      ///< the links' collision geometry in the arm's base frame
+  /// Which of `parts` are the hand's (the tip link and the links below the last moving
+  /// joint of the arm chain): what the hand's face and its lowest point are taken from.
+  std::vector<bool> hand;
+  Eigen::Isometry3d arm_T_tcp = Eigen::Isometry3d::Identity();  ///< the tool centre point, arm's base frame
+  /// The arm's base in the mobile base's frame (x ahead, y left; m): the mobile base
+  /// turns about its own centre, this far behind the arm.
+  Eigen::Vector2d base_offset = Eigen::Vector2d::Zero();
 };
 
 struct PushSettings {
@@ -48,8 +87,31 @@ struct PushSettings {
   /// Defaults: an open parallel gripper, 0.09 m between the fingers.
   double finger_length = 0.05;
   double finger_width = 0.015;
-  double gripper_clearance = 0.01;  ///< m between the support plane and the gripper's bottom
+  double gripper_clearance = 0.01;  ///< m between the support plane and the gripper's (the hand's) bottom
   double fall_drop = 0.02;          ///< m an object's centre must sink to count as fallen
+
+  /// What pushes: null, the floating gripper above (a palm and fingers moving freely in
+  /// the plane); set, a robot arm on a planar base (ArmPusher).
+  std::shared_ptr<const ArmPusher> arm;
+  /// The hand's height (m): its tool centre point this far above the support's top.
+  /// Unset: as low as gripper_clearance lets the hand's lowest point be. Arm only.
+  std::optional<double> hand_height;
+  /// The pusher's heading stays within [min, max] (rad, world frame). The floating
+  /// gripper turns freely by default, the arm's base within +-pi/4.
+  Eigen::Vector2d yaw_limits{-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  /// Where the hand starts (x, y m, yaw rad; world frame). Unset: at the scene's exit
+  /// x_s, facing into the shelf (+x).
+  std::optional<Eigen::Vector3d> start_hand;
+
+  /// How two bodies' friction coefficients make a contact's: Bullet's product (with the
+  /// default fixed friction 1, an object's own coefficient is the one against the
+  /// shelf) or MuJoCo's larger of the two (what Papallas & Dogar simulated with).
+  enum class FrictionCombine { product, max };
+  FrictionCombine friction_combine = FrictionCombine::product;
+  std::optional<double> fixed_friction;   ///< every fixed body's coefficient; unset: each its scene's `friction`
+  std::optional<double> object_friction;  ///< every movable object's coefficient; unset: each its own
+  std::optional<double> object_mass;      ///< kg of every movable object; unset: each its own
+  double pusher_friction = 0.5;           ///< the pusher's coefficient
 };
 
 /// One box of the gripper: full edge lengths and where its centre is in the gripper's
@@ -65,21 +127,27 @@ CLUTTERTAMP_API std::vector<GripperBox> gripper_boxes(const PushSettings& settin
 /// What a propagation did besides the new state.
 struct PushOutcome {
   PushState state;
-  bool gripper_hit_fixed = false;       ///< the gripper entered fixed geometry (walls, boards)
+  bool gripper_hit_fixed = false;       ///< the pusher (any part) entered fixed geometry (walls, boards)
   std::vector<ObjectIndex> fallen;      ///< objects that left their support (sorted)
-  std::vector<ObjectIndex> touched;     ///< objects the gripper touched (sorted)
+  std::vector<ObjectIndex> touched;     ///< objects the pusher touched (sorted)
 };
 
 /// The physics of one scene. Every propagation starts from a fresh simulation of the
 /// given state, so the same state and control give the same outcome, bit for bit.
 /// Objects slide and turn about z only (they do not tip); gravity holds them on their
 /// support, whose friction is each object's `friction`; fixed bodies are static.
+///
+/// The pusher moves rigidly in the plane: its pose (PushState::gripper) is the floating
+/// gripper's centre, or the mobile base's under an arm. Goals and regions are about the
+/// hand: the floating gripper itself, or the arm's tool centre point (hand()).
 class CLUTTERTAMP_API PushWorld {
  public:
   /// `initial` says which objects are present (removed ones take no part) and at what
   /// height each stands (kept upright: states hold only x, y and yaw). The plane the
-  /// gripper moves in: the bottom of the target, raised by gripper_clearance.
-  /// Throws std::invalid_argument for a movable object without a positive mass.
+  /// gripper moves in: the bottom of the target, raised by gripper_clearance; an arm's
+  /// hand stands as settings.hand_height says.
+  /// Throws std::invalid_argument for a movable object without a positive mass, bad
+  /// gripper measures, empty yaw limits or an arm without parts.
   PushWorld(const Scene& scene, const WorldState& initial, PushSettings settings = {});
   ~PushWorld();
   PushWorld(const PushWorld&) = delete;
@@ -93,7 +161,28 @@ class CLUTTERTAMP_API PushWorld {
 
   const PushSettings& settings() const;
   const Scene& scene() const;
-  double plane_z() const;  ///< height of the gripper's bottom, m
+  double plane_z() const;  ///< height of the gripper's bottom (of the arm's hand: its lowest point at hand_height), m
+
+  /// The parts that push, in the pusher's frame (see PusherPart); that frame stands at
+  /// pusher_z (m) in the world.
+  const std::vector<PusherPart>& pusher_parts() const;
+  double pusher_z() const;
+  /// The hand's planar pose (x, y m, yaw rad; world) when the pusher is at `pose`: the
+  /// floating gripper's own pose, or the arm's tool centre point heading along its
+  /// approach axis.
+  Eigen::Vector3d hand(const Eigen::Vector3d& pose) const;
+  /// The pusher's pose that puts the hand at `hand` (the inverse of hand()).
+  Eigen::Vector3d pose_for_hand(const Eigen::Vector3d& hand) const;
+  /// m from the hand's point to the front of the hand along its heading: the palm's
+  /// face, or the arm hand's foremost point.
+  double hand_face() const;
+  /// Whether the pusher may head at `yaw` (rad): within settings().yaw_limits.
+  bool yaw_allowed(double yaw) const;
+  /// `yaw` moved into the yaw limits (unchanged when allowed).
+  double clamp_yaw(double yaw) const;
+  /// Where the pusher starts: the hand at settings().start_hand, else at the exit
+  /// facing +x (its heading clamped into the limits).
+  Eigen::Vector3d start_pose() const;
 
   /// The objects a push can move: present in the initial state and movable (sorted).
   const std::vector<ObjectIndex>& pushable() const;
@@ -102,7 +191,7 @@ class CLUTTERTAMP_API PushWorld {
   /// any), less the footprints of walls standing on them, cut off on the side away
   /// from the target.
   const Eigen::AlignedBox2d& support_region() const;
-  /// Where the gripper's centre may be (world x, y, m): over the support region and in
+  /// Where the hand's point may be (world x, y, m): over the support region and in
   /// front of it as far as the exit x_s and 5 cm beyond, within the scene's workspace.
   Eigen::AlignedBox2d gripper_region() const;
   /// Radius of a circle about an object's centre that holds its footprint in the
@@ -122,7 +211,29 @@ CLUTTERTAMP_API Eigen::AlignedBox2d support_region(const Scene& scene, const Wor
                                                    const PushSettings& settings = {});
 
 /// The gripper's planar pose at the scene's exit x_s, facing into the shelf (+x): where
-/// reaching and pushing start (x, y in m, yaw 0).
+/// the floating gripper starts by default (x, y in m, yaw 0). PushWorld::start_pose is
+/// the pusher's start under any settings.
 CLUTTERTAMP_API Eigen::Vector3d gripper_at_exit(const Scene& scene);
+
+/// The arm of `robot` held at `posture` (one value per model variable, rad or m): every
+/// link's collision geometry placed by forward kinematics in the arm's base frame
+/// (meshes as the hulls of their vertices), and the tool centre point. Throws
+/// std::invalid_argument for a posture of the wrong size.
+CLUTTERTAMP_API ArmPusher arm_pusher(const robot::RobotDescription& robot, const Eigen::VectorXd& posture);
+
+/// m from the centre Papallas & Dogar's base turns about to the hand (a UR5 on an
+/// omnidirectional base; their Section VI-C robot).
+inline constexpr double kPaperLever = 1.27;
+
+/// How far ahead of the mobile base's centre to put the arm's base (m, along x) so that
+/// the tool centre point stands `lever` m from that centre; 0 when the arm alone reaches
+/// farther.
+CLUTTERTAMP_API double base_offset_for_lever(const ArmPusher& arm, double lever);
+
+/// The pushing physics a problem asks for: its `physics:` block (docs/file-formats.md,
+/// "Problem files") over the defaults, an arm made from its robot at the block's
+/// `posture` (else the problem's start configuration, else the robot's home). Throws
+/// InputError listing every bad or unknown key with its location.
+CLUTTERTAMP_API PushSettings push_settings(const Problem& problem);
 
 }  // namespace cluttertamp::physics

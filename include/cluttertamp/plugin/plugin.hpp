@@ -18,7 +18,7 @@ namespace cluttertamp::plugin {
 /// and ABI readable from the file, before the library is loaded).
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>__<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 21
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 22
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginRecord and a PluginEntry, so a stray symbol in the plugin section is

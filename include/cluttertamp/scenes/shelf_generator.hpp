@@ -40,6 +40,33 @@ CLUTTERTAMP_API Eigen::Vector3d cabinet_size(const ShelfSpec& spec);
 /// the objects do not fit after many attempts.
 CLUTTERTAMP_API Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed);
 
+/// A shelf for reaching by pushing as Papallas & Dogar (ICRA 2020, Section VI-B)
+/// describe theirs: "the goal object at the back of the shelf in a random position",
+/// then the movable obstacles placed one by one wherever they collide with nothing.
+/// Sizes are those of the paper's public setup as far as it gives them.
+struct PushShelfSpec {
+  int obstacles = 10;
+  double depth = 0.59;   ///< interior along x, m
+  double width = 0.584;  ///< interior along y, m
+  double height = 0.26;  ///< interior along z, m
+  double front = 0.6;         ///< x of the open side
+  double floor_height = 0.4;  ///< z of the floor's top
+  double radius = 0.03, object_height = 0.10;  ///< every cylinder's, m
+  double mass = 0.3;        ///< kg (the paper gives none)
+  double friction = 0.4;    ///< the cylinders' coefficient
+  double shelf_friction = 0.5;  ///< the boards' coefficient
+  /// The target's centre at most this far in front of where it would touch the back
+  /// wall, m.
+  double back_band = 0.05;
+  double min_gap = 0.0;  ///< m between cylinders and to the walls
+  double exit_distance = 0.2;  ///< m in front of the opening where the hand starts (x_s)
+};
+
+/// Draws a PushShelfSpec shelf (same seed, same scene): the target first, then the
+/// obstacles o1... uniformly where they fit. The cabinet alone, no buffer table. Throws
+/// std::runtime_error when the obstacles do not fit after many attempts.
+CLUTTERTAMP_API Scene generate_push_shelf(const PushShelfSpec& spec, std::uint64_t seed);
+
 /// How an occlusion shelf is laid out.
 enum class OcclusionLayout {
   /// Columns of cylinders, each on a line from the camera so that each object is hidden
