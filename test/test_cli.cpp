@@ -1386,7 +1386,7 @@ TEST_F(Cli, BenchPushTakesEachProblemsParametersAndItsOwnOverrides) {
     std::replace(text.begin(), text.end(), '\n', ' ');
     return text;
   };
-  EXPECT_NE(unwrapped(own.output).find("each problem's planner parameters as written"), std::string::npos) << own.output;
+  EXPECT_NE(unwrapped(own.output).find("each problem's physics and planner parameters as written"), std::string::npos) << own.output;
   std::string rows = test::read_text(csv);
   for (const char* planner : {",rrt,", ",kpiece,"}) {
     const std::size_t row = rows.find(planner);
@@ -1396,10 +1396,10 @@ TEST_F(Cli, BenchPushTakesEachProblemsParametersAndItsOwnOverrides) {
 
   const fs::path json_file = dir_ / "push.json";
   const CliRun r = run("bench push -q --runs 1 --time-limit 30 --goal-distance 0.02 --goal-heading 0.4 --steer 0.25 "
-                       "--param max_propagations=2 --push-scenes " + scenes.string() + " --json " + json_file.string() +
+                       "--param max_propagations=2 --param max_guides=1 --push-scenes " + scenes.string() + " --json " + json_file.string() +
                        " --csv " + csv.string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(unwrapped(r.output).find("with goal_distance = 0.02, goal_heading = 0.4, max_propagations = 2, steer = 0.25 for every run"),
+  EXPECT_NE(unwrapped(r.output).find("with goal_distance = 0.02, goal_heading = 0.4, max_guides = 1, max_propagations = 2, steer = 0.25 for every run"),
             std::string::npos) << r.output;
   rows = test::read_text(csv);
   EXPECT_NE(rows.find(",rrt,"), std::string::npos) << rows;
@@ -1415,6 +1415,7 @@ TEST_F(Cli, BenchPushTakesEachProblemsParametersAndItsOwnOverrides) {
   EXPECT_EQ(run("bench push --goal-heading -1 --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --steer 1.5 --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --param max_propagations --push-scenes " + scenes.string()).exit_code, 2);
+  EXPECT_EQ(run("bench push --param planner=kpiece --push-scenes " + scenes.string()).exit_code, 2);
   const CliRun unknown = run("bench push --runs 1 --param max_propagation=3 --push-scenes " + scenes.string());
   EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
   EXPECT_NE(unknown.output.find("max_propagation"), std::string::npos) << unknown.output;

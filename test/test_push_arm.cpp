@@ -87,10 +87,20 @@ TEST(PushArm, TheHandIsWhereTheBaseCarriesItAndTurningTheBaseSwingsItOnTheLever)
   for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(-0.4, 0.5, -0.7)}) {
     EXPECT_LT((world.pose_for_hand(world.hand(p)) - p).norm(), 1e-12);
   }
-  // Yaw limits: +-pi/4 allowed, beyond clamped.
+  // Yaw limits: +-pi/4 allowed, beyond clamped; a hand asked to face beyond them is
+  // turned about its own point.
   EXPECT_TRUE(world.yaw_allowed(0.7));
   EXPECT_FALSE(world.yaw_allowed(0.9));
   EXPECT_DOUBLE_EQ(world.clamp_yaw(2.0), M_PI / 4);
+  EXPECT_FALSE(world.hand_heading_allowed(1.2));
+  const Eigen::Vector3d turned_in = world.pose_for_hand({0.5, 0.1, 1.2});
+  EXPECT_TRUE(world.yaw_allowed(turned_in.z()));
+  EXPECT_LT((world.hand(turned_in).head<2>() - Eigen::Vector2d(0.5, 0.1)).norm(), 1e-12);
+  PushSettings askew = arm_settings();
+  askew.start_hand = Eigen::Vector3d(0.45, 0.05, -1.0);
+  const PushWorld started(scene, initial, askew);
+  EXPECT_TRUE(started.yaw_allowed(started.start_pose().z()));
+  EXPECT_LT((started.hand(started.start_pose()).head<2>() - Eigen::Vector2d(0.45, 0.05)).norm(), 1e-12);
   // Turning the base 0.1 rad moves the hand along a chord of the lever's circle.
   const physics::PushOutcome turned = world.propagate(world.state_of(initial, start), PushControl{{0, 0, 0.1}, 1.0});
   const Eigen::Vector3d moved = world.hand(turned.state.gripper) - world.hand(start);
@@ -225,8 +235,18 @@ TEST_F(PushArmFiles, APhysicsBlockIsReadAndEveryBadKeyReportedWithItsLine) {
   const test::CliRun r = test::run_cli("plan " + (dir_ / "problem.yaml").string() + " -q -o " + (dir_ / "out").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("problem.yaml:6:"), std::string::npos) << r.output;
-  const Problem wrong_size = io::load_problem(problem("{pusher: arm, posture: [0, 1]}", "{planner: rrt}"));
-  EXPECT_THROW(physics::push_settings(wrong_size), InputError);
+  // Postures the arm cannot push in are refused at the key, not when planning.
+  for (const char* posture : {"[0, 1]", "[3.14159, -2, 2, -1.5708, 1.5708, 0, 0.0475]", "[3.14159, -2, 2, 0, 1.5708, 0, 5]"}) {
+    const Problem p = io::load_problem(problem(std::string("{pusher: arm, posture: ") + posture + "}", "{planner: rrt}"));
+    EXPECT_THROW(physics::push_settings(p), InputError) << posture;
+  }
+  const Problem up = io::load_problem(problem("{pusher: arm, posture: [3.14159, -2, 2, -1.5708, 1.5708, 0, 0.0475]}", "{planner: rrt}"));
+  try {
+    physics::push_settings(up);
+  } catch (const InputError& e) {
+    EXPECT_NE(e.diagnostics().str().find("points the tool up or down"), std::string::npos) << e.diagnostics().str();
+  }
+  EXPECT_THROW(physics::push_settings(io::load_problem(problem("{pusher: arm, hand_height: .inf}", "{planner: rrt}"))), InputError);
 }
 
 // The arm reaches the target on the easy shelf: the plan replays through the physics to

@@ -89,10 +89,12 @@ bool guided_only(const std::string& key) {
 // A value as written on the command line: true/false, a number, [a, b, ...] or text.
 ParameterValue parameter_value(const std::string& text) {
   if (text == "true" || text == "false") return text == "true";
+  // Decimal numbers only: strtod's inf, nan and hex stay text (and fail as such).
   const auto number = [](const std::string& t) -> std::optional<double> {
+    if (t.empty() || t.find_first_not_of("+-0123456789.eE") != std::string::npos) return std::nullopt;
     char* end = nullptr;
     const double v = std::strtod(t.c_str(), &end);
-    if (t.empty() || end != t.c_str() + t.size()) return std::nullopt;
+    if (end != t.c_str() + t.size() || !std::isfinite(v)) return std::nullopt;
     return v;
   };
   if (text.size() >= 2 && text.front() == '[' && text.back() == ']') {
@@ -108,7 +110,8 @@ ParameterValue parameter_value(const std::string& text) {
     return values;
   }
   if (const auto v = number(text)) {
-    if (text.find_first_of(".eE") == std::string::npos && std::abs(*v) < 9e15) return static_cast<std::int64_t>(*v);
+    // Whole numbers written without a point are integers ("1e5" too): integer keys take them.
+    if (text.find('.') == std::string::npos && std::floor(*v) == *v && std::abs(*v) < 9e15) return static_cast<std::int64_t>(*v);
     return *v;
   }
   return text;
@@ -127,7 +130,9 @@ Problem configured(Problem problem, const std::string& setting, const fs::path& 
     parameters.set(key, *problem.planner.parameters.get(key));
   }
   parameters.set("planner", std::string(guided ? "rrt" : setting));
-  for (const auto& [key, value] : args.push_overrides) parameters.set(key, parameter_value(value), {"bench push --param", 0, 0});
+  for (const auto& [key, value] : args.push_overrides) {
+    if (guided || !guided_only(key)) parameters.set(key, parameter_value(value), {"bench push --param", 0, 0});
+  }
   if (guided) {
     problem.planner.name = "grtc";
     if (!parameters.contains("guidance")) {
@@ -176,7 +181,8 @@ void write_svg(const std::vector<Run>& runs, const std::vector<std::string>& sce
   SvgPlot plot(left2 + w2 + 20, h);
   // (a) success rate.
   const SvgPlot::Panel rate = plot.panel(left1, top, w1, h - top - bottom, 100,
-                                         "(a) success rate: ours (" + fixed(time_limit, 0) + " s), paper hatched (300 s)",
+                                         "(a) success rate: ours (" + (time_limit > 0 ? fixed(time_limit, 0) + " s" : std::string("own limits")) +
+                                             "), paper hatched (300 s)",
                                          "%");
   for (std::size_t s = 0; s < std::size(kSettings); ++s) {
     const double x = left1 + 10 + double(s) * 70;
@@ -263,7 +269,7 @@ class PushRunner {
     const Loaded& loaded = load(ref.file);
     const Setting& setting = kSettings[ref.setting];
     run::RunOptions options;
-    options.time_limit = args_.time_limit;
+    options.time_limit = args_.time_limit > 0 ? args_.time_limit : loaded.problem.time_limit;
     options.seed = args_.seed + static_cast<std::uint64_t>(ref.run);
     const Result r = run::plan(configured(loaded.problem, setting.name, loaded.guidance, args_), *loaded.registry, options).result;
     const Run run{loaded.problem.name, setting.name, *options.seed, r.solved, r.time.total,
@@ -334,8 +340,9 @@ int report_push(const BenchArgs& args, const std::vector<Record>& records) {
   std::string overrides;
   for (const auto& [key, value] : args.push_overrides) overrides += (overrides.empty() ? "" : ", ") + key + " = " + value;
   std::cout << wrapped("Reaching through clutter on " + std::to_string(scenes.size()) + " scenes (" + args.push_scenes.string() + "), " +
-                           std::to_string(args.runs) + " seeds each, " + fixed(args.time_limit, 0) +
-                           " s per run; each problem's planner parameters" +
+                           std::to_string(args.runs) + " seeds each, " +
+                           (args.time_limit > 0 ? fixed(args.time_limit, 0) + " s per run" : std::string("each problem's time limit")) +
+                           "; each problem's physics and planner parameters" +
                            (overrides.empty() ? std::string(" as written") : ", with " + overrides + " for every run"))
             << "\n";
   std::cout << std::left << std::setw(9) << "planner" << std::setw(7) << "runs" << std::setw(9) << "success" << std::setw(14)

@@ -126,7 +126,10 @@ int generate_push(const GenerateArgs& args, const robot::RobotDescription& robot
       << "  time_limit: 300\n"
       << "  seed: 0\n"
       << "  parameters: {planner: rrt, goal: point, goal_distance: 0.07, step: 1, max_steps: 1, max_speed: 0.1,\n"
-      << "               max_side_speed: 0.1, max_turn: 0.1, max_propagations: " << kPushPropagations << "}  # work budget\n";
+      << "               max_side_speed: 0.1, max_turn: 0.1, max_propagations: " << kPushPropagations << "}  # work budget\n"
+      << "# Guided planning (grtc, bench push) pushes each guide with the same controls.\n"
+      << "plugins:\n"
+      << "  push_sampler: {plugin: push_ompl, parameters: {step: 1, max_steps: 1, max_speed: 0.1, max_side_speed: 0.1, max_turn: 0.1}}\n";
   io::write_text_file(args.problem, out.str(), "problem file");
   if (args.verbosity != Verbosity::quiet) std::cout << "wrote " << args.problem.string() << "\n";
   return run::ExitCode::solved;

@@ -145,8 +145,11 @@ class OmplGoal final : public ob::GoalSampleableRegion {
     const Eigen::Vector3d centre = centres[std::uniform_int_distribution<std::size_t>(0, centres.size() - 1)(rng_)];
     const Eigen::Vector3d spread = goal_.sample_spread();
     PushState s = start_;  // the objects' part does not count for distances
-    for (int k = 0; k < 3; ++k) s.gripper[k] = centre[k] + std::uniform_real_distribution<double>(-1, 1)(rng_) * spread[k];
-    s.gripper.z() = std::remainder(world_.clamp_yaw(s.gripper.z()), 2 * M_PI);
+    // Scattered about the hand's pose: an arm's base turned about its own centre would
+    // swing the hand on its lever.
+    Eigen::Vector3d hand = world_.hand(centre);
+    for (int k = 0; k < 3; ++k) hand[k] += std::uniform_real_distribution<double>(-1, 1)(rng_) * spread[k];
+    s.gripper = world_.pose_for_hand(hand);
     layout_.write(s, true, state);
   }
 

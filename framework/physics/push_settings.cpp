@@ -1,4 +1,5 @@
 // The pusher an arm makes, and a problem's `physics:` block read into PushSettings.
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -87,7 +88,7 @@ PushSettings push_settings(const Problem& problem) {
   s.object_mass = optional_double("object_mass", "kg of every movable object (default: each its own)", Range::open_closed(0, 1e4));
   s.pusher_friction = p.get_double("pusher_friction", s.pusher_friction, "the pusher's friction coefficient", Range::closed(0, 10));
   s.gripper_clearance = p.get_double("clearance", s.gripper_clearance, "m between the support and the hand's lowest point",
-                                     Range::at_least(0));
+                                     Range::closed(0, 1));
   if (p.contains("start")) {
     const std::vector<double> start = p.get_vector("start", {}, "the hand's start x, y (m), yaw (rad), world frame (default: at the exit facing +x)");
     p.require(start.size() == 3 && std::isfinite(start[0]) && std::isfinite(start[1]) && std::isfinite(start[2]), "start",
@@ -104,12 +105,15 @@ PushSettings push_settings(const Problem& problem) {
   const Eigen::VectorXd start_configuration = robot::initial_configuration(problem.robot);
   const std::vector<double> posture = p.get_vector("posture", as_vector(start_configuration),
                                                    "arm: joint values it pushes in (default: the problem's start, else the robot's home)");
+  p.require(std::all_of(posture.begin(), posture.end(), [](double v) { return std::isfinite(v); }), "posture",
+            "must be finite joint values");
   const std::vector<double> offset = p.get_vector("base_offset", {0.0, 0.0},
-                                                  "arm: [x, y] m of the arm's base ahead of and left of the mobile base's centre");
+                                                  "arm: [x, y] m of the arm's base ahead of and left of the mobile base's centre",
+                                                  Range::closed(-10, 10));
   p.require(offset.size() == 2, "base_offset", "must be [x, y]");
   const std::optional<double> hand_height =
       optional_double("hand_height", "arm: m of the tool centre point above the support (default: its lowest point at clearance)",
-                      Range::above(0));
+                      Range::open_closed(0, 2));
   for (const char* key : {"posture", "base_offset", "hand_height"}) {
     p.require(arm || !p.contains(key), key, "applies to pusher: arm only");
   }
@@ -118,9 +122,15 @@ PushSettings push_settings(const Problem& problem) {
     p.require(robot != nullptr, "pusher", "arm needs the problem's robot (robot: {description: ...})");
     const bool fits = robot && posture.size() == robot->model()->variable_count();
     p.require(!robot || fits, "posture", "needs one value per joint variable of the robot");
+    const Eigen::Map<const Eigen::VectorXd> q(posture.data(), Eigen::Index(posture.size()));
+    p.require(!fits || robot->model()->within_limits(q, 1e-6), "posture", "is outside the robot's joint limits");
     if (fits) {
-      auto made = std::make_shared<ArmPusher>(arm_pusher(*robot, Eigen::Map<const Eigen::VectorXd>(posture.data(), Eigen::Index(posture.size()))));
+      auto made = std::make_shared<ArmPusher>(arm_pusher(*robot, q));
       if (offset.size() == 2) made->base_offset = {offset[0], offset[1]};
+      // What PushWorld would refuse, said here at the key.
+      p.require(!made->parts.empty(), "pusher", "arm needs a robot with collision geometry; '" + robot->name() + "' has none");
+      p.require(made->arm_T_tcp.linear().col(2).head<2>().norm() >= 0.1, "posture",
+                "points the tool up or down: it cannot push in the plane (the tool's z axis must lean at least 6 degrees from vertical)");
       s.arm = std::move(made);
       s.hand_height = hand_height;
     }

@@ -328,12 +328,19 @@ Eigen::Vector3d PushWorld::hand(const Eigen::Vector3d& pose) const { return comp
 
 Eigen::Vector3d PushWorld::pose_for_hand(const Eigen::Vector3d& hand) const {
   const Eigen::Vector3d& h = impl_->frame_T_hand;
-  const double yaw = std::remainder(hand.z() - h.z(), 2 * M_PI);
+  double yaw = std::remainder(hand.z() - h.z(), 2 * M_PI);
+  if (!yaw_allowed(yaw)) yaw = clamp_yaw(yaw);  // turned into the limits about the hand's point
   const double c = std::cos(yaw), s = std::sin(yaw);
   return {hand.x() - (c * h.x() - s * h.y()), hand.y() - (s * h.x() + c * h.y()), yaw};
 }
 
-bool PushWorld::yaw_allowed(double yaw) const { return clamp_yaw(yaw) == yaw; }
+// A heading a rounding error beyond a limit (a clamped yaw carried through the hand's
+// frame and back) is still within it.
+bool PushWorld::yaw_allowed(double yaw) const { return std::abs(clamp_yaw(yaw) - yaw) <= 1e-9; }
+
+bool PushWorld::hand_heading_allowed(double hand_yaw) const {
+  return yaw_allowed(std::remainder(hand_yaw - impl_->frame_T_hand.z(), 2 * M_PI));
+}
 
 double PushWorld::clamp_yaw(double yaw) const {
   const Eigen::Vector2d& limits = impl_->settings.yaw_limits;
@@ -346,11 +353,7 @@ double PushWorld::clamp_yaw(double yaw) const {
 }
 
 Eigen::Vector3d PushWorld::start_pose() const {
-  const Scene& scene = impl_->scene;
-  Eigen::Vector3d hand_pose = impl_->settings.start_hand.value_or(gripper_at_exit(scene));
-  const double yaw = clamp_yaw(pose_for_hand(hand_pose).z());
-  hand_pose.z() = std::remainder(yaw + impl_->frame_T_hand.z(), 2 * M_PI);
-  return pose_for_hand(hand_pose);
+  return pose_for_hand(impl_->settings.start_hand.value_or(gripper_at_exit(impl_->scene)));
 }
 const std::vector<ObjectIndex>& PushWorld::pushable() const { return impl_->pushable; }
 const Eigen::AlignedBox2d& PushWorld::support_region() const { return impl_->support; }

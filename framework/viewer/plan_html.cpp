@@ -382,10 +382,9 @@ class Replayer {
   // One of pusher_parts' records: kind (0 box, 1 cylinder, 2 sphere; any other a box),
   // its sizes, its position and quaternion in the pusher's frame.
   Json part_json(const double* v) const {
-    const int kind = static_cast<int>(v[0]);
-    const Shape shape = kind == 1   ? Shape{Cylinder{std::abs(v[1]), std::abs(v[2])}}
-                        : kind == 2 ? Shape{Sphere{std::abs(v[1])}}
-                                    : Shape{Box{Eigen::Vector3d(v[1], v[2], v[3]).cwiseAbs()}};
+    const Shape shape = v[0] == 1.0   ? Shape{Cylinder{std::abs(v[1]), std::abs(v[2])}}
+                        : v[0] == 2.0 ? Shape{Sphere{std::abs(v[1])}}
+                                      : Shape{Box{Eigen::Vector3d(v[1], v[2], v[3]).cwiseAbs()}};
     return {{"shape", shape_json(shape)}, {"offset", {v[4], v[5], v[6]}}, {"rotation", {v[7], v[8], v[9], v[10]}}};
   }
 

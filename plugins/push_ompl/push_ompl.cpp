@@ -144,8 +144,31 @@ class PushOmpl final : public plugin::PushSampler {
       const Eigen::Vector2d side = object - (r + g.gripper_size.y() / 2) * dir - g.finger_length / 2 * across;
       states.push_back({side.x(), side.y(), std::remainder(yaw + M_PI / 2, 2 * M_PI)});
     }
-    std::erase_if(states, [&](const Eigen::Vector3d& hand) { return !world.yaw_allowed(world.pose_for_hand(hand).z()); });
+    std::erase_if(states, [&](const Eigen::Vector3d& hand) { return !world.hand_heading_allowed(hand.z()); });
     return states;
+  }
+
+  // Controls that carry the hand from where pose `from` puts it to `to` on a straight
+  // line, turning evenly. An arm's base turned in one straight control would swing the
+  // hand on its lever: its way is cut into pieces of at most 0.05 rad of turn (the hand
+  // then strays at most lever x 0.0003 from the line).
+  std::vector<physics::PushControl> hand_controls(const physics::PushWorld& world, const Eigen::Vector3d& from,
+                                                  const Eigen::Vector3d& to) const {
+    if (!world.settings().arm) return physics::straight_controls(from, to, search_);  // the gripper is its hand
+    const Eigen::Vector3d target = world.pose_for_hand(to);
+    const Eigen::Vector3d start = world.hand(from);
+    Eigen::Vector3d delta = to - start;
+    delta.z() = std::remainder(delta.z(), 2 * M_PI);
+    const int pieces = std::max(1, static_cast<int>(std::ceil(std::abs(delta.z()) / 0.05)));
+    std::vector<physics::PushControl> controls;
+    Eigen::Vector3d at = from;
+    for (int k = 1; k <= pieces; ++k) {
+      const Eigen::Vector3d next = k == pieces ? target : world.pose_for_hand(start + delta * (double(k) / pieces));
+      const std::vector<physics::PushControl> piece = physics::straight_controls(at, next, search_);
+      controls.insert(controls.end(), piece.begin(), piece.end());
+      at = next;
+    }
+    return controls;
   }
 
   // How far the hand reaches ahead of its point: the fingertips (or the palm's face).
@@ -191,9 +214,8 @@ class PushOmpl final : public plugin::PushSampler {
         physics::PushPath lined{{s}, {}, search_.step};
         bool ok = true;
         for (const Eigen::Vector3d& waypoint : route) {
-          const Eigen::Vector3d to = world.pose_for_hand(waypoint);
-          ok = ok && world.yaw_allowed(to.z()) &&
-               physics::simulate(world, lined, physics::straight_controls(lined.states.back().gripper, to, search_));
+          ok = ok && world.hand_heading_allowed(waypoint.z()) &&
+               physics::simulate(world, lined, hand_controls(world, lined.states.back().gripper, waypoint));
         }
         if (!ok) continue;
         const std::size_t disturbed = disturbed_objects(s, lined.states.back(), q.object);

@@ -171,17 +171,21 @@ class CLUTTERTAMP_API PushWorld {
   /// floating gripper's own pose, or the arm's tool centre point heading along its
   /// approach axis.
   Eigen::Vector3d hand(const Eigen::Vector3d& pose) const;
-  /// The pusher's pose that puts the hand at `hand` (the inverse of hand()).
+  /// The pusher's pose that puts the hand at `hand` (the inverse of hand()), its heading
+  /// turned into the yaw limits about the hand's point when it falls outside them.
   Eigen::Vector3d pose_for_hand(const Eigen::Vector3d& hand) const;
   /// m from the hand's point to the front of the hand along its heading: the palm's
   /// face, or the arm hand's foremost point.
   double hand_face() const;
-  /// Whether the pusher may head at `yaw` (rad): within settings().yaw_limits.
+  /// Whether the pusher may head at `yaw` (rad): within settings().yaw_limits (1e-9
+  /// rad of rounding allowed).
   bool yaw_allowed(double yaw) const;
+  /// Whether the hand may head at `hand_yaw` (rad): the pusher's heading then allowed.
+  bool hand_heading_allowed(double hand_yaw) const;
   /// `yaw` moved into the yaw limits (unchanged when allowed).
   double clamp_yaw(double yaw) const;
   /// Where the pusher starts: the hand at settings().start_hand, else at the exit
-  /// facing +x (its heading clamped into the limits).
+  /// facing +x (the pose_for_hand of it).
   Eigen::Vector3d start_pose() const;
 
   /// The objects a push can move: present in the initial state and movable (sorted).
