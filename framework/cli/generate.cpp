@@ -35,7 +35,7 @@ namespace {
 constexpr std::uint64_t kProofSeeds = 3;
 
 // The work budget of a generated pushing problem: physics propagations of 1 s.
-constexpr int kPushPropagations = 30000;
+constexpr int kPushPropagations = 20000;
 
 // Why `scene`'s fewest objects to move (target included) is not `wanted`, or nothing
 // when it is: retrieval_graph's plan bounds it from above, the exhaustive search
