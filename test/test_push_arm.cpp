@@ -272,6 +272,33 @@ TEST_F(PushArmFiles, TheArmReachesTheTargetAndThePlanReplays) {
   EXPECT_EQ(step.values.at("pusher_parts").size(), 11 * world.pusher_parts().size());
 }
 
+// The paper's first shelf, guided: its guide pushes o1 sideways (75 degrees off the
+// shelf's axis), beyond the base's yaw limits to face; the arm's hand pushes it with
+// its side, and the result records the guidance followed.
+TEST_F(PushArmFiles, AGuidedArmPushesSidewaysWithItsHandsSide) {
+  const fs::path paper = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/paper10";
+  Problem p = io::load_problem(paper / "p01.yaml");
+  p.planner.name = "grtc";
+  p.planner.parameters.set("guidance", (paper / "p01-guidance.yaml").string());
+  const plugin::Registry registry(plugin::Registry::default_search_paths());
+  const run::RunOutcome run = run::plan(p, registry, {});
+  ASSERT_TRUE(run.result.solved) << run.result.reason;
+  ASSERT_TRUE(run.result.guidance);
+  EXPECT_EQ(run.result.guidance->source, (paper / "p01-guidance.yaml").string());
+  ASSERT_EQ(run.result.guidance->guides.size(), 1u);
+  const GuideRecord& guide = run.result.guidance->guides[0];
+  EXPECT_TRUE(guide.satisfied) << guide.reason;
+  EXPECT_EQ(run.result.counters.at("guides_satisfied"), 1u);
+  // The guide's push ends with o1 in its disc.
+  const WorldState initial = WorldState::initial(p.scene);
+  const PushWorld world(p.scene, initial, physics::push_settings(p));
+  const PlanStep& push = run.result.plan.at(0);
+  const physics::Replay replay = physics::replay(world, world.state_of(initial, world.start_pose()), physics::controls_of(push),
+                                                 push.values.at("step").at(0));
+  EXPECT_TRUE(replay.valid);
+  EXPECT_LE((replay.end.objects[guide.object].pose.head<2>() - guide.centre).norm(), guide.diameter / 2 + 1e-9);
+}
+
 // generate --push draws the paper's shelf (the target at the back, ten 3 cm obstacles
 // that do not overlap) and a problem whose physics is the arm's; the same seed draws
 // the same files.

@@ -122,6 +122,7 @@ struct PushWorld::Impl {
   std::vector<PusherPart> parts = {};                   // in the pusher's frame
   Eigen::Vector3d frame_T_hand = Eigen::Vector3d::Zero();  // planar
   double hand_face = 0;       // m
+  double hand_half_width = 0; // m
   std::vector<std::unique_ptr<btCollisionShape>> fixed_shapes = {}, object_shapes = {};
   std::vector<std::unique_ptr<btCollisionShape>> pusher_children = {};  // the parts of pusher_shape
   std::unique_ptr<btCompoundShape> pusher_shape = nullptr;
@@ -241,6 +242,7 @@ void PushWorld::Impl::make_gripper(double support_top) {
     parts.push_back({Box{box.size}, Eigen::Isometry3d(Eigen::Translation3d(box.offset.x(), box.offset.y(), 0)), {}});
   }
   hand_face = settings.gripper_size.x() / 2;
+  hand_half_width = settings.gripper_size.y() / 2;
 }
 
 // The arm's parts in the mobile base's frame; the hand's tool centre point at
@@ -261,8 +263,10 @@ void PushWorld::Impl::make_arm(double support_top) {
     part.frame_T_part = base_T_arm * part.frame_T_part;
     if (arm.hand[i]) {
       for (const Eigen::Vector3d& p : part_points(part)) {
+        const Eigen::Vector2d from_tcp = p.head<2>() - base_T_tcp.translation().head<2>();
         lowest = std::min(lowest, p.z());
-        hand_face = std::max(hand_face, (p.head<2>() - base_T_tcp.translation().head<2>()).dot(heading));
+        hand_face = std::max(hand_face, from_tcp.dot(heading));
+        hand_half_width = std::max(hand_half_width, std::abs(from_tcp.dot(Eigen::Vector2d(-heading.y(), heading.x()))));
       }
     }
     parts.push_back(std::move(part));
@@ -323,6 +327,7 @@ double PushWorld::plane_z() const { return impl_->plane; }
 const std::vector<PusherPart>& PushWorld::pusher_parts() const { return impl_->parts; }
 double PushWorld::pusher_z() const { return impl_->frame_z; }
 double PushWorld::hand_face() const { return impl_->hand_face; }
+double PushWorld::hand_half_width() const { return impl_->hand_half_width; }
 
 Eigen::Vector3d PushWorld::hand(const Eigen::Vector3d& pose) const { return compose(pose, impl_->frame_T_hand); }
 

@@ -126,8 +126,10 @@ class PushOmpl final : public plugin::PushSampler {
   // Fig. 2: hand poses at a point behind the object on the line from the region's
   // centre through it, as far from the object's centre as its enclosing circle plus a
   // gap plus the hand's reach ahead (the fingertips: face towards the region) or half
-  // width (side edge towards it, the side's middle, palm and finger, facing the object;
-  // the floating gripper only). Those the pusher's yaw limits allow.
+  // width (side edge towards it: the floating gripper's side's middle, palm and finger,
+  // facing the object; an arm's hand with its tool on the line, turned either way, so
+  // that a base turning within its limits still pushes sideways). Those the pusher's
+  // yaw limits allow.
   std::vector<Eigen::Vector3d> approach_states(const physics::PushWorld& world, const physics::PushState& s,
                                                const plugin::PushQuery& q) const {
     const Eigen::Vector2d object = s.objects.at(q.object).pose.head<2>();
@@ -143,6 +145,9 @@ class PushOmpl final : public plugin::PushSampler {
       // finger_length / 2 in its frame.
       const Eigen::Vector2d side = object - (r + g.gripper_size.y() / 2) * dir - g.finger_length / 2 * across;
       states.push_back({side.x(), side.y(), std::remainder(yaw + M_PI / 2, 2 * M_PI)});
+    } else {
+      const Eigen::Vector2d side = object - (r + world.hand_half_width()) * dir;
+      for (const double turn : {M_PI / 2, -M_PI / 2}) states.push_back({side.x(), side.y(), std::remainder(yaw + turn, 2 * M_PI)});
     }
     std::erase_if(states, [&](const Eigen::Vector3d& hand) { return !world.hand_heading_allowed(hand.z()); });
     return states;

@@ -177,6 +177,8 @@ class CLUTTERTAMP_API PushWorld {
   /// m from the hand's point to the front of the hand along its heading: the palm's
   /// face, or the arm hand's foremost point.
   double hand_face() const;
+  /// m from the hand's point to the farther of the hand's sides, across its heading.
+  double hand_half_width() const;
   /// Whether the pusher may head at `yaw` (rad): within settings().yaw_limits (1e-9
   /// rad of rounding allowed).
   bool yaw_allowed(double yaw) const;
