@@ -247,6 +247,11 @@ TEST_F(PushArmFiles, APhysicsBlockIsReadAndEveryBadKeyReportedWithItsLine) {
     EXPECT_NE(e.diagnostics().str().find("points the tool up or down"), std::string::npos) << e.diagnostics().str();
   }
   EXPECT_THROW(physics::push_settings(io::load_problem(problem("{pusher: arm, hand_height: .inf}", "{planner: rrt}"))), InputError);
+  // The planner's sample box must be a box.
+  const test::CliRun box = test::run_cli("plan " + problem("{pusher: arm}", "{planner: rrt, sample_bounds: [1, 0, 0, 1]}").string() +
+                                         " -q -o " + (dir_ / "box").string());
+  EXPECT_EQ(box.exit_code, 2) << box.output;
+  EXPECT_NE(box.output.find("sample_bounds"), std::string::npos) << box.output;
 }
 
 // The arm reaches the target on the easy shelf: the plan replays through the physics to

@@ -169,8 +169,10 @@ class OmplGoal final : public ob::GoalSampleableRegion {
 class GripperSampler final : public ob::StateSampler {
  public:
   GripperSampler(const ob::StateSpace* space, const Layout& layout, const PushWorld& world, const PushState& start,
-                 std::uint64_t seed)
-      : ob::StateSampler(space), layout_(layout), world_(world), start_(start), region_(world.gripper_region()), rng_(seed) {
+                 const std::vector<double>& bounds, std::uint64_t seed)
+      : ob::StateSampler(space), layout_(layout), world_(world), start_(start), region_(world.gripper_region()),
+        pusher_box_(bounds.size() == 4), rng_(seed) {
+    if (pusher_box_) region_ = Eigen::AlignedBox2d(Eigen::Vector2d(bounds[0], bounds[1]), Eigen::Vector2d(bounds[2], bounds[3]));
     const Eigen::Vector2d& limits = world.settings().yaw_limits;
     yaw_low_ = std::isfinite(limits.x()) ? limits.x() : -M_PI;
     yaw_high_ = std::isfinite(limits.y()) ? limits.y() : M_PI;
@@ -181,9 +183,16 @@ class GripperSampler final : public ob::StateSampler {
     const double x = uniform(region_.min().x(), region_.max().x());
     const double y = uniform(region_.min().y(), region_.max().y());
     const double yaw = uniform(yaw_low_, yaw_high_);
+    if (pusher_box_) return write({x, y, yaw}, state);
     write(world_.pose_for_hand({x, y, yaw + world_.hand({0, 0, 0}).z()}), state);
   }
   void sampleUniformNear(ob::State* state, const ob::State* near, double distance) override {
+    if (pusher_box_) {
+      const Eigen::Vector3d c = Layout::gripper_pose(near);
+      const double x = std::clamp(c.x() + uniform(-distance, distance), region_.min().x(), region_.max().x());
+      const double y = std::clamp(c.y() + uniform(-distance, distance), region_.min().y(), region_.max().y());
+      return write({x, y, world_.clamp_yaw(c.z() + uniform(-distance, distance))}, state);
+    }
     const Eigen::Vector3d c = world_.hand(Layout::gripper_pose(near));
     const double x = std::clamp(c.x() + uniform(-distance, distance), region_.min().x(), region_.max().x());
     const double y = std::clamp(c.y() + uniform(-distance, distance), region_.min().y(), region_.max().y());
@@ -206,7 +215,8 @@ class GripperSampler final : public ob::StateSampler {
   const Layout& layout_;
   const PushWorld& world_;
   const PushState& start_;
-  Eigen::AlignedBox2d region_;
+  Eigen::AlignedBox2d region_;  // of the hand, or with pusher_box_ of the pusher's pose
+  bool pusher_box_;
   double yaw_low_ = -M_PI, yaw_high_ = M_PI;
   std::mt19937_64 rng_;
 };
@@ -334,6 +344,12 @@ void KinodynamicSettings::read(const Parameters& p) {
       p.get_int("max_propagations", static_cast<std::int64_t>(max_propagations),
                 "physics propagations per search, the work budget (0: none but the time limit)", Range::at_least(0));
   max_propagations = static_cast<std::uint64_t>(propagations);
+  sample_bounds = p.get_vector("sample_bounds", sample_bounds,
+                               "[x_min, y_min, x_max, y_max] m where the pusher's pose is sampled (default: the hand over "
+                               "its region)",
+                               Range::closed(-1000, 1000));
+  p.require(sample_bounds.empty() || (sample_bounds.size() == 4 && sample_bounds[0] < sample_bounds[2] && sample_bounds[1] < sample_bounds[3]),
+            "sample_bounds", "must be [x_min, y_min, x_max, y_max] with min < max");
   p.require(planner == "rrt" || planner == "kpiece", "planner", "must be rrt or kpiece");
 }
 
@@ -510,6 +526,10 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
   const double lever = world.hand({0, 0, 0}).head<2>().norm();
   region.min().array() -= lever;
   region.max().array() += lever;
+  if (settings.sample_bounds.size() == 4) {
+    region.extend(Eigen::Vector2d(settings.sample_bounds[0], settings.sample_bounds[1]));
+    region.extend(Eigen::Vector2d(settings.sample_bounds[2], settings.sample_bounds[3]));
+  }
 
   auto se2 = std::make_shared<ob::SE2StateSpace>();
   ob::RealVectorBounds xy(2);
@@ -524,7 +544,7 @@ KinodynamicOutcome plan_pushes(const PushWorld& world, const PushState& start, c
   space->addSubspace(se2, 1.0);
   space->addSubspace(rest, 0.0);
   space->setStateSamplerAllocator([&, s = mix(seed, 1)](const ob::StateSpace* sp) {
-    return std::make_shared<GripperSampler>(sp, layout, world, start, s);
+    return std::make_shared<GripperSampler>(sp, layout, world, start, settings.sample_bounds, s);
   });
 
   auto controls = std::make_shared<oc::RealVectorControlSpace>(space, 3);

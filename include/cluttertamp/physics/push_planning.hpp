@@ -38,6 +38,11 @@ struct KinodynamicSettings {
   /// Physics propagations one search may make (0: no budget, only the run's time
   /// limit). Work, not time: a search stopped by it ends the same on any machine.
   std::uint64_t max_propagations = 0;
+  /// Where states are sampled: empty, hand poses over the hand's region (ours, focused
+  /// on the shelf); [x_min, y_min, x_max, y_max] (m, world), the pusher's pose anywhere
+  /// in that box, as a plain planner samples its state space (the paper's code: a 4 m
+  /// square). Headings within the yaw limits either way.
+  std::vector<double> sample_bounds;
 
   /// Reads the keys named like the members (`planner`, `step`, ...); throws InputError
   /// naming the value for a bad one.

@@ -52,7 +52,7 @@ struct PushShelfSpec {
   double front = 0.6;         ///< x of the open side
   double floor_height = 0.4;  ///< z of the floor's top
   double radius = 0.03, object_height = 0.10;  ///< every cylinder's, m
-  double mass = 0.3;        ///< kg (the paper gives none)
+  double mass = 10.0;       ///< kg (the paper's code: 10)
   double friction = 0.4;    ///< the cylinders' coefficient
   double shelf_friction = 0.5;  ///< the boards' coefficient
   /// The target's centre at most this far in front of where it would touch the back
