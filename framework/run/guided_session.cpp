@@ -1,5 +1,6 @@
 #include "cluttertamp/run/guided_session.hpp"
 
+#include <memory>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -47,6 +48,7 @@ struct GuidedSession::Impl {
   physics::KinodynamicSettings search;
   physics::ReachTolerances reach;
   physics::PushSettings push;  // the problem's physics: what pushes
+  std::unique_ptr<physics::PushWorld> start_world;  // at the start: where the hand is for a pose
   Clock::time_point started = Clock::now();
   std::map<std::string, std::uint64_t> counters;
   WorldState state;
@@ -91,10 +93,10 @@ GuidedSession::GuidedSession(Problem problem, const plugin::Registry& registry, 
   s.state = WorldState::initial(s.problem.scene);
   s.state.robot_configuration = robot::initial_configuration(s.problem.robot);
   s.push = physics::push_settings(s.problem);
-  const physics::PushWorld world(s.problem.scene, s.state, s.push);
-  s.gripper = world.start_pose();
-  s.shelf = world.support_region();
-  s.view = world.gripper_region();
+  s.start_world = std::make_unique<physics::PushWorld>(s.problem.scene, s.state, s.push);
+  s.gripper = s.start_world->start_pose();
+  s.shelf = s.start_world->support_region();
+  s.view = s.start_world->gripper_region();
   s.result.reason = "the operator has not let the robot finish";
 }
 
@@ -234,7 +236,7 @@ std::string GuidedSession::state_json() const {
   }
   const io::RunInfo info = s.info();
   // The page draws the hand: the floating gripper, or the arm's tool drawn as one.
-  const Eigen::Vector3d hand = physics::PushWorld(scene, s.state, s.push).hand(s.gripper);
+  const Eigen::Vector3d hand = s.start_world->hand(s.gripper);
   Json out{{"problem", s.problem.name},
            {"shelf", box_json(s.shelf)},
            {"view", box_json(s.view)},
