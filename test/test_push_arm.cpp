@@ -205,7 +205,8 @@ class PushArmFiles : public ::testing::Test {
 };
 
 TEST_F(PushArmFiles, APhysicsBlockIsReadAndEveryBadKeyReportedWithItsLine) {
-  const Problem good = io::load_problem(problem("{pusher: arm, base_offset: [0.7, 0.05], friction_combine: max, fixed_friction: 0.6, object_mass: 0.2}",
+  const Problem good = io::load_problem(problem("{pusher: arm, base_offset: [0.7, 0.05], friction_combine: max, fixed_friction: 0.6, object_mass: 0.2, "
+                                                        "tip_limit: 0.1, wall_force_limit: 9}",
                                                 "{planner: rrt}"));
   const PushSettings s = physics::push_settings(good);
   ASSERT_TRUE(s.arm);
@@ -214,21 +215,27 @@ TEST_F(PushArmFiles, APhysicsBlockIsReadAndEveryBadKeyReportedWithItsLine) {
   EXPECT_EQ(s.friction_combine, PushSettings::FrictionCombine::max);
   EXPECT_EQ(s.fixed_friction, 0.6);
   EXPECT_EQ(s.object_mass, 0.2);
+  EXPECT_EQ(s.tip_limit, 0.1);
+  EXPECT_EQ(s.wall_force_limit, 9.0);
   EXPECT_FALSE(physics::push_settings(io::load_problem(problem("{pusher: gripper}", "{planner: rrt}"))).arm);
 
   const Problem bad = io::load_problem(
-      problem("{pusher: gripper, base_ofset: [1, 0], hand_height: 0.05, object_mass: -1, friction_combine: min}", "{planner: rrt}"));
+      problem("{pusher: gripper, base_ofset: [1, 0], hand_height: 0.05, object_mass: -1, friction_combine: min, tip_limit: 0, "
+              "wall_force_limit: -9}",
+              "{planner: rrt}"));
   try {
     physics::push_settings(bad);
     FAIL() << "no error";
   } catch (const InputError& e) {
     const std::string all = e.diagnostics().str();
-    EXPECT_EQ(e.diagnostics().size(), 4u) << all;
+    EXPECT_EQ(e.diagnostics().size(), 6u) << all;
     EXPECT_NE(all.find("unknown physics key 'base_ofset' (did you mean 'base_offset'?)"), std::string::npos) << all;
     EXPECT_NE(all.find("hand_height"), std::string::npos) << all;
     EXPECT_NE(all.find("applies to pusher: arm only"), std::string::npos) << all;
     EXPECT_NE(all.find("object_mass"), std::string::npos) << all;
     EXPECT_NE(all.find("friction_combine"), std::string::npos) << all;
+    EXPECT_NE(all.find("tip_limit"), std::string::npos) << all;
+    EXPECT_NE(all.find("wall_force_limit"), std::string::npos) << all;
     EXPECT_NE(all.find("problem.yaml:6:"), std::string::npos) << all;
   }
   // `plan` refuses it before planning, exit code 2, naming the file and line.
@@ -284,6 +291,7 @@ TEST_F(PushArmFiles, AGuidedArmPushesSidewaysWithItsHandsSide) {
   const fs::path paper = fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/push/paper10";
   Problem p = io::load_problem(paper / "p01.yaml");
   p.planner.name = "grtc";
+  p.seed = 2;  // one of the quicker (413 propagations; seed 0 takes 3425)
   p.planner.parameters.set("guidance", (paper / "p01-guidance.yaml").string());
   const plugin::Registry registry(plugin::Registry::default_search_paths());
   const run::RunOutcome run = run::plan(p, registry, {});
@@ -323,6 +331,7 @@ TEST_F(PushArmFiles, GeneratePushDrawsThePapersShelfAndItsProblem) {
     EXPECT_DOUBLE_EQ(c->radius, 0.03);
     EXPECT_DOUBLE_EQ(c->height, 0.10);
     EXPECT_DOUBLE_EQ(scene.objects[i].friction, 0.4);
+    EXPECT_GE(scene.objects[i].world_T_object.translation().x(), spec.front + spec.clutter_from - 1e-9) << "in the back part";
     for (std::size_t k = 0; k < i; ++k) {
       EXPECT_GE((scene.objects[i].world_T_object.translation() - scene.objects[k].world_T_object.translation()).norm(), 0.06 - 1e-6);
     }
@@ -332,6 +341,8 @@ TEST_F(PushArmFiles, GeneratePushDrawsThePapersShelfAndItsProblem) {
   const PushSettings s = physics::push_settings(p);
   ASSERT_TRUE(s.arm);
   EXPECT_EQ(s.friction_combine, PushSettings::FrictionCombine::max);
+  EXPECT_EQ(s.tip_limit, 0.1);
+  EXPECT_EQ(s.wall_force_limit, 9.0);
   const PushWorld world(p.scene, WorldState::initial(p.scene), s);
   EXPECT_NEAR(world.hand({0, 0, 0}).head<2>().norm(), physics::kPaperLever, 1e-3);
   const std::string first = test::read_text(scene_file);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -45,7 +46,7 @@ bool with_arm(const BenchArgs& args) { return args.pusher == "arm"; }
 double goal_of(const BenchArgs& args) { return with_arm(args) ? kArmGoal : kGoal; }
 
 // The floating gripper in a Table I shelf, or the robot's arm on its planar base in a
-// pushing shelf like Papallas & Dogar's (their lever and friction rule).
+// pushing shelf like Papallas & Dogar's (their lever, friction rule and validity rules).
 Scene scene_of(const BenchArgs& args) {
   if (!with_arm(args)) return scenes::generate_shelf_scene(spec_of(args), args.seed);
   scenes::PushShelfSpec spec;
@@ -62,6 +63,8 @@ physics::PushSettings settings_of_pusher(const BenchArgs& args) {
   settings.arm = std::move(arm);
   settings.yaw_limits = {-M_PI / 4, M_PI / 4};
   settings.friction_combine = physics::PushSettings::FrictionCombine::max;
+  settings.tip_limit = 0.1;  // and objects that tip, with the validity rules of the paper's code
+  settings.wall_force_limit = 9.0;
   return settings;
 }
 
@@ -75,7 +78,9 @@ class PhysicsRunner {
     // front, heading in, and moves forward (5 to 15 cm/s; the arm 5 to 10) with a
     // little sideways drift and turn for kDuration.
     const Eigen::AlignedBox2d support = world_.support_region();
-    const double front = support.min().x(), half_width = support.sizes().y() / 2;
+    const double half_width = support.sizes().y() / 2;
+    double front = support.min().x();
+    if (with_arm(args)) front = std::max(front, clutter_front() - 0.09);  // a pushing shelf's clutter starts deep inside
     const double fastest = with_arm(args) ? 0.1 : 0.15;
     std::mt19937_64 rng(args.seed);
     auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
@@ -86,13 +91,23 @@ class PhysicsRunner {
     }
   }
 
+  // The nearest x any pushable object reaches, m.
+  double clutter_front() const {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (ObjectIndex i : world_.pushable()) {
+      nearest = std::min(nearest, initial_.world_T_objects[i].translation().x() - world_.footprint_radius(i));
+    }
+    return nearest;
+  }
+
   Record run(std::size_t b) {
-    std::size_t touching = 0, fallen = 0;
+    std::size_t touching = 0, fallen = 0, tipped = 0;
     const auto t0 = std::chrono::steady_clock::now();
     for (std::size_t i = b * kBatch; i < (b + 1) * kBatch; ++i) {
       const physics::PushOutcome out = world_.propagate(pushes_[i].first, pushes_[i].second);
       touching += !out.touched.empty();
       fallen += !out.fallen.empty();
+      tipped += !out.tipped.empty();
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return {{"problem", scene_.name},
@@ -105,6 +120,7 @@ class PhysicsRunner {
             {"pusher", args_.pusher},
             {"touching", touching},
             {"dropping", fallen},
+            {"tipping", tipped},
             {"real_time_factor", double(kBatch) * kDuration / wall},
             {"host", host_name()},
             {"version", std::string(version())}};
@@ -126,12 +142,13 @@ int physics(const BenchArgs& args) {
 
 int report_physics(const BenchArgs& args, const std::vector<Record>& records) {
   std::vector<double> factors;
-  std::size_t pushes = 0, touching = 0, fallen = 0;
+  std::size_t pushes = 0, touching = 0, fallen = 0, tipped = 0;
   for (const Record& r : records) {
     factors.push_back(r.at("real_time_factor").get<double>());
     pushes += r.at("pushes").get<std::size_t>();
     touching += r.at("touching").get<std::size_t>();
     fallen += r.at("dropping").get<std::size_t>();
+    tipped += r.value("tipping", std::size_t{0});  // records of earlier versions have none
   }
   const std::string scene = records.empty() ? std::string("no scene") : records.front().at("problem").get<std::string>();
   const double rate = records.empty() ? 0.0 : records.front().at("rate_hz").get<double>();
@@ -143,14 +160,14 @@ int report_physics(const BenchArgs& args, const std::vector<Record>& records) {
             << (with_arm(args) ? "the arm of " + args.robot.filename().string() + " on a planar base" : std::string("a floating gripper"))
             << ":\n"
             << pushes << " pushes of " << kDuration << " s from the open side, " << touching << " touching objects, " << fallen
-            << " dropping one\n";
+            << " dropping one" << (with_arm(args) ? ", " + std::to_string(tipped) + " tipping one (beyond 0.1 rad)" : std::string()) << "\n";
   std::cout << "median speed over batches of " << kBatch << " pushes: " << std::fixed << std::setprecision(1) << factor << " x real time";
   if (has_goal) std::cout << " (goal >= " << goal << ": " << (met ? "met" : "NOT met") << ")";
   std::cout << "\n";
   if (const std::string note = hosts_note(records); !note.empty()) std::cout << note << "\n";
   if (!args.json.empty()) {
     write_json_file(args.json, nlohmann::ordered_json{{"scene", scene}, {"objects", args.objects}, {"pushes", pushes},
-                                                      {"touching", touching}, {"dropping", fallen},
+                                                      {"touching", touching}, {"dropping", fallen}, {"tipping", tipped},
                                                       {"pusher", args.pusher},
                                                       {"median_real_time_factor", factor}, {"goal", goal},
                                                       {"goal_applies", has_goal}});

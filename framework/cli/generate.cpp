@@ -35,7 +35,7 @@ namespace {
 constexpr std::uint64_t kProofSeeds = 3;
 
 // The work budget of a generated pushing problem: physics propagations of 1 s.
-constexpr int kPushPropagations = 20000;
+constexpr int kPushPropagations = 15000;
 
 // Why `scene`'s fewest objects to move (target included) is not `wanted`, or nothing
 // when it is: retrieval_graph's plan bounds it from above, the exhaustive search
@@ -114,14 +114,16 @@ int generate_push(const GenerateArgs& args, const robot::RobotDescription& robot
       << "# as Papallas & Dogar (2020) did: the arm on a planar base turning within +-pi/4, the hand " << number(physics::kPaperLever) << " m\n"
       << "# ahead of the base's centre; controls within +-0.05 m/s and rad/s held 1 s, goal bias 0.1 and\n"
       << "# states sampled in a 4 m square about the shelf (the paper's code); reached with the hand's\n"
-      << "# reach point within 0.07 m of the target; friction the larger of two bodies' (MuJoCo's).\n"
+      << "# reach point within 0.07 m of the target; friction the larger of two bodies' (MuJoCo's); an\n"
+      << "# object tilted beyond 0.1 rad or a wall pressed with more than 9 N ends a push (invalid).\n"
       << "# Format: docs/file-formats.md, \"Problem files\".\n"
       << "version: 1\n"
       << "name: " << args.problem.stem().string() << "\n"
       << "scene: " << fs::relative(fs::absolute(args.output), dir).string() << "\n"
       << "robot: {description: " << fs::relative(fs::absolute(args.robot), dir).string() << "}\n"
       << "task: {reach: target}\n"
-      << "physics: {pusher: arm, base_offset: [" << number(offset) << ", 0], yaw_limits: [-0.7854, 0.7854], friction_combine: max}\n"
+      << "physics: {pusher: arm, base_offset: [" << number(offset) << ", 0], yaw_limits: [-0.7854, 0.7854], friction_combine: max,\n"
+      << "          tip_limit: 0.1, wall_force_limit: 9}\n"
       << "planner:\n"
       << "  plugin: rtc_ompl\n"
       << "  time_limit: 300\n"

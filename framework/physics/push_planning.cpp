@@ -499,7 +499,9 @@ double PushPath::duration() const {
 }
 
 bool valid_outcome(const PushWorld& world, const PushOutcome& out) {
-  if (out.gripper_hit_fixed || !out.fallen.empty() || !world.yaw_allowed(out.state.gripper.z()) ||
+  const double force_limit = world.settings().wall_force_limit.value_or(std::numeric_limits<double>::infinity());
+  if (out.gripper_hit_fixed || !out.fallen.empty() || !out.tipped.empty() || out.wall_force > force_limit ||
+      !world.yaw_allowed(out.state.gripper.z()) ||
       !world.gripper_region().contains(world.hand(out.state.gripper).head<2>())) {
     return false;
   }

@@ -86,6 +86,10 @@ PushSettings push_settings(const Problem& problem) {
   s.fixed_friction = optional_double("fixed_friction", "every fixed body's friction coefficient (default: each its own)", Range::closed(0, 10));
   s.object_friction = optional_double("object_friction", "every movable object's friction coefficient (default: each its own)", Range::closed(0, 10));
   s.object_mass = optional_double("object_mass", "kg of every movable object (default: each its own)", Range::open_closed(0, 1e4));
+  s.tip_limit = optional_double("tip_limit", "rad an object may tilt by the end of a control; set, objects tip (default: they never do)",
+                                Range::open_closed(0, M_PI / 2));
+  s.wall_force_limit = optional_double("wall_force_limit", "N on one contact point of a wall in any step (default: no limit)",
+                                       Range::open_closed(0, 1e6));
   s.pusher_friction = p.get_double("pusher_friction", s.pusher_friction, "the pusher's friction coefficient", Range::closed(0, 10));
   s.gripper_clearance = p.get_double("clearance", s.gripper_clearance, "m between the support and the hand's lowest point",
                                      Range::closed(0, 1));

@@ -18,6 +18,9 @@ constexpr double kGravity = 9.81;  // m/s^2
 // Contacts deeper than this between the gripper and fixed geometry count as a hit (m):
 // grazing a wall is contact, entering it is not.
 constexpr double kFixedPenetration = 0.002;
+// Below these an object is at rest at the end of a control (m/s, rad/s).
+constexpr double kAtRestSpeed = 0.01;
+constexpr double kAtRestTurn = 0.1;
 
 std::unique_ptr<btCollisionShape> make_shape(const Shape& shape) {
   return std::visit(
@@ -32,6 +35,33 @@ std::unique_ptr<btCollisionShape> make_shape(const Shape& shape) {
         }
       },
       shape);
+}
+
+// A body that may tip stands on its whole base only if its contacts are clipped face
+// against face: Bullet gives a curved shape one contact point per pair and step, which
+// rocks an upright cylinder until it walks across the board. So such bodies collide as
+// polyhedra: a cylinder as a prism of kPrismSides sides (its radius off by at most
+// 1 - cos(pi / kPrismSides), 0.9 %), a box with its faces.
+constexpr int kPrismSides = 24;
+std::unique_ptr<btCollisionShape> make_polyhedron(const Shape& shape) {
+  if (const auto* c = std::get_if<Cylinder>(&shape)) {
+    // Bullet grows a hull by its margin: the points inset by it, the prism is the cylinder.
+    constexpr double margin = 0.001;
+    auto prism = std::make_unique<btConvexHullShape>();
+    for (int k = 0; k < kPrismSides; ++k) {
+      const double a = 2 * M_PI * k / kPrismSides, r = c->radius - margin;
+      for (const double z : {-c->height / 2 + margin, c->height / 2 - margin}) {
+        prism->addPoint(btVector3(btScalar(r * std::cos(a)), btScalar(r * std::sin(a)), btScalar(z)), false);
+      }
+    }
+    prism->recalcLocalAabb();
+    prism->setMargin(btScalar(margin));
+    prism->initializePolyhedralFeatures();
+    return prism;
+  }
+  std::unique_ptr<btCollisionShape> made = make_shape(shape);
+  if (auto* box = dynamic_cast<btBoxShape*>(made.get())) box->initializePolyhedralFeatures();
+  return made;
 }
 
 btTransform bt(const Eigen::Isometry3d& pose) {
@@ -103,6 +133,19 @@ std::vector<Eigen::Vector3d> part_points(const PusherPart& part) {
   return points;
 }
 
+// The largest force (N) on one point of a contact in the step just taken: the impulses
+// the solver applied, normal and along both friction directions, over the step.
+double contact_force(const btPersistentManifold& contact, double dt) {
+  double largest = 0;
+  for (int p = 0; p < contact.getNumContacts(); ++p) {
+    const btManifoldPoint& point = contact.getContactPoint(p);
+    const double impulse = std::hypot(double(point.getAppliedImpulse()), double(point.m_appliedImpulseLateral1),
+                                      double(point.m_appliedImpulseLateral2));
+    largest = std::max(largest, impulse / dt);
+  }
+  return largest;
+}
+
 Eigen::Vector3d compose(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const double c = std::cos(a.z()), s = std::sin(a.z());
   return {a.x() + c * b.x() - s * b.y(), a.y() + s * b.x() + c * b.y(), std::remainder(a.z() + b.z(), 2 * M_PI)};
@@ -129,6 +172,7 @@ struct PushWorld::Impl {
   std::vector<btVector3> inertia = {};  // per object, for its mass
   std::vector<double> mass = {}, friction = {}, spin_radius = {};  // per object
   std::vector<double> fixed_friction = {};      // per fixed body
+  std::vector<bool> wall = {};                  // per fixed body: not a board the objects stand on
 
   void make_gripper(double support_top);
   void make_arm(double support_top);
@@ -159,6 +203,7 @@ struct PushWorld::Impl {
     std::vector<btRigidBody*> objects;  // per scene object, null when absent
     btRigidBody* gripper = nullptr;
     std::set<const btCollisionObject*> fixed;
+    std::set<const btCollisionObject*> walls;  // of `fixed`
 
     ~Simulation() {
       for (auto it = bodies.rbegin(); it != bodies.rend(); ++it) world.removeRigidBody(it->get());
@@ -288,27 +333,30 @@ PushWorld::PushWorld(const Scene& scene, const WorldState& initial, PushSettings
   if (!(settings.yaw_limits.x() <= settings.yaw_limits.y())) throw std::invalid_argument("PushWorld: yaw limits need min <= max");
   install_friction_rule();
   for (const FixedBody& f : scene.fixed) {
-    w.fixed_shapes.push_back(make_shape(f.shape));
+    w.fixed_shapes.push_back(settings.tip_limit ? make_polyhedron(f.shape) : make_shape(f.shape));
     w.fixed_friction.push_back(settings.fixed_friction.value_or(f.friction));
   }
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     w.present.push_back(!initial.removed.at(i));
     w.initial_pose.push_back(initial.world_T_objects.at(i));
-    w.object_shapes.push_back(make_shape(o.shape));
+    w.object_shapes.push_back(settings.tip_limit ? make_polyhedron(o.shape) : make_shape(o.shape));
     w.mass.push_back(o.movable ? settings.object_mass.value_or(o.mass) : 0.0);
     w.friction.push_back(o.movable ? settings.object_friction.value_or(o.friction) : settings.fixed_friction.value_or(o.friction));
     w.spin_radius.push_back(cluttertamp::footprint_radius(o.shape, initial.world_T_objects.at(i)));
     btVector3 inertia(0, 0, 0);
     if (o.movable) {
       if (!(w.mass.back() > 0)) throw std::invalid_argument("PushWorld: movable object '" + o.id + "' needs a positive mass");
-      w.object_shapes.back()->calculateLocalInertia(btScalar(w.mass.back()), inertia);
+      make_shape(o.shape)->calculateLocalInertia(btScalar(w.mass.back()), inertia);  // the primitive's, not its prism's box
     }
     w.inertia.push_back(inertia);
     if (o.movable && w.present.back()) w.pushable.push_back(i);
   }
   const ObjectIndex target = scene.target;
   const double support_top = bottom_of(scene.objects.at(target).shape, initial.world_T_objects.at(target));
+  for (const FixedBody& f : scene.fixed) {
+    w.wall.push_back(std::abs(world_bounds(f.shape, f.world_T_body).max().z() - support_top) >= 0.01);
+  }
   w.support = physics::support_region(scene, initial, settings);
   if (settings.arm) w.make_arm(support_top);
   else w.make_gripper(support_top);
@@ -402,6 +450,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
     btRigidBody* b = sim.add(w.fixed_shapes[i].get(), bt(scene.fixed[i].world_T_body), 0.0, btVector3(0, 0, 0));
     w.set_friction(*b, w.fixed_friction[i]);
     sim.fixed.insert(b);
+    if (w.wall[i]) sim.walls.insert(b);
   }
   sim.objects.assign(scene.objects.size(), nullptr);
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
@@ -414,14 +463,19 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
     if (o.movable) {
       b->setSpinningFriction(btScalar(2.0 / 3.0 * w.spin_radius[i]));
       // Bullet's rigid-body solver adds torsional friction only beside rolling friction;
-      // a trace of it (the object never tips, so it does nothing else).
+      // a trace of it, too little to hold an object that tips.
       b->setRollingFriction(btScalar(1e-6));
-    }
-    if (o.movable) {
-      b->setAngularFactor(btVector3(0, 0, 1));  // slides and turns; never tips
+      const bool tips = w.settings.tip_limit.has_value();
+      b->setAngularFactor(btVector3(tips ? 1 : 0, tips ? 1 : 0, 1));  // slides and turns; tips only when allowed to
       b->setLinearVelocity(btVector3(btScalar(body.velocity.x()), btScalar(body.velocity.y()), 0));
       b->setAngularVelocity(btVector3(0, 0, btScalar(body.velocity.z())));
-      b->setActivationState(DISABLE_DEACTIVATION);
+      if (tips && body.velocity.isZero()) {
+        // Asleep until something touches it: Bullet's contacts of a polyhedron at rest on
+        // a board are never quite still, and an object left to them creeps (mm/s).
+        b->setActivationState(ISLAND_SLEEPING);
+      } else {
+        b->setActivationState(DISABLE_DEACTIVATION);
+      }
     } else {
       sim.fixed.insert(b);
     }
@@ -435,7 +489,8 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
   const int steps = std::max(1, static_cast<int>(std::ceil(control.duration / w.settings.time_step - 1e-9)));
   const double dt = control.duration > 0 ? control.duration / steps : 0.0;
   Eigen::Vector3d gripper = from.gripper;
-  for (int k = 0; k < steps && dt > 0; ++k) {
+  const double force_limit = w.settings.wall_force_limit.value_or(std::numeric_limits<double>::infinity());
+  for (int k = 0; k < steps && dt > 0 && out.wall_force <= force_limit; ++k) {
     gripper += control.velocity * dt;
     sim.gripper->getMotionState()->setWorldTransform(planar(gripper, w.frame_z));  // the kinematic body follows
     sim.world.stepSimulation(btScalar(dt), 0);
@@ -444,6 +499,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
       const btPersistentManifold* c = sim.dispatcher.getManifoldByIndexInternal(m);
       const btCollisionObject* a = c->getBody0();
       const btCollisionObject* b = c->getBody1();
+      if (sim.walls.count(a) || sim.walls.count(b)) out.wall_force = std::max(out.wall_force, contact_force(*c, dt));
       if (a != sim.gripper && b != sim.gripper) continue;
       const btCollisionObject* other = a == sim.gripper ? b : a;
       for (int p = 0; p < c->getNumContacts(); ++p) {
@@ -467,9 +523,16 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
     body.pose = {double(t.getOrigin().x()), double(t.getOrigin().y()), yaw_of(t)};
     body.velocity = {double(b->getLinearVelocity().x()), double(b->getLinearVelocity().y()),
                      double(b->getAngularVelocity().z())};
+    // An object that may tip and is all but still is at rest (it would stop within
+    // microns), so that the next propagation starts it asleep.
+    if (w.settings.tip_limit && body.velocity.head<2>().norm() < kAtRestSpeed && std::abs(body.velocity.z()) < kAtRestTurn) {
+      body.velocity.setZero();
+    }
     if (double(t.getOrigin().z()) < w.initial_pose[i].translation().z() - w.settings.fall_drop) {
       out.fallen.push_back(static_cast<ObjectIndex>(i));
     }
+    const double tilt = std::acos(std::clamp(double(t.getBasis()[2][2]), -1.0, 1.0));
+    if (w.settings.tip_limit && tilt > *w.settings.tip_limit) out.tipped.push_back(static_cast<ObjectIndex>(i));
   }
   out.touched.assign(touched.begin(), touched.end());
   return out;

@@ -149,6 +149,7 @@ Scene generate_push_shelf(const PushShelfSpec& spec, std::uint64_t seed) {
   for (FixedBody& f : scene.fixed) f.friction = spec.shelf_friction;
   const double margin = r + spec.min_gap;
   if (spec.depth < 2 * margin || spec.width < 2 * margin || spec.back_band < 0) throw std::runtime_error("the shelf is too small for one object");
+  if (spec.clutter_from < 0 || spec.clutter_from > spec.depth - 2 * margin) throw std::runtime_error("the clutter starts beyond the shelf's back");
   std::mt19937_64 rng(seed);
   const auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
   std::vector<Eigen::Vector2d> centres{{uniform(std::max(x0 + margin, x1 - margin - spec.back_band), x1 - margin),
@@ -158,7 +159,8 @@ Scene generate_push_shelf(const PushShelfSpec& spec, std::uint64_t seed) {
       throw std::runtime_error("cannot place " + std::to_string(spec.obstacles) + " obstacles in the shelf (" +
                                std::to_string(centres.size() - 1) + " fitted in 100000 tries)");
     }
-    const Eigen::Vector2d c(uniform(x0 + margin, x1 - margin), uniform(-spec.width / 2 + margin, spec.width / 2 - margin));
+    const Eigen::Vector2d c(uniform(std::max(x0 + margin, x0 + spec.clutter_from), x1 - margin),
+                            uniform(-spec.width / 2 + margin, spec.width / 2 - margin));
     if (std::all_of(centres.begin(), centres.end(), [&](const Eigen::Vector2d& d) { return (d - c).norm() >= 2 * r + spec.min_gap; })) {
       centres.push_back(c);
     }

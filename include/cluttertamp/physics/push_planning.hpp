@@ -3,8 +3,10 @@
 // Section IV): OMPL's control-based RRT or KPIECE1 grows a tree of gripper controls
 // propagated through PushWorld until a goal holds. OMPL stays in the .cpp file.
 //
-// A state is valid while no pushable object has fallen or left the support region and
-// the gripper is inside its region and has not entered fixed geometry.
+// A state is valid while no pushable object has fallen, tipped (PushSettings::tip_limit)
+// or left the support region, no wall has taken more than PushSettings::wall_force_limit,
+// and the pusher's hand is inside its region, its heading within the yaw limits, and no
+// part of it has entered fixed geometry.
 
 #include <cstdint>
 #include <limits>

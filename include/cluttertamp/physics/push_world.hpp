@@ -112,6 +112,24 @@ struct PushSettings {
   std::optional<double> object_friction;  ///< every movable object's coefficient; unset: each its own
   std::optional<double> object_mass;      ///< kg of every movable object; unset: each its own
   double pusher_friction = 0.5;           ///< the pusher's coefficient
+
+  /// Set: objects turn freely about every axis, and one tilted more than this (rad: the
+  /// angle between its z axis and the world's) at the end of a control has tipped
+  /// (PushOutcome::tipped, an invalid outcome). A smaller tilt is not carried on: states
+  /// hold x, y and yaw, so every propagation starts the objects upright. Unset: objects
+  /// turn about z only and never tip. Papallas & Dogar's code: 0.1 rad in roll or pitch.
+  /// Set, bodies collide as polyhedra (a cylinder as a 24-sided prism) so that an object
+  /// stands on its whole base; an object that starts a propagation at rest sleeps until
+  /// something comes within contact distance, and one slower than 1 cm/s and 0.1 rad/s
+  /// at the end is at rest. Known limit: a woken, light, slender object (0.3 kg, 26 cm
+  /// tall on a 2-3 cm radius) can rock and wander in Bullet while nothing pushes it.
+  std::optional<double> tip_limit;
+  /// Set: a contact force above this (N, one contact point's, normal and friction
+  /// together) on a wall in any physics step is an invalid outcome
+  /// (PushOutcome::wall_force), and the simulation stops at that step (the state is where
+  /// it stopped). Walls: the scene's fixed bodies other than the boards the objects stand
+  /// on. Unset: no limit. Papallas & Dogar's code: 9 on the shelf.
+  std::optional<double> wall_force_limit;
 };
 
 /// One box of the gripper: full edge lengths and where its centre is in the gripper's
@@ -130,12 +148,18 @@ struct PushOutcome {
   bool gripper_hit_fixed = false;       ///< the pusher (any part) entered fixed geometry (walls, boards)
   std::vector<ObjectIndex> fallen;      ///< objects that left their support (sorted)
   std::vector<ObjectIndex> touched;     ///< objects the pusher touched (sorted)
+  /// Objects tilted beyond PushSettings::tip_limit at the end (sorted; empty without a limit).
+  std::vector<ObjectIndex> tipped;
+  /// The largest force (N) on one contact point of a wall in any step: from the pusher or
+  /// an object, normal and friction together (see PushSettings::wall_force_limit).
+  double wall_force = 0.0;
 };
 
 /// The physics of one scene. Every propagation starts from a fresh simulation of the
 /// given state, so the same state and control give the same outcome, bit for bit.
-/// Objects slide and turn about z only (they do not tip); gravity holds them on their
-/// support, whose friction is each object's `friction`; fixed bodies are static.
+/// Objects slide and turn about z only (they do not tip) unless PushSettings::tip_limit
+/// is set; gravity holds them on their support, whose friction is each object's
+/// `friction`; fixed bodies are static.
 ///
 /// The pusher moves rigidly in the plane: its pose (PushState::gripper) is the floating
 /// gripper's centre, or the mobile base's under an arm. Goals and regions are about the

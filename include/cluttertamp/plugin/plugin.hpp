@@ -15,10 +15,12 @@ namespace cluttertamp::plugin {
 /// kinds are open (named by strings, declared by CLUTTERTAMP_PLUGIN_KIND), Samplers is a
 /// map by kind. 19: in-process plugins (provide_plugin: samplers written in Python).
 /// 20: TaskPlanner::required_kinds. 21: the plugin section holds PluginRecords (mark
-/// and ABI readable from the file, before the library is loaded).
+/// and ABI readable from the file, before the library is loaded). 22: the physics layer's
+/// PushSettings gains the arm pusher and the problem's physics block. 23: PushSettings'
+/// tip and wall-force limits, PushOutcome's tipped objects and wall force.
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>__<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 22
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 23
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginRecord and a PluginEntry, so a stray symbol in the plugin section is

@@ -56,14 +56,18 @@ struct PushShelfSpec {
   double friction = 0.4;    ///< the cylinders' coefficient
   double shelf_friction = 0.5;  ///< the boards' coefficient
   /// The target's centre at most this far in front of where it would touch the back
-  /// wall, m.
-  double back_band = 0.05;
+  /// wall, m (the paper's ten scenes, in its public code: 0 to 0.09).
+  double back_band = 0.09;
+  /// The obstacles' centres at least this far behind the opening, m: the paper's scenes
+  /// crowd all ten into the back part of the shelf (0.25 to 0.56 m deep, a few mm
+  /// apart), leaving the front free. 0: anywhere in the shelf.
+  double clutter_from = 0.25;
   double min_gap = 0.0;  ///< m between cylinders and to the walls
   double exit_distance = 0.2;  ///< m in front of the opening where the hand starts (x_s)
 };
 
 /// Draws a PushShelfSpec shelf (same seed, same scene): the target first, then the
-/// obstacles o1... uniformly where they fit. The cabinet alone, no buffer table. Throws
+/// obstacles o1... uniformly where they fit from clutter_from to the back. The cabinet alone, no buffer table. Throws
 /// std::runtime_error when the obstacles do not fit after many attempts.
 CLUTTERTAMP_API Scene generate_push_shelf(const PushShelfSpec& spec, std::uint64_t seed);
 
