@@ -125,6 +125,27 @@ TEST(PushPhysics, AnObjectPushedHighTipsOnlyWhenAllowedToAndAPushLowSlidesIt) {
   EXPECT_GT(low.state.objects[0].pose.x(), 0.83);
 }
 
+// A ball has no tilt to lose: with a tip limit it still slides where pushed, never tipped.
+TEST(PushPhysics, ABallPushedUnderATipLimitSlidesAndNeverTips) {
+  Scene scene = board_scene(0.80, 0.3);
+  SceneObject ball;
+  ball.id = "ball";
+  ball.shape = Sphere{0.04};
+  ball.world_T_object = Eigen::Isometry3d(Eigen::Translation3d(0.80, 0.0, kBoardTop + 0.04));
+  ball.mass = 0.3;
+  ball.friction = 0.5;
+  scene.objects.push_back(ball);
+  const WorldState initial = WorldState::initial(scene);
+  physics::PushSettings settings;
+  settings.tip_limit = 0.1;
+  const PushWorld world(scene, initial, settings);
+  const physics::PushOutcome out = world.propagate(world.state_of(initial, {0.665, 0.0, 0.0}), PushControl{{0.1, 0, 0}, 1.5});
+  EXPECT_EQ(out.touched, std::vector<ObjectIndex>{1});
+  EXPECT_TRUE(out.tipped.empty());
+  EXPECT_GT(out.state.objects[1].pose.x(), 0.83);
+  EXPECT_TRUE(physics::valid_outcome(world, out));
+}
+
 // Objects free to tip stand still when nothing touches them, and one pushed comes to
 // rest and stays there: an object all but still at a control's end is at rest.
 TEST(PushPhysics, ObjectsFreeToTipStandStillUntouchedAndComeToRestAfterAPush) {

@@ -174,6 +174,11 @@ struct PushWorld::Impl {
   std::vector<double> fixed_friction = {};      // per fixed body
   std::vector<bool> wall = {};                  // per fixed body: not a board the objects stand on
 
+  // A sphere would roll, not tip: it keeps sliding as without a tip limit.
+  bool may_tip(std::size_t object) const {
+    return settings.tip_limit && !std::holds_alternative<Sphere>(scene.objects[object].shape);
+  }
+
   void make_gripper(double support_top);
   void make_arm(double support_top);
   void set_friction(btCollisionObject& body, double coefficient) const {
@@ -465,7 +470,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
       // Bullet's rigid-body solver adds torsional friction only beside rolling friction;
       // a trace of it, too little to hold an object that tips.
       b->setRollingFriction(btScalar(1e-6));
-      const bool tips = w.settings.tip_limit.has_value();
+      const bool tips = w.may_tip(i);
       b->setAngularFactor(btVector3(tips ? 1 : 0, tips ? 1 : 0, 1));  // slides and turns; tips only when allowed to
       b->setLinearVelocity(btVector3(btScalar(body.velocity.x()), btScalar(body.velocity.y()), 0));
       b->setAngularVelocity(btVector3(0, 0, btScalar(body.velocity.z())));
@@ -532,7 +537,7 @@ PushOutcome PushWorld::propagate(const PushState& from, const PushControl& contr
       out.fallen.push_back(static_cast<ObjectIndex>(i));
     }
     const double tilt = std::acos(std::clamp(double(t.getBasis()[2][2]), -1.0, 1.0));
-    if (w.settings.tip_limit && tilt > *w.settings.tip_limit) out.tipped.push_back(static_cast<ObjectIndex>(i));
+    if (w.may_tip(i) && tilt > *w.settings.tip_limit) out.tipped.push_back(static_cast<ObjectIndex>(i));
   }
   out.touched.assign(touched.begin(), touched.end());
   return out;
