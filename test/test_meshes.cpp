@@ -2,6 +2,7 @@
 // and units, package:// and other URIs resolved (and every directory searched named
 // when not), convex hulls, meshed links colliding as the primitives they model, and
 // MoveIt SRDF files' disabled pairs.
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <random>
@@ -137,6 +138,66 @@ TEST_F(MeshFiles, ConvexHullOfPointsInsideABoxIsTheBox) {
   }
 }
 
+// A dumbbell: a 0.5 m bar (0.06 m square) between two 0.1 x 0.2 x 0.2 m blocks, along x,
+// three closed boxes in one mesh. Its hull is a 0.7 x 0.2 x 0.2 m box, three times its volume.
+TriangleMesh dumbbell() {
+  TriangleMesh m;
+  auto add = [&m](const Eigen::Vector3d& size, double x) {
+    TriangleMesh b = box_mesh(size);
+    const auto base = static_cast<std::uint32_t>(m.vertices.size());
+    for (const Eigen::Vector3d& v : b.vertices) m.vertices.push_back(v + Eigen::Vector3d(x, 0, 0));
+    for (const auto& t : b.triangles) m.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+  };
+  add({0.5, 0.06, 0.06}, 0.0);
+  add({0.1, 0.2, 0.2}, -0.3);
+  add({0.1, 0.2, 0.2}, 0.3);
+  return m;
+}
+
+bool in_convex(const TriangleMesh& hull, const Eigen::Vector3d& p) {
+  for (const auto& t : hull.triangles) {
+    const Eigen::Vector3d& a = hull.vertices[t[0]];
+    const Eigen::Vector3d n = (hull.vertices[t[1]] - a).cross(hull.vertices[t[2]] - a).normalized();
+    if (n.dot(p - a) > 1e-9) return false;
+  }
+  return true;
+}
+
+TEST_F(MeshFiles, ConvexPiecesHugADumbbellAndStillCoverAllOfIt) {
+  const TriangleMesh mesh = dumbbell();
+  const double hull_volume = enclosed_volume(convex_hull(mesh, {}));
+  EXPECT_NEAR(hull_volume, 0.7 * 0.2 * 0.2, 1e-9);
+  const std::vector<TriangleMesh> pieces = convex_pieces(mesh, {});
+  ASSERT_GE(pieces.size(), 3u);
+  ASSERT_LE(pieces.size(), 6u);
+  double volume = 0;
+  for (const TriangleMesh& piece : pieces) volume += enclosed_volume(piece);
+  // The solid is 0.0098 m^3: the pieces hold little more, the hull nearly three times it.
+  EXPECT_LT(volume, 0.5 * hull_volume);
+  EXPECT_GE(volume, 0.0098 - 1e-9);
+  auto covered = [&](const Eigen::Vector3d& p) {
+    return std::any_of(pieces.begin(), pieces.end(), [&](const TriangleMesh& piece) { return in_convex(piece, p); });
+  };
+  for (const Eigen::Vector3d& v : mesh.vertices) EXPECT_TRUE(covered(v)) << v.transpose();
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 2000; ++i) {  // points of the solid: the bar and the blocks
+    const Eigen::Vector3d bar(0.25 * u(rng), 0.03 * u(rng), 0.03 * u(rng));
+    const Eigen::Vector3d block((i % 2 ? 0.3 : -0.3) + 0.05 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
+    EXPECT_TRUE(covered(bar)) << bar.transpose();
+    EXPECT_TRUE(covered(block)) << block.transpose();
+  }
+  EXPECT_FALSE(covered({0.0, 0.08, 0.0}));  // beside the bar: in the hull, not in the dumbbell
+
+  // The same pieces every time; a convex mesh is its own one piece.
+  const std::vector<TriangleMesh> again = convex_pieces(mesh, {});
+  ASSERT_EQ(again.size(), pieces.size());
+  for (std::size_t i = 0; i < pieces.size(); ++i) EXPECT_EQ(again[i].vertices, pieces[i].vertices);
+  const std::vector<TriangleMesh> box = convex_pieces(box_mesh({0.1, 0.2, 0.3}), {});
+  ASSERT_EQ(box.size(), 1u);
+  EXPECT_NEAR(enclosed_volume(box[0]), 0.006, 1e-12);
+}
+
 std::string arm_urdf(const std::string& geometry);
 
 // A box whose faces are each split into n x n squares (2 n^2 triangles per face).
@@ -257,6 +318,21 @@ std::shared_ptr<const RobotDescription> arm(const fs::path& dir, const std::stri
   return std::make_shared<const RobotDescription>(io::load_robot_description(dir / (name + ".yaml")));
 }
 
+// Whether the robot at q is clear of a ball of radius r (m) at world_p_ball.
+bool valid_beside_ball(const std::shared_ptr<const RobotDescription>& robot, const Eigen::VectorXd& q, double r,
+                       const Eigen::Vector3d& world_p_ball) {
+  Scene scene;
+  SceneObject ball;
+  ball.id = "ball";
+  ball.shape = Sphere{r};
+  ball.world_T_object = Eigen::Translation3d(world_p_ball) * Eigen::Isometry3d::Identity();
+  ball.mass = 0.1;
+  scene.objects.push_back(ball);
+  collision::CollisionWorld world(scene, robot);
+  auto context = world.make_context();
+  return world.is_valid(q, *context);
+}
+
 TEST_F(MeshFiles, AMeshedLinkCollidesAsThePrimitiveItModels) {
   write(dir_ / "pkg/boxarm/meshes/arm.stl", to_ascii_stl(box_mesh({1.0, 1.0, 1.0}), "arm"));
   const auto primitive = arm(dir_, "primitive", R"(<box size="0.1 0.2 0.3"/>)");
@@ -279,17 +355,8 @@ TEST_F(MeshFiles, AMeshedLinkCollidesAsThePrimitiveItModels) {
     // A ball of radius 0.04 m about the box (half sizes 0.05, 0.1, 0.15 m): within
     // 0.1 m of each face, so that it often touches.
     const Eigen::Vector3d p(0.15 * offset(rng), 0.2 * offset(rng), 0.25 * offset(rng));
-    Scene scene;
-    SceneObject ball;
-    ball.id = "ball";
-    ball.shape = Sphere{0.04};
-    ball.world_T_object = Eigen::Translation3d(world_T_box * p) * Eigen::Isometry3d::Identity();
-    ball.mass = 0.1;
-    scene.objects.push_back(ball);
     auto valid = [&](const std::shared_ptr<const RobotDescription>& robot) {
-      collision::CollisionWorld world(scene, robot);
-      auto context = world.make_context();
-      return world.is_valid(q, *context);
+      return valid_beside_ball(robot, q, 0.04, world_T_box * p);
     };
     const bool expected = valid(primitive);
     collisions += !expected;
@@ -304,6 +371,33 @@ TEST_F(MeshFiles, AMeshedLinkCollidesAsThePrimitiveItModels) {
   EXPECT_GT(collisions, 100);  // the samples are not all clear
   EXPECT_LT(collisions, 300);  // nor all in collision
   EXPECT_GT(compared_triangles, 300);
+}
+
+// Beside the dumbbell's bar a ball touches its hull but not the dumbbell: convex pieces
+// let it be, the hull does not; at a block both collide.
+TEST_F(MeshFiles, ALinkOfConvexPiecesCollidesNearlyAsItsMesh) {
+  write(dir_ / "meshes/dumbbell.stl", to_ascii_stl(dumbbell(), "dumbbell"));
+  const std::string mesh = R"(<mesh filename="meshes/dumbbell.stl"/>)";
+  const auto hull = arm(dir_, "hull", mesh, "mesh_collision: convex_hull\n");
+  const auto pieces = arm(dir_, "pieces", mesh);  // the default
+  const auto& links = pieces->model()->links();
+  const auto& shapes = links[*pieces->model()->find_link("arm")].collision;
+  ASSERT_GE(shapes.size(), 3u);
+  for (const CollisionShape& c : shapes) EXPECT_TRUE(c.convex);
+  EXPECT_EQ(hull->model()->links()[*hull->model()->find_link("arm")].collision.size(), 1u);
+
+  const Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+  std::vector<Eigen::Isometry3d> poses;
+  pieces->model()->link_poses(q, poses);
+  const Eigen::Isometry3d world_T_mesh = poses[*pieces->model()->find_link("arm")] * shapes[0].link_T_mesh;
+  auto valid = [&](const std::shared_ptr<const RobotDescription>& robot, const Eigen::Vector3d& mesh_p_ball) {
+    return valid_beside_ball(robot, q, 0.02, world_T_mesh * mesh_p_ball);
+  };
+  EXPECT_FALSE(valid(hull, {0.0, 0.07, 0.0}));
+  EXPECT_TRUE(valid(pieces, {0.0, 0.07, 0.0}));
+  EXPECT_FALSE(valid(pieces, {0.0, 0.045, 0.0}));  // touching the bar
+  EXPECT_FALSE(valid(pieces, {0.3, 0.115, 0.0}));  // touching a block
+  EXPECT_FALSE(valid(hull, {0.3, 0.115, 0.0}));
 }
 
 TEST_F(MeshFiles, AMissingMeshIsLocatedInTheUrdf) {
@@ -323,7 +417,7 @@ TEST_F(MeshFiles, AMissingMeshIsLocatedInTheUrdf) {
 TEST_F(MeshFiles, DescriptionMeshKeysAreChecked) {
   const Diagnostics d = test::expect_input_error(
       [&] { arm(dir_, "bad", R"(<box size="0.1 0.2 0.3"/>)", "mesh_collision: exact\npackage_paths: 3\n"); });
-  EXPECT_TRUE(test::has_error(d, 7, 17, "mesh_collision must be 'convex_hull' or 'triangles', not 'exact'")) << d.str();
+  EXPECT_TRUE(test::has_error(d, 7, 17, "mesh_collision must be 'convex_hull', 'convex_pieces' or 'triangles', not 'exact'")) << d.str();
   EXPECT_TRUE(test::has_error(d, 8, 16, "package_paths")) << d.str();
 }
 

@@ -37,8 +37,16 @@ UrdfOptions urdf_options(const YamlFile& yaml, const MapReader& top) {
   if (top.has("mesh_collision")) {
     const YAML::Node node = top.optional("mesh_collision");
     const auto name = yaml.string(node, "mesh_collision");
-    if (name == std::string("triangles")) options.mesh_collision = MeshCollision::triangles;
-    else if (name && *name != "convex_hull") yaml.error(node, "mesh_collision must be 'convex_hull' or 'triangles', not '" + *name + "'");
+    bool known = false;
+    for (const MeshCollision m : {MeshCollision::convex_hull, MeshCollision::convex_pieces, MeshCollision::triangles}) {
+      if (name == std::string(mesh_collision_name(m))) {
+        options.mesh_collision = m;
+        known = true;
+      }
+    }
+    if (name && !known) {
+      yaml.error(node, "mesh_collision must be 'convex_hull', 'convex_pieces' or 'triangles', not '" + *name + "'");
+    }
   }
   return options;
 }

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <system_error>
@@ -32,7 +33,14 @@ void TriangleMesh::bounds(Eigen::Vector3d& min, Eigen::Vector3d& max) const {
   }
 }
 
-const char* mesh_collision_name(MeshCollision m) { return m == MeshCollision::convex_hull ? "convex_hull" : "triangles"; }
+const char* mesh_collision_name(MeshCollision m) {
+  switch (m) {
+    case MeshCollision::convex_hull: return "convex_hull";
+    case MeshCollision::triangles: return "triangles";
+    case MeshCollision::convex_pieces: return "convex_pieces";
+  }
+  return "?";
+}
 
 PackagePaths PackagePaths::with_environment(std::vector<fs::path> directories) {
   PackagePaths out{std::move(directories)};
@@ -162,7 +170,10 @@ TriangleMesh load_mesh(const fs::path& file, const Eigen::Vector3d& scale, const
   return mesh;
 }
 
-TriangleMesh convex_hull(const TriangleMesh& mesh, const SourceLocation& where) {
+namespace {
+
+// The hull, or none with qhull's first message line for a mesh without volume.
+std::optional<TriangleMesh> hull_of(const TriangleMesh& mesh, std::string& why_not) {
   std::vector<coordT> points;
   points.reserve(mesh.vertices.size() * 3);
   for (const Eigen::Vector3d& v : mesh.vertices) points.insert(points.end(), {v.x(), v.y(), v.z()});
@@ -206,11 +217,158 @@ TriangleMesh convex_hull(const TriangleMesh& mesh, const SourceLocation& where) 
   std::string why(messages ? messages : "", message_size);
   std::free(messages);
   if (failed || hull.triangles.empty()) {
-    const auto line_end = why.find('\n');
-    throw InputError(where, "the mesh has no convex hull (fewer than 4 vertices, or all on one plane)" +
-                                (why.empty() ? std::string() : ": qhull: " + why.substr(0, line_end)));
+    why_not = why.substr(0, why.find('\n'));
+    return std::nullopt;
   }
   return hull;
+}
+
+}  // namespace
+
+TriangleMesh convex_hull(const TriangleMesh& mesh, const SourceLocation& where) {
+  std::string why;
+  std::optional<TriangleMesh> hull = hull_of(mesh, why);
+  if (!hull) {
+    throw InputError(where, "the mesh has no convex hull (fewer than 4 vertices, or all on one plane)" +
+                                (why.empty() ? std::string() : ": qhull: " + why));
+  }
+  return std::move(*hull);
+}
+
+double enclosed_volume(const TriangleMesh& mesh) {
+  double six_volume = 0;
+  for (const auto& t : mesh.triangles) {
+    six_volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
+  }
+  return six_volume / 6;
+}
+
+namespace {
+
+// The mesh's triangles clipped to the side of the plane x[axis] = at that `keep_below`
+// says; each clipped polygon fanned back into triangles.
+TriangleMesh clipped(const TriangleMesh& mesh, int axis, double at, bool keep_below) {
+  TriangleMesh out;
+  // Kept vertices are shared as in the mesh (qhull's time grows with the points).
+  std::vector<std::uint32_t> kept(mesh.vertices.size(), std::numeric_limits<std::uint32_t>::max());
+  auto inside = [&](const Eigen::Vector3d& v) { return keep_below ? at - v[axis] : v[axis] - at; };  // >= 0: kept
+  std::vector<std::uint32_t> polygon;
+  for (const auto& t : mesh.triangles) {
+    polygon.clear();
+    for (std::size_t i = 0; i < 3; ++i) {
+      const std::uint32_t a = t[i], b = t[(i + 1) % 3];
+      const double inside_a = inside(mesh.vertices[a]), inside_b = inside(mesh.vertices[b]);
+      if (inside_a >= 0) {
+        if (kept[a] == std::numeric_limits<std::uint32_t>::max()) {
+          kept[a] = static_cast<std::uint32_t>(out.vertices.size());
+          out.vertices.push_back(mesh.vertices[a]);
+        }
+        polygon.push_back(kept[a]);
+      }
+      if ((inside_a >= 0) != (inside_b >= 0)) {
+        polygon.push_back(static_cast<std::uint32_t>(out.vertices.size()));
+        out.vertices.push_back(mesh.vertices[a] + (mesh.vertices[b] - mesh.vertices[a]) * (inside_a / (inside_a - inside_b)));
+      }
+    }
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k) out.triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
+  }
+  return out;
+}
+
+// The mesh with vertices at the same point made one (STL files repeat them per
+// triangle): fewer points for qhull on every split tried.
+TriangleMesh welded(const TriangleMesh& mesh) {
+  TriangleMesh out;
+  std::map<std::array<double, 3>, std::uint32_t> index;
+  std::vector<std::uint32_t> remap(mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3d& v = mesh.vertices[i];
+    const auto [it, added] = index.emplace(std::array<double, 3>{v.x(), v.y(), v.z()}, static_cast<std::uint32_t>(out.vertices.size()));
+    if (added) out.vertices.push_back(v);
+    remap[i] = it->second;
+  }
+  out.triangles.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) out.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
+  return out;
+}
+
+struct Piece {
+  TriangleMesh part;  // the mesh's triangles (clipped) this piece covers
+  TriangleMesh hull;
+  double volume = 0;
+};
+
+struct Split {
+  double gain = 0;  // the piece's hull volume less its halves'
+  std::array<Piece, 2> halves;
+};
+
+double box_volume(const TriangleMesh& mesh) {
+  Eigen::Vector3d min, max;
+  mesh.bounds(min, max);
+  return (max - min).cwiseMax(0.0).prod();
+}
+
+// The split of a piece across one axis of its bounds whose halves' bounding boxes hold
+// least (a stand-in for their hulls, which cost a qhull run each to measure), with
+// the volume its halves' hulls gain; none when a half has no volume.
+std::optional<Split> best_split(const Piece& piece) {
+  Eigen::Vector3d min, max;
+  piece.part.bounds(min, max);
+  std::optional<std::array<TriangleMesh, 2>> best;
+  double best_boxes = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double fraction : {0.25, 0.5, 0.75}) {
+      const double at = min[axis] + fraction * (max[axis] - min[axis]);
+      std::array<TriangleMesh, 2> halves{clipped(piece.part, axis, at, true), clipped(piece.part, axis, at, false)};
+      const double boxes = box_volume(halves[0]) + box_volume(halves[1]);
+      if (boxes < best_boxes) {
+        best_boxes = boxes;
+        best = std::move(halves);
+      }
+    }
+  }
+  if (!best) return std::nullopt;
+  Split split;
+  std::string unused;
+  for (std::size_t k = 0; k < 2; ++k) {
+    Piece& half = split.halves[k];
+    half.part = std::move((*best)[k]);
+    std::optional<TriangleMesh> hull = hull_of(half.part, unused);
+    if (!hull) return std::nullopt;
+    half.hull = std::move(*hull);
+    half.volume = enclosed_volume(half.hull);
+  }
+  split.gain = piece.volume - split.halves[0].volume - split.halves[1].volume;
+  return split;
+}
+
+}  // namespace
+
+std::vector<TriangleMesh> convex_pieces(const TriangleMesh& mesh, const SourceLocation& where, std::size_t max_pieces,
+                                        double min_gain) {
+  std::vector<Piece> pieces(1);
+  pieces[0].part = welded(mesh);
+  pieces[0].hull = convex_hull(pieces[0].part, where);
+  pieces[0].volume = enclosed_volume(pieces[0].hull);
+  std::vector<std::optional<Split>> splits{best_split(pieces[0])};  // per piece; none: not to be split
+  while (pieces.size() < max_pieces) {
+    std::size_t chosen = pieces.size();
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      if (!splits[i] || splits[i]->gain < min_gain * pieces[i].volume) continue;
+      if (chosen == pieces.size() || splits[i]->gain > splits[chosen]->gain) chosen = i;
+    }
+    if (chosen == pieces.size()) break;
+    std::array<Piece, 2> halves = std::move(splits[chosen]->halves);
+    pieces[chosen] = std::move(halves[0]);
+    splits[chosen] = best_split(pieces[chosen]);
+    pieces.push_back(std::move(halves[1]));
+    splits.push_back(best_split(pieces.back()));
+  }
+  std::vector<TriangleMesh> out;
+  out.reserve(pieces.size());
+  for (Piece& p : pieces) out.push_back(std::move(p.hull));
+  return out;
 }
 
 namespace {

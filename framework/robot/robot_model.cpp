@@ -101,25 +101,35 @@ class MeshReader {
   MeshReader(const fs::path& file, const std::string& text, const UrdfOptions& options)
       : file_(file), text_(text), options_(options) {}
 
-  CollisionShape shape(const std::string& link, std::size_t index, const urdf::Mesh& m, const Eigen::Isometry3d& link_T_mesh) {
+  // What the mesh collides as: one shape (its hull, or its triangles), or its convex pieces.
+  std::vector<CollisionShape> shapes(const std::string& link, std::size_t index, const urdf::Mesh& m,
+                                     const Eigen::Isometry3d& link_T_mesh) {
     const SourceLocation at = locate(file_, text_, m.filename);
     const Eigen::Vector3d scale = checked_scale(m, at, "link '" + link + "' <collision> #" + std::to_string(index + 1));
     const fs::path found = resolve_mesh_uri(m.filename, file_.parent_path(), options_.packages, at);
-    const bool convex = options_.mesh_collision == MeshCollision::convex_hull;
-    auto& cached = cache_[{found.string(), scale.x(), scale.y(), scale.z(), convex}];
-    if (!cached) {
+    const MeshCollision how = options_.mesh_collision;
+    auto& cached = cache_[{found.string(), scale.x(), scale.y(), scale.z()}];
+    if (cached.empty()) {
       TriangleMesh mesh = load_mesh(found, scale, at);
-      cached = std::make_shared<const TriangleMesh>(convex ? convex_hull(mesh, at) : std::move(mesh));
+      if (how == MeshCollision::convex_pieces) {
+        for (TriangleMesh& piece : convex_pieces(mesh, at)) cached.push_back(std::make_shared<const TriangleMesh>(std::move(piece)));
+      } else {
+        cached.push_back(std::make_shared<const TriangleMesh>(how == MeshCollision::convex_hull ? convex_hull(mesh, at) : std::move(mesh)));
+      }
     }
-    CollisionShape c;
-    c.mesh = cached;
-    c.convex = convex;
-    c.link_T_mesh = link_T_mesh;
-    Eigen::Vector3d min, max;
-    cached->bounds(min, max);
-    c.shape = Box{(max - min).cwiseMax(1e-6)};
-    c.link_T_shape = link_T_mesh * Eigen::Translation3d((min + max) / 2);
-    return c;
+    std::vector<CollisionShape> out;
+    for (const auto& mesh : cached) {
+      CollisionShape c;
+      c.mesh = mesh;
+      c.convex = how != MeshCollision::triangles;
+      c.link_T_mesh = link_T_mesh;
+      Eigen::Vector3d min, max;
+      mesh->bounds(min, max);
+      c.shape = Box{(max - min).cwiseMax(1e-6)};
+      c.link_T_shape = link_T_mesh * Eigen::Translation3d((min + max) / 2);
+      out.push_back(std::move(c));
+    }
+    return out;
   }
 
   // A visual mesh is found now (a missing file is an error here, not when drawing) and
@@ -143,7 +153,8 @@ class MeshReader {
   const fs::path& file_;
   const std::string& text_;
   const UrdfOptions& options_;
-  std::map<std::tuple<std::string, double, double, double, bool>, std::shared_ptr<const TriangleMesh>> cache_;
+  // One reader makes one kind of collision geometry: the file and scale say which mesh.
+  std::map<std::tuple<std::string, double, double, double>, std::vector<std::shared_ptr<const TriangleMesh>>> cache_;
 };
 
 }  // namespace
@@ -168,7 +179,9 @@ RobotModel RobotModel::load_urdf(const fs::path& file, const UrdfOptions& option
       const auto& c = link->collision_array[i];
       if (!c || !c->geometry) continue;
       if (c->geometry->type == urdf::Geometry::MESH) {
-        l.collision.push_back(meshes.shape(name, i, static_cast<const urdf::Mesh&>(*c->geometry), to_isometry(c->origin)));
+        for (CollisionShape& piece : meshes.shapes(name, i, static_cast<const urdf::Mesh&>(*c->geometry), to_isometry(c->origin))) {
+          l.collision.push_back(std::move(piece));
+        }
       } else {
         CollisionShape primitive;
         primitive.shape = to_shape(file, name, i, *c->geometry);

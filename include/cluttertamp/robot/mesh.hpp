@@ -26,11 +26,15 @@ struct TriangleMesh {
 
 /// How a link's mesh collides.
 enum class MeshCollision {
-  convex_hull,  ///< its convex hull: conservative (covers hollows), and the fastest to query
+  convex_hull,  ///< its convex hull: conservative (covers hollows), the fewest shapes
   triangles,    ///< its triangles (a bounding volume hierarchy): exact surface, slower
+  /// A few convex hulls that together cover it (convex_pieces): conservative as the
+  /// hull, as fast to query, and close to the shape of a link whose hull is much
+  /// bulkier than the link (a tube with housings at its ends). The default.
+  convex_pieces,
 };
 
-/// "convex_hull" or "triangles".
+/// "convex_hull", "triangles" or "convex_pieces".
 CLUTTERTAMP_API const char* mesh_collision_name(MeshCollision m);
 
 /// Where package:// URIs are looked for. A directory D serves package NAME when D is
@@ -59,6 +63,20 @@ CLUTTERTAMP_API TriangleMesh load_mesh(const std::filesystem::path& file, const 
 /// The convex hull of the mesh's vertices, triangulated (qhull). Throws InputError at
 /// `where` for a mesh with no volume (all vertices on a plane).
 CLUTTERTAMP_API TriangleMesh convex_hull(const TriangleMesh& mesh, const SourceLocation& where);
+
+/// Convex hulls whose union holds every triangle of the mesh and, for a closed mesh,
+/// what it encloses. Starting from the mesh's hull, a piece is split in two by a plane
+/// across one axis of its bounds, at a quarter, half or three quarters: the plane whose
+/// halves have the smallest bounding boxes; each half is the piece's triangles clipped
+/// by the plane (so the halves meet on it) and collides as its own hull. The split
+/// whose two hulls hold least against the piece's is taken first, while that gain is
+/// at least `min_gain` (a fraction) of the piece's hull volume, up to `max_pieces`.
+/// Deterministic. Throws InputError at `where` for a mesh with no volume (as convex_hull).
+CLUTTERTAMP_API std::vector<TriangleMesh> convex_pieces(const TriangleMesh& mesh, const SourceLocation& where,
+                                                        std::size_t max_pieces = 6, double min_gain = 0.2);
+
+/// The volume a closed mesh encloses, m^3 (its triangles outward; a convex hull's are).
+CLUTTERTAMP_API double enclosed_volume(const TriangleMesh& mesh);
 
 /// The mesh with at most `max_triangles` triangles, for drawing: vertices merged on ever
 /// coarser grids (vertex clustering) until it fits; triangles that collapse are dropped.

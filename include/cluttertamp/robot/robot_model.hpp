@@ -63,7 +63,7 @@ struct CollisionShape {
 struct UrdfOptions {
   /// Where package:// URIs are looked for (PackagePaths::with_environment adds ROS_PACKAGE_PATH).
   PackagePaths packages;
-  MeshCollision mesh_collision = MeshCollision::convex_hull;
+  MeshCollision mesh_collision = MeshCollision::convex_pieces;
 };
 
 /// What a link looks like (URDF <visual>): a primitive, or a mesh file that is read
