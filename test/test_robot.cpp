@@ -526,5 +526,47 @@ TEST(ShelfFit, ARobotWhoseHomeReachesIntoTheCabinetGetsAStartClearOfIt) {
   EXPECT_LT(start_tool.translation().head<2>().norm(), home_tool.translation().head<2>().norm());
 }
 
+// The exit x_s stands in front of the robot's base, where the arm holds the largest
+// target the shelf may hold (upright, taken out as grasped from the front) touching
+// neither itself nor the cabinet.
+TEST(ShelfFit, TheExitStandsWhereTheArmHoldsTheTargetInFrontOfItsBase) {
+  const auto panda = std::make_shared<const robot::RobotDescription>(
+      io::load_robot_description(std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots/panda.yaml"));
+  ShelfSpec given;
+  given.objects = 16;
+  const ShelfFit fit = fit_shelf_to_robot(given, panda);
+  const double exit_x = fit.spec.front - fit.spec.exit_distance;
+  EXPECT_GE(exit_x, 0.05 - 1e-9);
+
+  ShelfSpec boards = fit.spec;  // the furniture at the size 16 objects give it
+  const Eigen::Vector3d size = cabinet_size(fit.spec);
+  boards.depth = size.x();
+  boards.width = size.y();
+  boards.objects = 0;
+  Scene scene = generate_shelf_scene(boards, 0);
+  SceneObject target;
+  target.id = "target";
+  target.shape = Cylinder{fit.spec.radius_max, fit.spec.height_max};
+  target.world_T_object.translation() = Eigen::Vector3d(0, 0, -10);
+  scene.objects = {target};
+  collision::CollisionWorld world(scene, panda);
+  auto context = world.make_context();
+  const Eigen::Vector3d exit = scene.world_T_exit.translation();
+  EXPECT_NEAR(exit.x(), exit_x, 1e-9);
+  int held = 0;
+  for (const double up : {-1.0, 1.0}) {
+    Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();
+    tool.linear() << 0, 0, 1,  //
+        0, 1, 0,               //
+        up, 0, 0;              // x up or down, z (the approach) along +x
+    tool.linear().col(1) = tool.linear().col(2).cross(tool.linear().col(0));
+    tool.translation() = exit;
+    world.attach(0, tool.inverse() * Eigen::Translation3d(exit));
+    for (const Eigen::VectorXd& q : panda->ik().solve(tool, fit.start.value_or(panda->home()), 1)) held += world.is_valid(q, *context);
+    world.detach(target.world_T_object);
+  }
+  EXPECT_GT(held, 0);
+}
+
 }  // namespace
 }  // namespace cluttertamp::scenes

@@ -14,8 +14,12 @@ namespace cluttertamp::scenes {
 
 namespace {
 
-Eigen::Isometry3d side_grasp(const Eigen::Vector3d& at, double up) {
-  const Eigen::Vector3d approach = Eigen::Vector3d(at.x(), at.y(), 0).normalized();
+// m: how far in front of the robot base's vertical axis the exit must stand.
+constexpr double kExitBeforeBase = 0.05;
+
+// The tool holding a cylinder's axis at `at` from the side, approaching horizontally
+// along `approach` (unit), fingers vertical, the tool's x axis up or down (`up` = +-1).
+Eigen::Isometry3d side_grasp(const Eigen::Vector3d& at, double up, const Eigen::Vector3d& approach) {
   Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();
   tool.linear().col(0) = up * Eigen::Vector3d::UnitZ();
   tool.linear().col(1) = approach.cross(tool.linear().col(0));
@@ -38,7 +42,8 @@ std::vector<Eigen::Isometry3d> test_grasps(const ShelfSpec& spec, const Scene& s
   }
   std::vector<Eigen::Isometry3d> out;
   for (const Eigen::Vector3d& p : points) {
-    for (const double up : {-1.0, 1.0}) out.push_back(side_grasp(p, up));
+    // Approaching from the robot's base, which stands at the origin.
+    for (const double up : {-1.0, 1.0}) out.push_back(side_grasp(p, up, Eigen::Vector3d(p.x(), p.y(), 0).normalized()));
   }
   return out;
 }
@@ -104,9 +109,15 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
     interior.id = "interior";
     interior.shape = Box{size};
     interior.world_T_object.translation() = Eigen::Vector3d(candidate.front + size.x() / 2, 0, candidate.floor_height + size.z() / 2);
-    scene.objects = {interior};
-    scene.target = 0;
-    const collision::CollisionWorld world(scene, robot);
+    // The target as the exit holds it: the largest cylinder the spec draws, out of the
+    // way until the exit's test grasps hold it.
+    SceneObject target;
+    target.id = "target";
+    target.shape = Cylinder{candidate.radius_max, candidate.height_max};
+    target.world_T_object.translation() = Eigen::Vector3d(0, 0, -10);
+    scene.objects = {interior, target};
+    scene.target = 1;
+    collision::CollisionWorld world(scene, robot);
     auto context = world.make_context();
     const std::vector<Eigen::Isometry3d> grasps = test_grasps(candidate, scene);
     fit.tried = static_cast<int>(grasps.size()) + 2;  // and the exit's two, below
@@ -117,7 +128,7 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
       fit.start = start = clear->first;
       fit.start_drawn_back = clear->second;
     }
-    const ObjectIndex ignored[] = {0};
+    const ObjectIndex ignored[] = {0, 1};
     std::uint64_t seed = 0;
     auto reaches = [&](const Eigen::Isometry3d& grasp) {
       const auto solutions = ik->solve(grasp, start, seed++);
@@ -125,16 +136,28 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
                          [&](const Eigen::VectorXd& q) { return world.is_valid(q, *context, ignored); });
     };
     for (const Eigen::Isometry3d& grasp : grasps) fit.reached += reaches(grasp);
-    // The exit: as far in front of the opening as the arm holds a target there (a short
-    // arm cannot hold it over its own base), both ways up.
+    // The exit: as far in front of the opening as the arm holds the target there, taken
+    // out of the cabinet as it was grasped inside (approaching along +x), touching
+    // neither the arm nor the furniture (a short arm cannot hold it over its own base),
+    // both ways up.
     std::vector<double> distances{candidate.exit_distance};
     for (const double nearer : {0.15, 0.1}) {
       if (nearer < candidate.exit_distance) distances.push_back(nearer);
     }
+    auto holds = [&](const Eigen::Vector3d& exit, double up) {
+      const Eigen::Isometry3d grasp = side_grasp(exit, up, Eigen::Vector3d::UnitX());
+      world.attach(1, grasp.inverse() * Eigen::Translation3d(exit));  // upright, its centre at the tool
+      const bool held = reaches(grasp);
+      world.detach(target.world_T_object);
+      return held;
+    };
     for (const double distance : distances) {
       Eigen::Vector3d exit = scene.world_T_exit.translation();
       exit.x() = candidate.front - distance;
-      const int held = int{reaches(side_grasp(exit, -1.0))} + int{reaches(side_grasp(exit, 1.0))};
+      // Not over the base: an arm folded back over itself may hold the target there,
+      // but carrying it there from the shelf is a hard motion problem for every removal.
+      if (exit.x() < kExitBeforeBase) continue;
+      const int held = int{holds(exit, -1.0)} + int{holds(exit, 1.0)};
       if (held > 0) {
         fit.spec.exit_distance = distance;
         fit.reached += held;

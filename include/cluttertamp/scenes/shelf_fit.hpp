@@ -39,9 +39,13 @@ struct ShelfFit {
 /// counts none. Test grasps: the tool at mid-cylinder height on a 3 x 3 grid of the
 /// interior (front, middle, back x left, centre, right) and over the buffer table,
 /// approaching horizontally from the robot's base, fingers vertical, both ways up (as
-/// the grasp_side sampler makes them); and the exit pose, reached either way up, which
-/// moves from `spec.exit_distance` in front of the opening to 0.15 or 0.1 m when the arm
-/// cannot hold a target farther out (`exit_distance` of the result). Deterministic.
+/// the grasp_side sampler makes them); and the exit pose, either way up, holding the
+/// largest cylinder the spec draws (upright, approached along +x as taken out of the
+/// cabinet) clear of the arm and the furniture, which moves from `spec.exit_distance`
+/// in front of the opening to 0.15 or 0.1 m when the arm cannot hold it farther out
+/// (`exit_distance` of the result) and never stands less than 0.05 m in front of the
+/// base's axis (over the base, carrying it there is a hard motion for every removal).
+/// Deterministic.
 /// "opening at x = 0.25 m, floor at z = 0.50 m, 0.55 m deep, exit 0.20 m in front of
 /// it: 15 of 22 test grasps reachable": where the fit put the shelf, in words.
 CLUTTERTAMP_API std::string describe_placement(const ShelfFit& fit);
