@@ -14,7 +14,14 @@ yourself; nothing of it is bundled) and writes, into OUT_DIR, for N = 01 ... 10:
 
 so that `cluttertamp bench push --push-scenes OUT_DIR` runs the paper's own scenes.
 
-Usage: scripts/convert-hitl-scenes.py MODELS_DIR OUT_DIR [--cluttertamp BIN]
+With --ur5 FILE the problems push with the paper's own arm instead of our UR10: FILE
+describes a UR5 in the joint frames of ROS-Industrial's ur_description (the maker's
+ur5_robot.urdf, a gripper whose tool centre point is 0.13 m past tool0), held in the
+posture the paper's robot model (models/robot/include/full_planar_robot.xml) sets, on
+its base 0.28 m ahead of the mobile base's centre, the hand starting where the paper's
+reach point stands, 7 cm inside the shelf.
+
+Usage: scripts/convert-hitl-scenes.py MODELS_DIR OUT_DIR [--ur5 FILE] [--cluttertamp BIN]
 Exit codes: 0 written, 2 bad input (a missing or unreadable scene, no target).
 """
 
@@ -96,12 +103,41 @@ def scene_text(name, objects):
             + header + "\nobjects:\n" + "\n".join(lines) + "\n")
 
 
-def problem_text(name, scene_file):
+# The paper's UR5 (full_planar_robot.xml): its bodies' turns are the joint angles in
+# ROS-Industrial's frames (shoulder_link's quaternion, a turn of -85 degrees about y, is
+# the joint origin's +90 and a shoulder lift of -175), the fingers open; the arm's
+# base_link 0.28 m ahead of the mobile base's centre. Its reach point, 0.1 m past the
+# gripper's base, stands at (1.2679, -0.1785) heading -0.0698 rad in the paper's frame.
+UR5_POSTURE = [3.0718, -3.0543, -0.0873, -3.1416, -1.5708, 1.5708, 0.0475]
+UR5_BASE_OFFSET = [0.28, 0]
+PAPER_REACH_POINT = (1.2679, -0.1785, -0.0698)
+OUR_TCP_BEYOND_REACH_POINT = 0.03  # m: our hand's centre point is 0.13 m past the flange
+
+
+def ur5_start():
+    """The hand's start [x, y, yaw] in our frame: where the paper's reach point is."""
+    x, y, yaw = PAPER_REACH_POINT
+    ours_x = OUR_BACK_FACE_X - (PAPER_BACK_FACE_X - x) + OUR_TCP_BEYOND_REACH_POINT * math.cos(yaw)
+    ours_y = OUR_MIDDLE_Y + (y - PAPER_MIDDLE_Y) + OUR_TCP_BEYOND_REACH_POINT * math.sin(yaw)
+    return [round(ours_x, 3), round(ours_y, 3), yaw]
+
+
+def problem_text(name, scene_file, ur5=None):
     text = TEMPLATE_PROBLEM.read_text()
     text = re.sub(r"(?m)^name: .*$", f"name: {name}", text)
     text = re.sub(r"(?m)^scene: .*$", f"scene: {scene_file}", text)
-    robot = (REPO / "domains/robots/ur10_ag95.yaml").as_posix()
-    return re.sub(r"description: [^}]*}", f"description: {robot}}}", text)
+    robot = ur5.resolve().as_posix() if ur5 else (REPO / "domains/robots/ur10_ag95.yaml").as_posix()
+    text = re.sub(r"description: [^}]*}", f"description: {robot}}}", text)
+    if ur5:
+        def numbers(values):
+            return "[" + ", ".join(f"{v:g}" for v in values) + "]"
+        arm = (f"base_offset: {numbers(UR5_BASE_OFFSET)}, posture: {numbers(UR5_POSTURE)},\n"
+               f"          start: {numbers(ur5_start())},")
+        text, replaced = re.subn(r"base_offset: \[[^]]*\],", arm, text)
+        if replaced != 1:
+            fail(f"{TEMPLATE_PROBLEM}: no base_offset in its physics block to replace")
+        text = text.replace("\nversion: 1\n", "\n# Pushed by the paper's UR5 in its posture (scripts/convert-hitl-scenes.py --ur5).\nversion: 1\n", 1)
+    return text
 
 
 def main():
@@ -109,7 +145,10 @@ def main():
     parser.add_argument("models", type=pathlib.Path, help="the paper code's models/ directory (s1.xml ... s10.xml)")
     parser.add_argument("out", type=pathlib.Path, help="where to write pNN-scene.yaml, pNN.yaml, pNN-guidance.yaml")
     parser.add_argument("--cluttertamp", default=str(REPO / "build/bin/cluttertamp"), help="the program that writes the guidance")
+    parser.add_argument("--ur5", type=pathlib.Path, help="a UR5 robot description in ROS-Industrial's joint frames: push with it as the paper did")
     args = parser.parse_args()
+    if args.ur5 and not args.ur5.is_file():
+        fail(f"{args.ur5}: no such robot description")
     args.out.mkdir(parents=True, exist_ok=True)
     for n in range(1, 11):
         source = args.models / f"s{n}.xml"
@@ -119,7 +158,7 @@ def main():
         name = f"hitl-s{n}"
         (args.out / f"{stem}-scene.yaml").write_text(scene_text(name, read_objects(source)))
         problem = args.out / f"{stem}.yaml"
-        problem.write_text(problem_text(name, f"{stem}-scene.yaml"))
+        problem.write_text(problem_text(name, f"{stem}-scene.yaml", args.ur5))
         guide = [args.cluttertamp, "guide", str(problem), "--auto", "--output", str(args.out / f"{stem}-guidance.yaml"), "--quiet"]
         if subprocess.run(guide).returncode != 0:
             fail(f"{problem}: cluttertamp guide --auto failed")

@@ -321,6 +321,7 @@ std::optional<Split> best_split(const Piece& piece) {
     for (const double fraction : {0.25, 0.5, 0.75}) {
       const double at = min[axis] + fraction * (max[axis] - min[axis]);
       std::array<TriangleMesh, 2> halves{clipped(piece.part, axis, at, true), clipped(piece.part, axis, at, false)};
+      if (halves[0].triangles.empty() || halves[1].triangles.empty()) continue;
       const double boxes = box_volume(halves[0]) + box_volume(halves[1]);
       if (boxes < best_boxes) {
         best_boxes = boxes;
