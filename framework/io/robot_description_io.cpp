@@ -42,6 +42,7 @@ UrdfOptions urdf_options(const YamlFile& yaml, const MapReader& top) {
       if (name == std::string(mesh_collision_name(m))) {
         options.mesh_collision = m;
         known = true;
+        break;
       }
     }
     if (name && !known) {

@@ -275,20 +275,34 @@ TriangleMesh clipped(const TriangleMesh& mesh, int axis, double at, bool keep_be
   return out;
 }
 
-// The mesh with vertices at the same point made one (STL files repeat them per
-// triangle): fewer points for qhull on every split tried.
-TriangleMesh welded(const TriangleMesh& mesh) {
-  TriangleMesh out;
-  std::map<std::array<double, 3>, std::uint32_t> index;
+// The mesh with its vertices merged per grid cell of size `cell` (their mean).
+TriangleMesh clustered(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell) {
+  std::map<std::array<long, 3>, std::uint32_t> cell_vertex;
+  std::vector<Eigen::Vector3d> sums;
+  std::vector<int> counts;
   std::vector<std::uint32_t> remap(mesh.vertices.size());
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const Eigen::Vector3d& v = mesh.vertices[i];
-    const auto [it, added] = index.emplace(std::array<double, 3>{v.x(), v.y(), v.z()}, static_cast<std::uint32_t>(out.vertices.size()));
-    if (added) out.vertices.push_back(v);
+    const Eigen::Vector3d c = ((mesh.vertices[i] - origin) / cell).array().floor();
+    const std::array<long, 3> key{static_cast<long>(c.x()), static_cast<long>(c.y()), static_cast<long>(c.z())};
+    const auto [it, added] = cell_vertex.emplace(key, static_cast<std::uint32_t>(sums.size()));
+    if (added) {
+      sums.push_back(Eigen::Vector3d::Zero());
+      counts.push_back(0);
+    }
+    sums[it->second] += mesh.vertices[i];
+    ++counts[it->second];
     remap[i] = it->second;
   }
-  out.triangles.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles) out.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
+  TriangleMesh out;
+  for (std::size_t v = 0; v < sums.size(); ++v) out.vertices.push_back(sums[v] / counts[v]);
+  std::set<std::array<std::uint32_t, 3>> seen;
+  for (const auto& t : mesh.triangles) {
+    const std::array<std::uint32_t, 3> r{remap[t[0]], remap[t[1]], remap[t[2]]};
+    if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) continue;
+    std::array<std::uint32_t, 3> key = r;
+    std::sort(key.begin(), key.end());
+    if (seen.insert(key).second) out.triangles.push_back(r);
+  }
   return out;
 }
 
@@ -349,7 +363,11 @@ std::optional<Split> best_split(const Piece& piece) {
 std::vector<TriangleMesh> convex_pieces(const TriangleMesh& mesh, const SourceLocation& where, std::size_t max_pieces,
                                         double min_gain) {
   std::vector<Piece> pieces(1);
-  pieces[0].part = welded(mesh);
+  // Points merged to within a nanometre (STL repeats each vertex per triangle): fewer
+  // points for qhull on every split tried.
+  Eigen::Vector3d min, max;
+  mesh.bounds(min, max);
+  pieces[0].part = clustered(mesh, min, 1e-9);
   pieces[0].hull = convex_hull(pieces[0].part, where);
   pieces[0].volume = enclosed_volume(pieces[0].hull);
   std::vector<std::optional<Split>> splits{best_split(pieces[0])};  // per piece; none: not to be split
@@ -372,40 +390,6 @@ std::vector<TriangleMesh> convex_pieces(const TriangleMesh& mesh, const SourceLo
   return out;
 }
 
-namespace {
-
-// The mesh with its vertices merged per grid cell of size `cell` (their mean).
-TriangleMesh clustered(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell) {
-  std::map<std::array<long, 3>, std::uint32_t> cell_vertex;
-  std::vector<Eigen::Vector3d> sums;
-  std::vector<int> counts;
-  std::vector<std::uint32_t> remap(mesh.vertices.size());
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const Eigen::Vector3d c = ((mesh.vertices[i] - origin) / cell).array().floor();
-    const std::array<long, 3> key{static_cast<long>(c.x()), static_cast<long>(c.y()), static_cast<long>(c.z())};
-    const auto [it, added] = cell_vertex.emplace(key, static_cast<std::uint32_t>(sums.size()));
-    if (added) {
-      sums.push_back(Eigen::Vector3d::Zero());
-      counts.push_back(0);
-    }
-    sums[it->second] += mesh.vertices[i];
-    ++counts[it->second];
-    remap[i] = it->second;
-  }
-  TriangleMesh out;
-  for (std::size_t v = 0; v < sums.size(); ++v) out.vertices.push_back(sums[v] / counts[v]);
-  std::set<std::array<std::uint32_t, 3>> seen;
-  for (const auto& t : mesh.triangles) {
-    const std::array<std::uint32_t, 3> r{remap[t[0]], remap[t[1]], remap[t[2]]};
-    if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) continue;
-    std::array<std::uint32_t, 3> key = r;
-    std::sort(key.begin(), key.end());
-    if (seen.insert(key).second) out.triangles.push_back(r);
-  }
-  return out;
-}
-
-}  // namespace
 
 TriangleMesh simplified(const TriangleMesh& mesh, std::size_t max_triangles) {
   if (mesh.triangles.size() <= max_triangles) return mesh;

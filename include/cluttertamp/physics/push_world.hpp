@@ -117,7 +117,8 @@ struct PushSettings {
   /// one tilted more than this (rad: the angle between its z axis and the world's) at
   /// the end of a control has tipped (PushOutcome::tipped, an invalid outcome). A
   /// smaller tilt is not carried on: states hold x, y and yaw, so every propagation
-  /// starts the objects upright. Unset: objects turn about z only and never tip. Papallas & Dogar's code: 0.1 rad in roll or pitch.
+  /// starts the objects upright. Unset: objects turn about z only and never tip.
+  /// Papallas & Dogar's code: 0.1 rad in roll or pitch.
   /// Set, bodies collide as polyhedra (a cylinder as a 24-sided prism) so that an object
   /// stands on its whole base; an object that starts a propagation at rest sleeps until
   /// something comes within contact distance, and one slower than 1 cm/s and 0.1 rad/s
