@@ -1411,6 +1411,24 @@ TEST_F(Cli, BenchPushTakesEachProblemsParametersAndItsOwnOverrides) {
   EXPECT_TRUE(json["goal_p_values"].contains("rrt") && json["goal_p_values"].contains("kpiece")) << json.dump();
   EXPECT_NE(r.output.find("Fisher's exact p "), std::string::npos) << r.output;
   EXPECT_EQ(json["planners"].size(), 3u);
+  EXPECT_TRUE(json["goal_met"].is_boolean()) << json.dump();
+
+  // --planner runs only the planners named; the goal, which needs all three, is not judged.
+  const CliRun two = run("bench push -q --runs 1 --time-limit 30 --planner guided --planner kpiece --push-scenes " + scenes.string() +
+                         " --json " + json_file.string() + " --csv " + csv.string());
+  EXPECT_EQ(two.exit_code, 0) << two.output;
+  rows = test::read_text(csv);
+  EXPECT_EQ(rows.find(",rrt,"), std::string::npos) << rows;
+  EXPECT_NE(rows.find(",kpiece,"), std::string::npos) << rows;
+  EXPECT_NE(rows.find(",guided,"), std::string::npos) << rows;
+  const auto only_two = nlohmann::json::parse(test::read_text(json_file));
+  ASSERT_EQ(only_two["planners"].size(), 2u) << only_two.dump();
+  EXPECT_EQ(only_two["planners"][0]["planner"], "kpiece");
+  EXPECT_EQ(only_two["planners"][1]["planner"], "guided");
+  EXPECT_TRUE(only_two["goal_met"].is_null()) << only_two.dump();
+  EXPECT_NE(unwrapped(two.output).find("not judged"), std::string::npos) << two.output;
+  EXPECT_EQ(run("bench push --planner rrt --check-goals --push-scenes " + scenes.string()).exit_code, 2);
+  EXPECT_EQ(run("bench push --planner prm --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --goal-distance 0 --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --goal-heading -1 --push-scenes " + scenes.string()).exit_code, 2);
   EXPECT_EQ(run("bench push --steer 1.5 --push-scenes " + scenes.string()).exit_code, 2);

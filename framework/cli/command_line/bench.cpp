@@ -1,6 +1,8 @@
 #include <map>
 #include <iostream>
 #include <memory>
+#include <set>
+#include <string>
 
 #include "cli/command_line/command.hpp"
 #include "cluttertamp/io/text_file.hpp"
@@ -291,7 +293,15 @@ BenchCommand declare_push(CLI::App& bench, CommonOptions& common) {
   c.app->add_option("--param", *params,
                     "KEY=VALUE: a planner parameter every run takes over its problem's own (repeatable; VALUE a number, true/false, "
                     "[a, b, ...] or text), e.g. --param max_propagations=0");
+  c.app->add_option("--planner", args.planners, "Run only this planner (repeatable; rrt, kpiece, guided; default all three)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->check(CLI::IsMember({"rrt", "kpiece", "guided"}));
   c.run = [=](BenchArgs& a) {
+    if (a.check_goals && !a.planners.empty() && std::set<std::string>(a.planners.begin(), a.planners.end()).size() < 3) {
+      throw InputError({"--check-goals", 0, 0}, "the goal compares guided planning with RRT and KPIECE: run all three planners");
+    }
     const auto number = [](double v) {
       char text[32];
       std::snprintf(text, sizeof text, "%.10g", v);

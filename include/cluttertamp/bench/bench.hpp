@@ -79,7 +79,7 @@ struct BenchArgs {
   std::map<std::string, std::string> push_overrides;
   std::string pusher = "gripper";        ///< bench physics: "gripper" or "arm" (the robot's, on a planar base)
   std::vector<std::string> tables;       ///< bench retrieval: "I", "V", "VI" (default I)
-  std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners (default all)
+  std::vector<std::string> planners;     ///< bench retrieval: only these rows' planners; bench push: rrt, kpiece, guided (default all)
   std::filesystem::path table_vi_scenes; ///< bench retrieval: shelf16-min{2,3,4}.yaml
   double min_gap = 0.0;                  ///< bench retrieval: m between generated cylinders (0: the paper's)
   /// bench retrieval: --robot given, so generated shelves go where that robot reaches
