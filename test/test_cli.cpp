@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -22,6 +23,7 @@
 #include "cluttertamp/robot/robot_description.hpp"
 #include "cluttertamp/io/guidance_io.hpp"
 #include "cluttertamp/io/problem_io.hpp"
+#include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/robot/mesh.hpp"
 #include "cluttertamp/perception/visibility.hpp"
@@ -665,7 +667,33 @@ TEST_F(Cli, SelfCollisionsCountsPairsAndSkipsDisabledOnes) {
   EXPECT_NE(r.output.find("forearm_link          gripper_base"), std::string::npos) << r.output;  // folds onto itself
   EXPECT_EQ(r.output.find("left_finger           right_finger"), std::string::npos) << r.output;  // disabled
   EXPECT_NE(r.output.find("never touched"), std::string::npos);
+  EXPECT_NE(r.output.find("home: clear of itself"), std::string::npos) << r.output;
   EXPECT_EQ(run("self-collisions " + (dir_ / "missing.yaml").string()).exit_code, 2);
+}
+
+// A home in self collision (the left finger's box made so wide that the fingers
+// overlap at every opening, and the pair not disabled): generate refuses the robot,
+// naming the links, before drawing a shelf that every command would then refuse;
+// self-collisions says so, and lists the pair among those touching in (nearly) every
+// configuration.
+TEST_F(Cli, AHomeInSelfCollisionIsNamedAndGenerateRefusesIt) {
+  const fs::path robots = fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots";
+  std::ofstream(dir_ / "pinched.urdf") << test::replaced(test::read_text(robots / "ur10_ag95.urdf"), "<box size=\"0.02 0.012 0.06\"/>",
+                                                         "<box size=\"0.02 0.25 0.06\"/>");  // the left finger's, the first
+  std::string yaml = test::replaced(test::read_text(robots / "ur10_ag95.yaml"), "urdf: ur10_ag95.urdf", "urdf: pinched.urdf");
+  std::ofstream(dir_ / "pinched.yaml") << test::replaced(yaml, "  - [left_finger, right_finger]\n", "");
+  const std::string robot = (dir_ / "pinched.yaml").string();
+  const CliRun g = run("generate --robot " + robot + " --objects 4 --seed 1 --output " + (dir_ / "s.yaml").string());
+  EXPECT_EQ(g.exit_code, 2) << g.output;
+  EXPECT_NE(g.output.find("pinched.yaml: error: the robot's home is in self collision: 'left_finger' touches 'right_finger'"),
+            std::string::npos) << g.output;
+  EXPECT_FALSE(fs::exists(dir_ / "s.yaml"));
+  const CliRun r = run("self-collisions " + robot + " --samples 200");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("home: in self collision, 'left_finger' touches 'right_finger'"), std::string::npos) << r.output;
+  const std::size_t always = r.output.find("touched in 99 % of the configurations or more");
+  ASSERT_NE(always, std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("  - [left_finger, right_finger]", always), std::string::npos) << r.output;
 }
 
 // A URDF nested 50,000 deep used to end self-collisions with SIGSEGV; a device as the
@@ -1437,6 +1465,50 @@ TEST_F(Cli, BenchPushTakesEachProblemsParametersAndItsOwnOverrides) {
   const CliRun unknown = run("bench push --runs 1 --param max_propagation=3 --push-scenes " + scenes.string());
   EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
   EXPECT_NE(unknown.output.find("max_propagation"), std::string::npos) << unknown.output;
+}
+
+// A description whose base_link is not the URDF's root (the arm on a pedestal that
+// raises it 5 cm and turns it 0.3 rad): the scene places the root, and every grasp is
+// where the hand really is. IK used to take the root's frame for the base link's, and
+// the plan "grasped" the first object 27 cm from the hand.
+TEST_F(Cli, AnArmOnAPedestalGraspsWhereItsHandIs) {
+  const fs::path robots = fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots";
+  std::ofstream(dir_ / "pedestal.urdf") << test::replaced(
+      test::read_text(robots / "ur10_ag95.urdf"), "<link name=\"base_link\">",
+      "<link name=\"world\"/>\n  <joint name=\"pedestal\" type=\"fixed\"><parent link=\"world\"/><child link=\"base_link\"/>"
+      "<origin xyz=\"0 0 0.05\" rpy=\"0 0 0.3\"/></joint>\n  <link name=\"base_link\">");
+  std::ofstream(dir_ / "pedestal.yaml") << test::replaced(test::read_text(robots / "ur10_ag95.yaml"), "urdf: ur10_ag95.urdf",
+                                                          "urdf: " + (dir_ / "pedestal.urdf").string());
+  const fs::path problem = bundled_copy(fs::path(CLUTTERTAMP_SOURCE_DIR) / "problems/default.yaml", "pedestal-problem.yaml",
+                                        {{"../domains/robots/ur10_ag95.yaml", (dir_ / "pedestal.yaml").string()}});
+  const CliRun r = plan(problem, "-q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = result();
+  const robot::RobotDescription robot = io::load_robot_description(dir_ / "pedestal.yaml");
+  ASSERT_NE(robot.root_T_ik_base().translation().z(), 0.0);
+  const Problem loaded = io::load_problem(problem);
+  const int finger = *robot.finger_variable();
+  int picks = 0;
+  for (const auto& step : j["plan"]) {
+    if (step["action"] != "pick") continue;
+    // The grasp: where the fingers close with the arm standing still, on the object as it stood.
+    const auto& positions = step["trajectory"]["positions"];
+    std::optional<Eigen::VectorXd> grasp;
+    for (std::size_t i = 1; i < positions.size() && !grasp; ++i) {
+      const std::vector<double> before = positions[i - 1].get<std::vector<double>>(), after = positions[i].get<std::vector<double>>();
+      bool arm_still = true;
+      for (std::size_t v = 0; v < before.size(); ++v) arm_still = arm_still && (int(v) == finger || before[v] == after[v]);
+      if (arm_still && after[finger] < before[finger] - 1e-6) grasp = Eigen::Map<const Eigen::VectorXd>(before.data(), robot.home().size());
+    }
+    ASSERT_TRUE(grasp) << step.dump();
+    std::vector<Eigen::Isometry3d> root_T_links;
+    robot.model()->link_poses(*grasp, root_T_links);
+    const Eigen::Vector3d hand = loaded.scene.world_T_robot_base * root_T_links[static_cast<std::size_t>(robot.tip_link())].translation();
+    const SceneObject& object = loaded.scene.objects[*loaded.scene.find_object(step["objects"][0].get<std::string>())];
+    EXPECT_LT((hand - object.world_T_object.translation()).head<2>().norm(), 0.01) << step["objects"][0];
+    if (++picks == 1) break;  // later objects may have been moved by earlier steps
+  }
+  EXPECT_EQ(picks, 1);
 }
 
 // plan --repeat plans again and finds the same result; --expect finds where an earlier

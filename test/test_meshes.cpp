@@ -652,6 +652,14 @@ TEST_F(SrdfFiles, GroupAndGroupStateErrorsAreLocated) {
     load_robot_description(panda_variant(dir_, "m", kPandaSrdf, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: m.srdf"}, {home_line(), "home: [ready, 0.04]"}}));
   });
   EXPECT_TRUE(test::has_error(d, 14, 7, "home mixes joint values and group state names")) << d.str();
+  // A group state without its group.
+  bad = kPandaSrdf;
+  bad.replace(bad.find(R"(<group_state name="ready" group="panda_arm">)"), std::string(R"(<group_state name="ready" group="panda_arm">)").size(),
+              R"(<group_state name="ready">)");
+  d = test::expect_input_error([&] {
+    load_robot_description(panda_variant(dir_, "g", bad, {{"tip_link: panda_hand_tcp", "tip_link: panda_hand_tcp\nsrdf: g.srdf"}, {home_line(), "home: ready"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 20, 3, "group state 'ready' has no group attribute")) << d.str();
 }
 
 TEST_F(SrdfFiles, ADescriptionsSrdfIsMergedWithItsOwnPairs) {

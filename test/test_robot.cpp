@@ -3,6 +3,11 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -374,6 +379,68 @@ TEST(RobotErrors, DescriptionErrorsAreLocated) {
   const Diagnostics d = test::expect_input_error([] { io::load_robot_description(test::data("robots/bad_description.yaml")); });
   EXPECT_TRUE(test::has_error(d, 8, 1, "unknown key 'colour'"));
   EXPECT_TRUE(test::has_error(d, 6, 53, "gripper base_half_length must not be negative"));
+}
+
+// A copy of the bundled UR10 description, its URDF and YAML edited, in a directory of
+// this process's own.
+std::filesystem::path ur10_variant(const std::string& name, const std::vector<std::pair<std::string, std::string>>& urdf_edits,
+                                   const std::vector<std::pair<std::string, std::string>>& yaml_edits) {
+  const std::filesystem::path robots = std::filesystem::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots";
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("cluttertamp_ur10_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::string urdf = test::read_text(robots / "ur10_ag95.urdf");
+  for (const auto& [from, to] : urdf_edits) urdf = test::replaced(urdf, from, to);
+  std::ofstream(dir / (name + ".urdf")) << urdf;
+  std::string yaml = test::replaced(test::read_text(robots / "ur10_ag95.yaml"), "urdf: ur10_ag95.urdf", "urdf: " + name + ".urdf");
+  for (const auto& [from, to] : yaml_edits) yaml = test::replaced(yaml, from, to);
+  std::ofstream(dir / (name + ".yaml")) << yaml;
+  return dir / (name + ".yaml");
+}
+
+// The fingers open by half the stroke each along a prismatic joint: a stroke the joint
+// cannot open, or a revolute jaw, would put every plan's finger values outside the
+// URDF's limits, and is an error at the stroke. A home beyond the limits names the joint.
+TEST(RobotErrors, FingersThatCannotOpenTheStrokeAndHomesBeyondTheLimitsAreLocated) {
+  Diagnostics d = test::expect_input_error([] {
+    io::load_robot_description(ur10_variant("wide", {}, {{"stroke: 0.095", "stroke: 0.12"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 11, 11, "a stroke of 0.12 m opens the finger joint 'finger_joint' 0.06 m, beyond its upper limit 0.0475 m: "
+                                         "the stroke is at most 0.095 m")) << d.str();
+  d = test::expect_input_error([] {
+    io::load_robot_description(ur10_variant("jaw", {{"<joint name=\"finger_joint\" type=\"prismatic\">", "<joint name=\"finger_joint\" type=\"revolute\">"}}, {}));
+  });
+  EXPECT_TRUE(test::has_error(d, 11, 11, "the finger joint 'finger_joint' (the first movable joint below the tool that IK does not move) is revolute"))
+      << d.str();
+  d = test::expect_input_error([] {
+    io::load_robot_description(ur10_variant("bent", {}, {{"home: [3.14159265, -2.0, 2.0,", "home: [3.14159265, -2.0, 4.0,"}}));
+  });
+  EXPECT_TRUE(test::has_error(d, 15, 7, "home lies outside the joint limits: 'elbow_joint' at 4 outside [-3.14159, 3.14159]")) << d.str();
+  EXPECT_NO_THROW(io::load_robot_description(ur10_variant("as_bundled", {}, {})));
+}
+
+// An arm whose IK chain starts below the URDF's root (a pedestal that raises it and
+// turns it): IK poses are the base link's, the scene places the root, and
+// world_T_ik_base joins them.
+TEST(RobotDescriptionFrames, AChainBelowTheRootSolvesInItsBaseLinksFrame) {
+  const RobotDescription robot = io::load_robot_description(
+      ur10_variant("pedestal", {{"<link name=\"base_link\">", "<link name=\"world\"/>\n  <joint name=\"pedestal\" type=\"fixed\"><parent "
+                                                              "link=\"world\"/><child link=\"base_link\"/><origin xyz=\"0 0 0.3\" rpy=\"0 0 0.5\"/></joint>\n  "
+                                                              "<link name=\"base_link\">"}},
+                   {}));
+  EXPECT_LT((robot.root_T_ik_base().translation() - Eigen::Vector3d(0, 0, 0.3)).norm(), 1e-12);
+  EXPECT_NEAR(Eigen::AngleAxisd(robot.root_T_ik_base().linear()).angle(), 0.5, 1e-12);
+  const Eigen::Isometry3d world_T_root = test::at(1.0, -0.5, 0.2) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ());
+  std::vector<Eigen::Isometry3d> root_T_links;
+  robot.model()->link_poses(robot.home(), root_T_links);
+  const Eigen::Isometry3d world_T_tool = world_T_root * root_T_links[static_cast<std::size_t>(robot.tip_link())];
+  const auto solutions = robot.ik().solve(robot.world_T_ik_base(world_T_root).inverse() * world_T_tool, robot.home());
+  ASSERT_FALSE(solutions.empty());
+  for (const Eigen::VectorXd& q : solutions) {
+    robot.model()->link_poses(q, root_T_links);
+    const auto [position, orientation] = pose_error(world_T_root * root_T_links[static_cast<std::size_t>(robot.tip_link())], world_T_tool);
+    EXPECT_LT(position, 1e-6);
+    EXPECT_LT(orientation, 1e-6);
+  }
 }
 
 TEST(RobotErrors, DisabledCollisionsNameExistingLinkPairs) {

@@ -148,7 +148,7 @@ class CollisionRunner {
       const Eigen::Vector3d p(uniform(s.front, s.front + size.x()), uniform(-size.y() / 2, size.y() / 2),
                               s.floor_height + uniform(0.08, 0.2));
       pose = tcp_pose(p, uniform(-M_PI / 4, M_PI / 4));
-      pose = scene_.world_T_robot_base.inverse() * pose;  // IK works in the robot's base frame
+      pose = robot_->world_T_ik_base(scene_.world_T_robot_base).inverse() * pose;  // IK works in its base link's frame
       for (const auto& q : robot_->ik().solve(pose, robot_->home())) {
         if (reach_q_.size() < n) reach_q_.push_back(q);
       }

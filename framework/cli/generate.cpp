@@ -11,6 +11,7 @@
 #include "cluttertamp/run/shelf_runs.hpp"
 #include "cluttertamp/io/robot_description_io.hpp"
 #include "cluttertamp/scenes/shelf_fit.hpp"
+#include "cluttertamp/collision/collision_world.hpp"
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/io/scene_io.hpp"
 #include "cluttertamp/io/text_file.hpp"
@@ -140,11 +141,25 @@ int generate_push(const GenerateArgs& args, const robot::RobotDescription& robot
   return run::ExitCode::solved;
 }
 
+// A home in self collision leaves no test grasp and no start: every problem drawn for it
+// would be refused. Bad input, said before any shelf is drawn.
+void check_home_clear_of_itself(const std::shared_ptr<const robot::RobotDescription>& robot, const std::string& file) {
+  const collision::CollisionWorld world(Scene{}, robot);
+  auto context = world.make_context();
+  Diagnostics errors;
+  for (const auto& [a, b] : world.self_contacts(robot->home(), *context)) {
+    errors.error({file, 0, 0}, "the robot's home is in self collision: '" + robot->model()->links()[a].name + "' touches '" +
+                                   robot->model()->links()[b].name + "' (give another home, or disable the pair if these links may touch)");
+  }
+  errors.throw_if_any();
+}
+
 }  // namespace
 
 int generate(const GenerateArgs& args) {
   auto robot = std::make_shared<const robot::RobotDescription>(io::load_robot_description(args.robot));
   if (args.push) return generate_push(args, *robot);
+  check_home_clear_of_itself(robot, args.robot.string());
   const plugin::Registry registry(plugin::Registry::default_search_paths());
   const bool check = (args.require_removal && !args.occlusion && !args.table) || args.min_removals > 0;
   const plugin::Samplers samplers = check ? run::shipped_samplers(registry) : plugin::Samplers{};

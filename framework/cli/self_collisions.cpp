@@ -42,8 +42,10 @@ int self_collisions(const SelfCollisionArgs& args) {
   }
 
   const auto& links = model.links();
+  std::size_t width = 22;  // a column fits the longest name
+  for (const auto& link : links) width = std::max(width, link.name.size() + 2);
   std::cout << robot->name() << ": " << args.samples << " random configurations (seed " << args.seed << ")\n";
-  std::vector<std::pair<std::size_t, std::size_t>> never;
+  std::vector<std::pair<std::size_t, std::size_t>> never, always;
   for (std::size_t a = 0; a < links.size(); ++a) {
     for (std::size_t b = a + 1; b < links.size(); ++b) {
       if (links[a].collision.empty() || links[b].collision.empty()) continue;
@@ -53,8 +55,10 @@ int self_collisions(const SelfCollisionArgs& args) {
       const auto it = touching.find({a, b});
       const std::size_t count = it == touching.end() ? 0 : it->second;
       if (count == 0) never.emplace_back(a, b);
+      if (args.samples > 0 && count * 100 >= args.samples * 99) always.emplace_back(a, b);
       if (args.verbosity == Verbosity::verbose || count > 0) {
-        std::cout << "  " << std::left << std::setw(22) << links[a].name << std::setw(22) << links[b].name << std::right
+        std::cout << "  " << std::left << std::setw(static_cast<int>(width)) << links[a].name << std::setw(static_cast<int>(width))
+                  << links[b].name << std::right
                   << std::setw(8) << count << " (" << std::fixed << std::setprecision(2)
                   << 100.0 * double(count) / double(args.samples) << " %)\n";
         std::cout.unsetf(std::ios::floatfield);
@@ -63,6 +67,16 @@ int self_collisions(const SelfCollisionArgs& args) {
   }
   std::cout << never.size() << " checked pairs never touched; for the description's disabled_collisions:\n";
   for (const auto& [a, b] : never) std::cout << "  - [" << links[a].name << ", " << links[b].name << "]\n";
+  if (!always.empty()) {
+    std::cout << always.size() << " pairs touched in 99 % of the configurations or more (their geometry overlaps for good: disable them "
+              << "too if the model means it, as MoveIt's setup does):\n";
+    for (const auto& [a, b] : always) std::cout << "  - [" << links[a].name << ", " << links[b].name << "]\n";
+  }
+  const auto home_contacts = world.self_contacts(robot->home(), *context);
+  if (home_contacts.empty()) std::cout << "home: clear of itself\n";
+  for (const auto& [a, b] : home_contacts) {
+    std::cout << "home: in self collision, '" << links[a].name << "' touches '" << links[b].name << "'\n";
+  }
   if (!args.srdf.empty()) {
     std::vector<io::DisabledPair> pairs;
     const auto& adjacent = model.adjacent_links();

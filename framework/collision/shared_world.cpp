@@ -39,7 +39,7 @@ class SyncedView final : public plugin::WorldView {
   Eigen::Isometry3d tool_pose(const Eigen::VectorXd& q) const override { return world_.tool_pose(q, *checker_); }
   std::vector<Eigen::VectorXd> inverse_kinematics(const Eigen::Isometry3d& world_T_tool,
                                                   const Eigen::VectorXd& seed) const override {
-    return robot().ik().solve(world_.scene().world_T_robot_base.inverse() * world_T_tool, seed);
+    return robot().ik().solve(robot().world_T_ik_base(world_.scene().world_T_robot_base).inverse() * world_T_tool, seed);
   }
   bool is_valid(const Eigen::VectorXd& q, std::span<const ObjectIndex> ignored) const override {
     ensure();

@@ -7,6 +7,7 @@
 #include "cluttertamp/pddl/sexpr.hpp"
 #include "cluttertamp/plugin/plugin.hpp"
 #include "cluttertamp/stream/stream_task.hpp"
+#include "io/joint_limits_text.hpp"
 #include "io/readers.hpp"
 #include "io/yaml_reader.hpp"
 
@@ -163,7 +164,9 @@ void ProblemReader::read_robot(const YAML::Node& node) {
       auto v = file_.number(q[i], "robot configuration[" + std::to_string(i) + "]");
       if (v) values[static_cast<Eigen::Index>(i)] = *v; else ok = false;
     }
-    if (ok && !model.within_limits(values)) file_.error(q, "robot configuration lies outside the joint limits");
+    if (ok && !model.within_limits(values)) {
+      file_.error(q, "robot configuration lies outside the joint limits: " + outside_limits(model, values));
+    }
     if (ok) problem_.robot.configuration = values;
   }
 }

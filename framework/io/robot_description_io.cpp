@@ -1,12 +1,15 @@
 #include "cluttertamp/io/robot_description_io.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "cluttertamp/io/srdf.hpp"
+#include "io/joint_limits_text.hpp"
 #include "io/yaml_reader.hpp"
 
 namespace cluttertamp::io {
@@ -144,7 +147,31 @@ void read_home(const YamlFile& yaml, const YAML::Node& home, const std::optional
       if (auto v = yaml.number(home[i], "home[" + std::to_string(i) + "]")) q[static_cast<Eigen::Index>(i)] = *v;
     }
   }
-  if (!model.within_limits(q)) yaml.error(home, "home lies outside the joint limits");
+  if (!model.within_limits(q)) yaml.error(home, "home lies outside the joint limits: " + outside_limits(model, q));
+}
+
+// The fingers open by a distance, each half the stroke, along one prismatic joint: a
+// revolute jaw or a joint too short for the stroke would put every plan's finger
+// values outside the URDF's limits.
+void check_fingers(const YamlFile& yaml, const YAML::Node& stroke, const RobotDescription& robot) {
+  const auto finger = robot.finger_variable();
+  if (!finger) return;
+  const RobotModel& model = *robot.model();
+  const Joint& joint = model.joints()[static_cast<std::size_t>(model.variables()[static_cast<std::size_t>(*finger)])];
+  if (joint.type != JointType::prismatic) {
+    yaml.error(stroke, "the finger joint '" + joint.name +
+                           "' (the first movable joint below the tool that IK does not move) is revolute: cluttertamp opens the "
+                           "fingers by a distance along a prismatic joint; make this joint fixed in the URDF to plan with the "
+                           "fingers as modelled");
+    return;
+  }
+  const double half = robot.gripper().stroke / 2;
+  if (half > joint.upper + 1e-9) {
+    char text[256];
+    std::snprintf(text, sizeof text, "a stroke of %.6g m opens the finger joint '%s' %.6g m, beyond its upper limit %.6g m: the stroke is at most %.6g m",
+                  robot.gripper().stroke, joint.name.c_str(), half, joint.upper, 2 * joint.upper);
+    yaml.error(stroke, text);
+  }
 }
 }  // namespace
 
@@ -180,8 +207,10 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
     yaml.error(ik, "ik must be 'ur_analytic' or 'numeric', not '" + *ik_name + "'");
   }
 
+  YAML::Node stroke = top.optional("gripper");  // where a finger joint that cannot open the stroke is reported
   if (top.has("gripper")) {
     MapReader g(yaml, top.optional("gripper"), "gripper", {"finger_thickness", "base_half_length", "stroke", "large_base"});
+    if (g.has("stroke")) stroke.reset(g.optional("stroke"));  // reset: = would overwrite the gripper node
     if (g.valid()) {
       auto read = [&](const char* key, double& out) {
         const YAML::Node n = g.required(key);
@@ -250,7 +279,10 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
     yaml.error(ik, e.what());
   }
   diagnostics.throw_if_any();
-  return RobotDescription(std::move(robot));
+  RobotDescription description(std::move(robot));
+  check_fingers(yaml, stroke, description);
+  diagnostics.throw_if_any();
+  return description;
 }
 
 }  // namespace cluttertamp::io

@@ -224,7 +224,9 @@ std::pair<robot::LinkIndex, robot::LinkIndex> srdf_chain(const Srdf& srdf, const
 
 void apply_group_state(const Srdf& srdf, const SrdfGroupState& state, const robot::RobotModel& model, Eigen::VectorXd& q) {
   Diagnostics errors;
-  if (!srdf.find_group(state.group)) {
+  if (state.group.empty()) {
+    errors.error(state.where, "group state '" + state.name + "' has no group attribute (<group_state name=... group=...>)");
+  } else if (!srdf.find_group(state.group)) {
     errors.error(state.where, "group state '" + state.name + "' is of group '" + state.group + "', which the SRDF does not define");
   }
   for (const SrdfGroupState::Value& v : state.values) {

@@ -81,7 +81,7 @@ std::vector<Eigen::VectorXd> back_off_line(plugin::PlanningContext& context, con
                                            const Eigen::Isometry3d& world_T_tool, const Eigen::Vector3d& back,
                                            const Eigen::VectorXd& from) {
   const robot::RobotDescription& robot = context.robot();
-  const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
+  const Eigen::Isometry3d base_T_world = robot.world_T_ik_base(context.scene().world_T_robot_base).inverse();
   std::vector<Eigen::VectorXd> line{from};
   const int steps = static_cast<int>(std::round(kStagingDistance / kLineStep));
   for (int k = 1; k <= steps; ++k) {
@@ -209,7 +209,7 @@ std::optional<std::vector<Eigen::VectorXd>> carry_through(plugin::PlanningContex
                                                           const Eigen::Isometry3d& gripper_T_object,
                                                           const std::vector<Eigen::Vector3d>& corners) {
   const robot::RobotDescription& robot = context.robot();
-  const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
+  const Eigen::Isometry3d base_T_world = robot.world_T_ik_base(context.scene().world_T_robot_base).inverse();
   const Eigen::Isometry3d object_T_tool = gripper_T_object.inverse();
   Eigen::Isometry3d object = holding.world_T_objects[*holding.held];
   std::vector<Eigen::VectorXd> waypoints{holding.robot_configuration};
@@ -247,7 +247,7 @@ ActionOutcome grasped(plugin::PlanningContext& context, const WorldState& state,
   // Retreat: back out along the approach, as far as the pre-grasp was in front.
   Eigen::Isometry3d retreat_pose = grasp.world_T_lift;
   retreat_pose.translation() -= (grasp.world_T_gripper.translation() - grasp.world_T_pregrasp.translation());
-  const auto retreat = robot.ik().solve(context.scene().world_T_robot_base.inverse() * retreat_pose, m.lift);
+  const auto retreat = robot.ik().solve(robot.world_T_ik_base(context.scene().world_T_robot_base).inverse() * retreat_pose, m.lift);
   if (!retreat.empty() && (retreat[0] - m.lift).cwiseAbs().maxCoeff() < 0.8 &&
       straight_free(context, holding, m.lift, retreat[0], {})) {
     out.segments.push_back({"retreat", timed(robot, {m.lift, retreat[0]})});
@@ -348,7 +348,7 @@ ActionOutcome place(plugin::PlanningContext& context, const WorldState& state, c
                   placements.failure ? placements.failure->blocking_objects : std::vector<ObjectIndex>{});
   }
   std::optional<Failure> last;
-  const Eigen::Isometry3d base_T_world = context.scene().world_T_robot_base.inverse();
+  const Eigen::Isometry3d base_T_world = robot.world_T_ik_base(context.scene().world_T_robot_base).inverse();
   for (std::size_t i = 0; i < placements.world_T_object.size(); ++i) {
     const Eigen::VectorXd& q_place = placements.configurations[i];
     Eigen::Isometry3d above = placements.world_T_object[i] * gripper_T_object.inverse();
@@ -433,7 +433,7 @@ std::optional<std::pair<Eigen::VectorXd, Eigen::Isometry3d>> exit_configuration(
       if (k != 0 && !turnable) break;
       const Eigen::Isometry3d arrived = exit * Eigen::AngleAxisd(k * M_PI / 4, Eigen::Vector3d::UnitZ());
       const Eigen::Isometry3d tool = arrived * grasp.gripper_T_object.inverse();
-      for (const Eigen::VectorXd& q : robot.ik().solve(context.scene().world_T_robot_base.inverse() * tool, from)) {
+      for (const Eigen::VectorXd& q : robot.ik().solve(robot.world_T_ik_base(context.scene().world_T_robot_base).inverse() * tool, from)) {
         context.count(counter::collision_checks);
         if (world.is_valid(q, *checker, {})) return std::pair(q, arrived);
       }

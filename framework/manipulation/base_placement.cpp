@@ -117,7 +117,7 @@ std::vector<Eigen::VectorXd> reach(const robot::RobotDescription& robot, const s
                                    const collision::CollisionWorld& world, collision::CollisionWorld::Context& checker,
                                    const Eigen::Isometry3d& world_T_tool, const Eigen::VectorXd& seed) {
   if (placement) return placement->solve(world, checker, world_T_tool, seed);
-  return robot.ik().solve(world.scene().world_T_robot_base.inverse() * world_T_tool, seed);
+  return robot.ik().solve(robot.world_T_ik_base(world.scene().world_T_robot_base).inverse() * world_T_tool, seed);
 }
 
 }  // namespace cluttertamp::manipulation

@@ -32,7 +32,7 @@ GraspChecker::GraspChecker(plugin::PlanningContext& context, const plugin::World
       seed_(std::move(seed)),
       settings_(settings),
       mobile_(settings.base_distance > 0 ? BasePlacement::of(context.robot()) : std::nullopt),
-      base_T_world_(context.scene().world_T_robot_base.inverse()) {}
+      base_T_world_(context.robot().world_T_ik_base(context.scene().world_T_robot_base).inverse()) {}
 
 // A mobile base first stands behind the grasp with the arm solved alone (Tian et al.,
 // Section V-B): IK of the whole robot from where it is leaves the base wherever its

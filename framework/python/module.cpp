@@ -97,7 +97,8 @@ PlanRun plan(const LoadedProblem& loaded, std::optional<std::uint64_t> seed, std
 }
 
 // A robot description with numpy in and out: joint vectors as 1-D arrays (rad, m, URDF
-// order), poses as 4 x 4 homogeneous matrices in the robot's base frame.
+// order), poses as 4 x 4 homogeneous matrices in the URDF root's frame (where a scene's
+// robot_base stands), whichever link the IK chain starts from.
 struct Robot {
   std::shared_ptr<const robot::RobotDescription> description;
 
@@ -112,7 +113,9 @@ struct Robot {
   }
   Eigen::Matrix4d tool_pose(const Eigen::VectorXd& q) const {
     check(q);
-    return description->ik().forward(q).matrix();
+    std::vector<Eigen::Isometry3d> poses;
+    description->model()->link_poses(q, poses);
+    return poses[static_cast<std::size_t>(description->tip_link())].matrix();
   }
   std::map<std::string, Eigen::Matrix4d> link_poses(const Eigen::VectorXd& q) const {
     check(q);
@@ -122,18 +125,18 @@ struct Robot {
     for (std::size_t i = 0; i < poses.size(); ++i) out[description->model()->links()[i].name] = poses[i].matrix();
     return out;
   }
-  std::vector<Eigen::VectorXd> ik(const Eigen::Matrix4d& base_T_tool, std::optional<Eigen::VectorXd> seed,
+  std::vector<Eigen::VectorXd> ik(const Eigen::Matrix4d& root_T_tool, std::optional<Eigen::VectorXd> seed,
                                   std::uint64_t random_seed) const {
     const Eigen::VectorXd start = seed.value_or(description->home());
     check(start);
-    const Eigen::Matrix3d rotation = base_T_tool.topLeftCorner<3, 3>();
+    const Eigen::Matrix3d rotation = root_T_tool.topLeftCorner<3, 3>();
     if (!(rotation.transpose() * rotation).isApprox(Eigen::Matrix3d::Identity(), 1e-6) || rotation.determinant() < 0) {
       throw py::value_error("the pose's upper left 3 x 3 block is not a rotation");
     }
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.linear() = rotation;
-    pose.translation() = base_T_tool.topRightCorner<3, 1>();
-    return description->ik().solve(pose, start, random_seed);
+    pose.translation() = root_T_tool.topRightCorner<3, 1>();
+    return description->ik().solve(description->root_T_ik_base().inverse() * pose, start, random_seed);
   }
 };
 

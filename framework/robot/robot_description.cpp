@@ -5,6 +5,16 @@
 
 namespace cluttertamp::robot {
 
+namespace {
+
+Eigen::Isometry3d root_T_link(const RobotModel& model, const Eigen::VectorXd& q, LinkIndex link) {
+  std::vector<Eigen::Isometry3d> root_T_links;
+  model.link_poses(q, root_T_links);
+  return root_T_links[static_cast<std::size_t>(link)];
+}
+
+}  // namespace
+
 RobotDescription::RobotDescription(Parts parts)
     : name_(std::move(parts.name)),
       urdf_(std::move(parts.urdf)),
@@ -31,6 +41,7 @@ RobotDescription::RobotDescription(Parts parts)
   }
   std::sort(disabled_.begin(), disabled_.end());
   disabled_.erase(std::unique(disabled_.begin(), disabled_.end()), disabled_.end());
+  root_T_ik_base_ = root_T_link(model, home_, base_link_);
 
   // The fingers: the first movable joint below the hand's rigid body that IK does not move.
   const LinkIndex hand = model.rigid_root(tip_link_);
@@ -50,6 +61,7 @@ RobotDescription RobotDescription::with_home(Eigen::VectorXd home) const {
   }
   RobotDescription copy = *this;
   copy.home_ = std::move(home);
+  copy.root_T_ik_base_ = root_T_link(*model_, copy.home_, base_link_);
   return copy;
 }
 

@@ -120,7 +120,7 @@ std::optional<std::string> out_of_reach(const Problem& problem) {
   if (!problem.robot.loaded || !std::holds_alternative<RetrievalTask>(problem.task)) return std::nullopt;
   const SceneObject& target = problem.scene.objects.at(problem.scene.target);
   const robot::IkSolver::Reach reach = problem.robot.loaded->ik().reach();
-  const Eigen::Isometry3d world_T_base = problem.scene.world_T_robot_base;
+  const Eigen::Isometry3d world_T_base = problem.robot.loaded->world_T_ik_base(problem.scene.world_T_robot_base);
   const Eigen::Vector3d centre = world_T_base * reach.centre;
   const Eigen::Vector3d at = target.world_T_object.translation();
   const Eigen::AlignedBox3d bounds = world_bounds(target.shape, target.world_T_object);

@@ -53,7 +53,8 @@ std::vector<Eigen::Isometry3d> test_grasps(const ShelfSpec& spec, const Scene& s
 // steps, and raised, solved from the home so that the arm keeps its posture.
 std::optional<std::pair<Eigen::VectorXd, double>> clear_start(const collision::CollisionWorld& world,
                                                               collision::CollisionWorld::Context& context,
-                                                              const robot::IkSolver& ik, const Eigen::VectorXd& home) {
+                                                              const robot::IkSolver& ik, const Eigen::Isometry3d& base_T_world,
+                                                              const Eigen::VectorXd& home) {
   const Eigen::Isometry3d home_tool = world.tool_pose(home, context);
   Eigen::Vector3d towards_base(-home_tool.translation().x(), -home_tool.translation().y(), 0);
   if (towards_base.norm() < 1e-6) return std::nullopt;  // the tool stands over the base already
@@ -63,7 +64,7 @@ std::optional<std::pair<Eigen::VectorXd, double>> clear_start(const collision::C
     for (const double up : {0.0, 0.1, 0.2}) {
       Eigen::Isometry3d tool = home_tool;
       tool.translation() += 0.05 * back * towards_base + up * Eigen::Vector3d::UnitZ();
-      for (const Eigen::VectorXd& q : ik.solve(tool, home, seed++)) {
+      for (const Eigen::VectorXd& q : ik.solve(base_T_world * tool, home, seed++)) {
         if (world.is_valid(q, context)) return std::make_pair(q, 0.05 * back);
       }
     }
@@ -118,12 +119,13 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
     scene.objects = {interior, target};
     scene.target = 1;
     collision::CollisionWorld world(scene, robot);
+    const Eigen::Isometry3d base_T_world = robot->world_T_ik_base(scene.world_T_robot_base).inverse();
     auto context = world.make_context();
     const std::vector<Eigen::Isometry3d> grasps = test_grasps(candidate, scene);
     fit.tried = static_cast<int>(grasps.size()) + 2;  // and the exit's two, below
     Eigen::VectorXd start = robot->home();
     if (!world.is_valid(start, *context)) {
-      const auto clear = clear_start(world, *context, *ik, start);
+      const auto clear = clear_start(world, *context, *ik, base_T_world, start);
       if (!clear) return fit;
       fit.start = start = clear->first;
       fit.start_drawn_back = clear->second;
@@ -131,7 +133,7 @@ ShelfFit fit_shelf_to_robot(const ShelfSpec& spec, std::shared_ptr<const robot::
     const ObjectIndex ignored[] = {0, 1};
     std::uint64_t seed = 0;
     auto reaches = [&](const Eigen::Isometry3d& grasp) {
-      const auto solutions = ik->solve(grasp, start, seed++);
+      const auto solutions = ik->solve(base_T_world * grasp, start, seed++);
       return std::any_of(solutions.begin(), solutions.end(),
                          [&](const Eigen::VectorXd& q) { return world.is_valid(q, *context, ignored); });
     };

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "cluttertamp/core/problem.hpp"
 #include "cluttertamp/export.hpp"
@@ -64,8 +65,16 @@ class CLUTTERTAMP_API RobotDescription {
   /// This description with another home configuration (one value per model variable;
   /// throws std::invalid_argument otherwise): how a problem's start stands in for it.
   RobotDescription with_home(Eigen::VectorXd home) const;
-  /// The IK solver of the arm chain (base_link to tip_link).
+  /// The IK solver of the arm chain (base_link to tip_link). Its poses are in the
+  /// base link's frame; a scene places the URDF's root (Scene::world_T_robot_base), so
+  /// convert with world_T_ik_base().
   const IkSolver& ik() const { return *ik_; }
+  /// The pose of the IK chain's base link in the URDF root's frame, the joints between
+  /// them held at home (identity when base_link is the root).
+  const Eigen::Isometry3d& root_T_ik_base() const { return root_T_ik_base_; }
+  /// The IK chain's base link in the world for a root standing at `world_T_root`:
+  /// IK targets are world_T_ik_base(world_T_root).inverse() * world_T_tool.
+  Eigen::Isometry3d world_T_ik_base(const Eigen::Isometry3d& world_T_root) const { return world_T_root * root_T_ik_base_; }
   /// The configuration variable that opens and closes the fingers (a movable joint
   /// below the tool that is not on the IK chain), if the gripper has one.
   std::optional<int> finger_variable() const { return finger_variable_; }
@@ -82,6 +91,7 @@ class CLUTTERTAMP_API RobotDescription {
   GripperParameters gripper_;
   Eigen::VectorXd home_;
   std::shared_ptr<const IkSolver> ik_;
+  Eigen::Isometry3d root_T_ik_base_ = Eigen::Isometry3d::Identity();
   std::vector<std::pair<LinkIndex, LinkIndex>> disabled_;
   std::optional<int> finger_variable_;
 };
