@@ -161,8 +161,8 @@ void check_fingers(const YamlFile& yaml, const YAML::Node& stroke, const RobotDe
   if (joint.type != JointType::prismatic) {
     yaml.error(stroke, "the finger joint '" + joint.name +
                            "' (the first movable joint below the tool that IK does not move) is revolute: cluttertamp opens the "
-                           "fingers by a distance along a prismatic joint; make this joint fixed in the URDF to plan with the "
-                           "fingers as modelled");
+                           "fingers by a distance along a prismatic joint; make the hand's joints fixed in a copy of the URDF to "
+                           "plan with the hand as modelled");
     return;
   }
   const double half = robot.gripper().stroke / 2;
