@@ -1470,7 +1470,7 @@ TEST_F(Cli, BenchPushTakesEachProblemsParametersAndItsOwnOverrides) {
 // A description whose base_link is not the URDF's root (the arm on a pedestal that
 // raises it 5 cm and turns it 0.3 rad): the scene places the root, and every grasp is
 // where the hand really is. IK used to take the root's frame for the base link's, and
-// the plan "grasped" the first object 27 cm from the hand.
+// the plan "grasped" the first object 29 cm from the hand.
 TEST_F(Cli, AnArmOnAPedestalGraspsWhereItsHandIs) {
   const fs::path robots = fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots";
   std::ofstream(dir_ / "pedestal.urdf") << test::replaced(
