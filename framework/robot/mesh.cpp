@@ -390,7 +390,6 @@ std::vector<TriangleMesh> convex_pieces(const TriangleMesh& mesh, const SourceLo
   return out;
 }
 
-
 TriangleMesh simplified(const TriangleMesh& mesh, std::size_t max_triangles) {
   if (mesh.triangles.size() <= max_triangles) return mesh;
   Eigen::Vector3d min, max;
