@@ -696,6 +696,24 @@ TEST_F(Cli, AHomeInSelfCollisionIsNamedAndGenerateRefusesIt) {
   EXPECT_NE(r.output.find("  - [left_finger, right_finger]", always), std::string::npos) << r.output;
 }
 
+// A hand too small for every object retrieves no target, with or without the others:
+// generate used to take such a scene for one that needs a removal and write it, exit 0.
+TEST_F(Cli, GenerateRejectsScenesWhoseTargetTheRobotCannotRetrieveAtAll) {
+  const fs::path robots = fs::path(CLUTTERTAMP_SOURCE_DIR) / "domains/robots";
+  std::string yaml = test::replaced(test::read_text(robots / "ur10_ag95.yaml"), "urdf: ur10_ag95.urdf",
+                                    "urdf: " + (robots / "ur10_ag95.urdf").string());
+  std::ofstream(dir_ / "small_hand.yaml") << test::replaced(yaml, "stroke: 0.095", "stroke: 0.02");
+  const CliRun g = run("generate -v --robot " + (dir_ / "small_hand.yaml").string() + " --objects 4 --seed 1 --attempts 2 --output " +
+                       (dir_ / "s.yaml").string());
+  EXPECT_EQ(g.exit_code, 1) << g.output;
+  EXPECT_NE(g.output.find("seed 2: the robot cannot retrieve the target even with every other object gone; next"), std::string::npos)
+      << g.output;
+  EXPECT_NE(g.output.find("none of 2 scenes qualified (a removal needed); in 2 of them the robot cannot retrieve the target even "
+                          "from the shelf emptied of the others"),
+            std::string::npos) << g.output;
+  EXPECT_FALSE(fs::exists(dir_ / "s.yaml"));
+}
+
 // A URDF nested 50,000 deep used to end self-collisions with SIGSEGV; a device as the
 // URDF was read without end. Both are bad input, located.
 TEST_F(Cli, HostileUrdfsAreBadInputNotCrashes) {

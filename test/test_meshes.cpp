@@ -421,6 +421,20 @@ TEST_F(MeshFiles, DescriptionMeshKeysAreChecked) {
   EXPECT_TRUE(test::has_error(d, 8, 16, "package_paths")) << d.str();
 }
 
+TEST_F(MeshFiles, AMissingUrdfAndAPackagePathThatIsNotThereAreLocatedInTheDescription) {
+  fs::create_directories(dir_ / "pkg");
+  const Diagnostics typo = test::expect_input_error(
+      [&] { arm(dir_, "typo", R"(<box size="0.1 0.2 0.3"/>)", "package_paths: [pkg, pgk]\n"); });
+  EXPECT_TRUE(test::has_error(typo, 7, 22, "package_paths: no such directory 'pgk'")) << typo.str();
+  EXPECT_EQ(typo.items().size(), 1u) << typo.str();  // pkg is there
+
+  write(dir_ / "lost.yaml", "version: 1\nurdf: elsewhere/lost.urdf\nbase_link: base\ntip_link: tool\nik: numeric\n"
+                            "gripper: {finger_thickness: 0.01, base_half_length: 0.05, stroke: 0.08}\n");
+  const Diagnostics lost = test::expect_input_error([&] { io::load_robot_description(dir_ / "lost.yaml"); });
+  EXPECT_TRUE(test::has_error(lost, 2, 7, "urdf: no such file 'elsewhere/lost.urdf'")) << lost.str();
+  EXPECT_NE(lost.str().find((dir_ / "elsewhere/lost.urdf").string()), std::string::npos) << lost.str();
+}
+
 }  // namespace
 }  // namespace cluttertamp::robot
 

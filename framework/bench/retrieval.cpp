@@ -161,6 +161,7 @@ std::vector<std::pair<std::uint64_t, Scene>> generated(int objects, const BenchA
     }
   }
   std::vector<std::pair<std::uint64_t, Scene>> out;
+  int unreachable = 0;
   for (std::uint64_t seed = args.seed; static_cast<int>(out.size()) < args.instances && seed < args.seed + 1000; ++seed) {
     Scene scene;
     try {
@@ -168,12 +169,18 @@ std::vector<std::pair<std::uint64_t, Scene>> generated(int objects, const BenchA
     } catch (const std::runtime_error& e) {
       throw InputError({"--sizes", 0, 0}, "shelf" + std::to_string(objects) + ": " + e.what());
     }
-    if (!run::target_comes_out_directly(scene, robot, samplers, seed)) out.emplace_back(seed, std::move(scene));
+    // A shelf whose target the robot cannot retrieve even alone measures no planner.
+    const run::TargetAccess access = run::target_access(scene, robot, samplers, seed);
+    if (access == run::TargetAccess::after_removals) out.emplace_back(seed, std::move(scene));
+    if (access == run::TargetAccess::never) ++unreachable;
   }
   if (static_cast<int>(out.size()) < args.instances) {
     throw InputError({"--scenes", 0, 0}, "only " + std::to_string(out.size()) + " of " + std::to_string(args.instances) + " generated shelves of " +
                                              std::to_string(objects) + " objects need a removal within 1000 seeds from " +
-                                             std::to_string(args.seed));
+                                             std::to_string(args.seed) +
+                                             (unreachable > 0 ? "; in " + std::to_string(unreachable) +
+                                                                    " the robot cannot retrieve the target even from the shelf emptied of the others"
+                                                              : std::string()));
   }
   return out;
 }

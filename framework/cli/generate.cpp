@@ -194,6 +194,7 @@ int generate(const GenerateArgs& args) {
   }
   io::check_writable(args.output, "scene file (--output)");
   if (!args.problem.empty()) io::check_writable(args.problem, "problem file (--problem)");
+  int unreachable = 0;  // scenes whose target the robot cannot retrieve even from the emptied shelf
   for (int attempt = 0; attempt < args.max_attempts; ++attempt) {
     const std::uint64_t seed = args.seed + static_cast<std::uint64_t>(attempt);
     Scene scene;
@@ -226,9 +227,19 @@ int generate(const GenerateArgs& args) {
     io::write_scene(written, scene);
     scene = io::load_scene(written);
     fs::remove(written);
-    if (!args.occlusion && !args.table && args.require_removal && run::target_comes_out_directly(scene, robot, samplers, seed)) {
-      if (args.verbosity == Verbosity::verbose) std::cerr << "seed " << seed << ": the target comes out directly; next\n";
-      continue;
+    if (!args.occlusion && !args.table && args.require_removal) {
+      const run::TargetAccess access = run::target_access(scene, robot, samplers, seed);
+      if (access == run::TargetAccess::directly) {
+        if (args.verbosity == Verbosity::verbose) std::cerr << "seed " << seed << ": the target comes out directly; next\n";
+        continue;
+      }
+      if (access == run::TargetAccess::never) {
+        ++unreachable;
+        if (args.verbosity == Verbosity::verbose) {
+          std::cerr << "seed " << seed << ": the robot cannot retrieve the target even with every other object gone; next\n";
+        }
+        continue;
+      }
     }
     if (args.min_removals > 0) {
       if (const auto why = min_removals_differ(scene, args, robot, registry, samplers)) {
@@ -265,7 +276,12 @@ int generate(const GenerateArgs& args) {
     return run::ExitCode::solved;
   }
   std::cerr << "generate: none of " << args.max_attempts << " scenes qualified ("
-            << (args.min_removals > 0 ? "minimum |O_r| " + std::to_string(args.min_removals) : "a removal needed") << ")\n";
+            << (args.min_removals > 0 ? "minimum |O_r| " + std::to_string(args.min_removals) : "a removal needed") << ")";
+  if (unreachable > 0) {
+    std::cerr << "; in " << unreachable << " of them the robot cannot retrieve the target even from the shelf emptied of the others"
+              << " (its grasps, its reach or the exit pose; --any keeps the first scene unchecked)";
+  }
+  std::cerr << "\n";
   return run::ExitCode::no_plan;
 }
 

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 
 #include "cluttertamp/io/srdf.hpp"
 #include "io/joint_limits_text.hpp"
@@ -33,7 +35,16 @@ UrdfOptions urdf_options(const YamlFile& yaml, const MapReader& top) {
   if (top.has("package_paths")) {
     const YAML::Node list = top.optional("package_paths");
     if (const auto names = yaml.strings(list, "package_paths")) {
-      for (const std::string& name : *names) directories.push_back(yaml.resolve(name));
+      for (std::size_t i = 0; i < names->size(); ++i) {
+        // A directory that is not there is a typo or another machine's path: its meshes
+        // would be reported missing later, with no word of the path that was meant.
+        const std::filesystem::path directory = yaml.resolve((*names)[i]);
+        std::error_code ec;
+        if (!std::filesystem::is_directory(directory, ec)) {
+          yaml.error(list[i], "package_paths: no such directory '" + (*names)[i] + "' (" + directory.string() + ")");
+        }
+        directories.push_back(directory);
+      }
     }
   }
   UrdfOptions options{PackagePaths::with_environment(std::move(directories))};
@@ -233,6 +244,10 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
   diagnostics.throw_if_any();
 
   robot.urdf = yaml.resolve(*urdf_name);
+  if (std::error_code ec; !std::filesystem::exists(robot.urdf, ec)) {
+    yaml.error(urdf, "urdf: no such file '" + *urdf_name + "' (" + robot.urdf.string() + ")");
+    diagnostics.throw_if_any();
+  }
   robot.model = std::make_shared<const RobotModel>(RobotModel::load_urdf(robot.urdf, urdf_loading));
   const RobotModel& model = *robot.model;
   auto link = [&](const YAML::Node& node, const std::string& name) -> LinkIndex {

@@ -2,6 +2,8 @@
 #include "cluttertamp/run/shelf_runs.hpp"
 
 #include <map>
+#include <optional>
+#include <vector>
 
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
@@ -50,6 +52,36 @@ bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const r
   WorldState state = WorldState::initial(scene);
   state.robot_configuration = robot->home();
   return manipulation::retrieve(context, state).ok;
+}
+
+namespace {
+// `scene` with its target and its immovable objects only, supports renumbered.
+Scene without_movable_obstacles(const Scene& scene) {
+  Scene alone = scene;
+  alone.objects.clear();
+  std::vector<std::optional<ObjectIndex>> kept(scene.objects.size());
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (static_cast<ObjectIndex>(i) != scene.target && scene.objects[i].movable) continue;
+    kept[i] = static_cast<ObjectIndex>(alone.objects.size());
+    alone.objects.push_back(scene.objects[i]);
+  }
+  for (SceneObject& object : alone.objects) {
+    std::vector<ObjectIndex> supports;
+    for (const ObjectIndex s : object.supports) {
+      if (const auto index = kept[s]) supports.push_back(*index);
+    }
+    object.supports = std::move(supports);  // what rested on a removed object now stands where it stood
+  }
+  alone.target = *kept[scene.target];
+  return alone;
+}
+}  // namespace
+
+TargetAccess target_access(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
+                           const plugin::Samplers& samplers, std::uint64_t seed) {
+  if (target_comes_out_directly(scene, robot, samplers, seed)) return TargetAccess::directly;
+  return target_comes_out_directly(without_movable_obstacles(scene), robot, samplers, seed) ? TargetAccess::after_removals
+                                                                                           : TargetAccess::never;
 }
 
 }  // namespace cluttertamp::run

@@ -29,4 +29,17 @@ CLUTTERTAMP_API Result plan_scene(const Scene& scene, const std::shared_ptr<cons
 CLUTTERTAMP_API bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
                                const plugin::Samplers& samplers, std::uint64_t seed);
 
+/// How `robot`, from its home configuration, gets the scene's target out.
+enum class TargetAccess {
+  directly,        ///< as the scene stands (target_comes_out_directly)
+  after_removals,  ///< not as it stands, but from the scene emptied of every other movable object
+  never,           ///< not even from the emptied scene: no removal order helps, the scene is for another robot
+};
+
+/// The scene's TargetAccess: target_comes_out_directly on the scene and, when that
+/// fails, on the scene holding only the target and the objects that cannot move. Uses
+/// at most 20 s.
+CLUTTERTAMP_API TargetAccess target_access(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
+                                           const plugin::Samplers& samplers, std::uint64_t seed);
+
 }  // namespace cluttertamp::run
