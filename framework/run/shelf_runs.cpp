@@ -13,6 +13,10 @@
 
 namespace cluttertamp::run {
 
+namespace {
+constexpr double kTargetCheckSeconds = 300;
+}  // namespace
+
 plugin::Samplers shipped_samplers(const plugin::Registry& registry) {
   plugin::Samplers samplers;
   samplers.set(registry.create<plugin::GraspSampler>("grasp_side"));
@@ -48,7 +52,9 @@ bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const r
   problem.robot.loaded = robot;
   collision::SharedWorld world(scene, robot);
   std::map<std::string, std::uint64_t> counters;
-  plugin::PlanningContext context{problem, plugin::Deadline::after(10), seed, counters, samplers, &world};
+  // The samplers' work budgets decide; the clock only bounds a run on a machine so slow
+  // that it should not decide which scenes are kept.
+  plugin::PlanningContext context{problem, plugin::Deadline::after(kTargetCheckSeconds), seed, counters, samplers, &world};
   WorldState state = WorldState::initial(scene);
   state.robot_configuration = robot->home();
   return manipulation::retrieve(context, state).ok;

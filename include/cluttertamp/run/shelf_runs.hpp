@@ -25,7 +25,8 @@ CLUTTERTAMP_API Result plan_scene(const Scene& scene, const std::shared_ptr<cons
 
 /// True when `robot`, from its home configuration, retrieves the scene's target to the
 /// exit pose without moving anything (the paper keeps only scenes where it cannot).
-/// Uses at most 10 s.
+/// Decided by the samplers' work budgets, so the same on any machine; 300 s of wall-clock
+/// time bound it.
 CLUTTERTAMP_API bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
                                const plugin::Samplers& samplers, std::uint64_t seed);
 
@@ -37,8 +38,7 @@ enum class TargetAccess {
 };
 
 /// The scene's TargetAccess: target_comes_out_directly on the scene and, when that
-/// fails, on the scene holding only the target and the objects that cannot move. Uses
-/// at most 20 s.
+/// fails, on the scene holding only the target and the objects that cannot move.
 CLUTTERTAMP_API TargetAccess target_access(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
                                            const plugin::Samplers& samplers, std::uint64_t seed);
 
