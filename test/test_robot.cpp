@@ -418,6 +418,24 @@ TEST(RobotErrors, FingersThatCannotOpenTheStrokeAndHomesBeyondTheLimitsAreLocate
   EXPECT_NO_THROW(io::load_robot_description(ur10_variant("as_bundled", {}, {})));
 }
 
+// A tool frame turned from the convention (z the approach, fingers closing along y)
+// used to plan every grasp turned; it is an error at tip_link.
+TEST(RobotErrors, AToolFrameTurnedFromTheConventionIsLocatedAtTheTipLink) {
+  const std::string tcp = "<origin xyz=\"0 0 0.13\" rpy=\"0 0 0\"/>";
+  Diagnostics d = test::expect_input_error([&] {
+    io::load_robot_description(ur10_variant("turned", {{tcp, "<origin xyz=\"0 0 0.13\" rpy=\"0 0 1.5708\"/>"}}, {}));
+  });
+  EXPECT_TRUE(test::has_error(d, 6, 11, "the fingers ('finger_joint') close along the x axis of the tool frame 'gripper_tcp', not its y axis"))
+      << d.str();
+  d = test::expect_input_error([&] {
+    io::load_robot_description(ur10_variant("sideways", {{tcp, "<origin xyz=\"0 0 0.13\" rpy=\"0 1.5708 0\"/>"}}, {}));
+  });
+  EXPECT_TRUE(test::has_error(d, 6, 11, "the hand's base 'gripper_base' lies along the x axis of the tool frame 'gripper_tcp', where -z is expected"))
+      << d.str();
+  // Turned half a turn about z the fingers still close along y (either way): as planned.
+  EXPECT_NO_THROW(io::load_robot_description(ur10_variant("flipped", {{tcp, "<origin xyz=\"0 0 0.13\" rpy=\"0 0 3.14159265\"/>"}}, {})));
+}
+
 // An arm whose IK chain starts below the URDF's root (a pedestal that raises it and
 // turns it): IK poses are the base link's, the scene places the root, and
 // world_T_ik_base joins them.

@@ -1,6 +1,7 @@
 #include "cluttertamp/io/robot_description_io.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -164,7 +165,38 @@ void read_home(const YamlFile& yaml, const YAML::Node& home, const std::optional
 // The fingers open by a distance, each half the stroke, along one prismatic joint: a
 // revolute jaw or a joint too short for the stroke would put every plan's finger
 // values outside the URDF's limits.
-void check_fingers(const YamlFile& yaml, const YAML::Node& stroke, const RobotDescription& robot) {
+// The tool frame's convention, checked on the hand at home: the fingers close along its
+// y axis, and its z axis (the approach) points away from the hand's base, the link the
+// finger joint hangs from. A frame turned from that makes every grasp turned, unseen
+// until a plan fails or grasps beside the object. Within 45 degrees passes.
+void check_tool_frame(const YamlFile& yaml, const YAML::Node& tip, const RobotDescription& robot, const Joint& finger) {
+  const RobotModel& model = *robot.model();
+  std::vector<Eigen::Isometry3d> root_T_links;
+  model.link_poses(robot.home(), root_T_links);
+  const Eigen::Isometry3d& root_T_tool = root_T_links[static_cast<std::size_t>(robot.tip_link())];
+  const Eigen::Isometry3d& root_T_hand = root_T_links[static_cast<std::size_t>(finger.parent)];
+  const Eigen::Vector3d tool_closing = root_T_tool.linear().transpose() * root_T_hand.linear() * finger.parent_T_joint.linear() * finger.axis;
+  const Eigen::Vector3d tool_p_hand = root_T_tool.inverse() * root_T_hand.translation();
+  const std::string& tool = model.links()[static_cast<std::size_t>(robot.tip_link())].name;
+  const std::string convention = "cluttertamp's tool frame has z the approach, from the hand towards between the fingertips, and "
+                                 "the fingers closing along y (docs/file-formats.md); give a tip_link with that frame, e.g. a link "
+                                 "on a fixed joint, turned so, in a copy of the URDF";
+  auto axis_name = [](const Eigen::Vector3d& v) {
+    Eigen::Index i = 0;
+    v.cwiseAbs().maxCoeff(&i);
+    return std::string(v[i] < 0 ? "-" : "") + "xyz"[i];
+  };
+  const double cos45 = std::sqrt(0.5);
+  if (std::abs(tool_closing.y()) < cos45) {
+    yaml.error(tip, "the fingers ('" + finger.name + "') close along the " + axis_name(tool_closing) + " axis of the tool frame '" +
+                        tool + "', not its y axis: " + convention);
+  } else if (tool_p_hand.norm() > 0.01 && -tool_p_hand.z() < cos45 * tool_p_hand.norm()) {
+    yaml.error(tip, "the hand's base '" + model.links()[static_cast<std::size_t>(finger.parent)].name + "' lies along the " +
+                        axis_name(tool_p_hand) + " axis of the tool frame '" + tool + "', where -z is expected: " + convention);
+  }
+}
+
+void check_fingers(const YamlFile& yaml, const YAML::Node& stroke, const YAML::Node& tip, const RobotDescription& robot) {
   const auto finger = robot.finger_variable();
   if (!finger) return;
   const RobotModel& model = *robot.model();
@@ -183,6 +215,7 @@ void check_fingers(const YamlFile& yaml, const YAML::Node& stroke, const RobotDe
                   robot.gripper().stroke, joint.name.c_str(), half, joint.upper, 2 * joint.upper);
     yaml.error(stroke, text);
   }
+  check_tool_frame(yaml, tip, robot, joint);
 }
 }  // namespace
 
@@ -295,7 +328,7 @@ RobotDescription load_robot_description(const std::filesystem::path& file) {
   }
   diagnostics.throw_if_any();
   RobotDescription description(std::move(robot));
-  check_fingers(yaml, stroke, description);
+  check_fingers(yaml, stroke, tip.IsDefined() ? tip : group, description);
   diagnostics.throw_if_any();
   return description;
 }
