@@ -8,8 +8,13 @@ namespace cluttertamp {
 std::string SourceLocation::str() const {
   std::string out = file.empty() ? std::string("<input>") : file;
   if (line > 0) {
-    out += ":" + std::to_string(line);
-    if (column > 0) out += ":" + std::to_string(column);
+    // Appended piece by piece: g++ 12 warns falsely (-Wrestrict) on ":" + std::string.
+    out += ':';
+    out += std::to_string(line);
+    if (column > 0) {
+      out += ':';
+      out += std::to_string(column);
+    }
   }
   return out;
 }

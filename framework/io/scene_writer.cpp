@@ -17,7 +17,15 @@ std::string num(double v) {
   return text;
 }
 
-std::string vec(const Eigen::Vector3d& v) { return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]"; }
+std::string vec(const Eigen::Vector3d& v) {
+  std::string text = "[";  // appended: g++ 12 warns falsely (-Wrestrict) on "[" + std::string
+  text += num(v.x());
+  text += ", ";
+  text += num(v.y());
+  text += ", ";
+  text += num(v.z());
+  return text + "]";
+}
 
 std::string pose(const Eigen::Isometry3d& p) {
   const Eigen::Matrix3d& R = p.linear();

@@ -117,8 +117,10 @@ void write_text_file(const fs::path& file, const std::string& text, const std::s
     if (!ok) fail(error);
     return;
   }
-  std::string written = (file.parent_path().empty() ? fs::path(".") : file.parent_path()) /
-                        ("." + file.filename().string() + ".partial-XXXXXX");
+  std::string hidden = ".";  // appended: g++ 12 warns falsely (-Wrestrict) on "." + std::string
+  hidden += file.filename().string();
+  hidden += ".partial-XXXXXX";
+  std::string written = (file.parent_path().empty() ? fs::path(".") : file.parent_path()) / hidden;
   const int fd = ::mkstemp(written.data());
   if (fd < 0) fail(errno);
   bool ok = write_all(fd, text) && ::fsync(fd) == 0 && ::fchmod(fd, 0666 & ~process_umask()) == 0;

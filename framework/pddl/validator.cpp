@@ -130,10 +130,17 @@ class Simulator {
   std::string resolve(const Term& t, const Binding& b) const { return t.variable ? b.at(t.name) : t.name; }
   std::string key(const Atom& a, const Binding& b) const {
     std::string k = a.predicate;
-    for (const Term& t : a.args) k += " " + resolve(t, b);
+    for (const Term& t : a.args) {
+      k += ' ';
+      k += resolve(t, b);
+    }
     return k;
   }
-  std::string ground_text(const Atom& a, const Binding& b) const { return "(" + key(a, b) + ")"; }
+  std::string ground_text(const Atom& a, const Binding& b) const {
+    std::string text = "(";  // appended: g++ 12 warns falsely (-Wrestrict) on "(" + std::string
+    text += key(a, b);
+    return text + ")";
+  }
 
   // Calls f for every typed binding of `variables` (extending b); f returns false to stop.
   void each(const std::vector<TypedName>& variables, const Binding& b, const std::function<bool(Binding&)>& f) const {

@@ -83,6 +83,14 @@ Scene cabinet(double x0, double depth, double width, double height, double z0, d
   return scene;
 }
 
+// The n-th obstacle's id, "o<n>" (appended: g++ 12 warns falsely, -Wrestrict, on
+// "o" + std::string).
+std::string obstacle_id(std::size_t n) {
+  std::string id = "o";
+  id += std::to_string(n);
+  return id;
+}
+
 SceneObject standing_cylinder(const std::string& id, const Eigen::Vector2d& xy, double radius, double height, double z0) {
   SceneObject o;
   o.id = id;
@@ -136,7 +144,7 @@ Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
   int next = 1;
   for (auto it = discs.begin(); it != discs.end(); ++it) {
     if (it == target) scene.target = static_cast<ObjectIndex>(scene.objects.size());
-    scene.objects.push_back(standing_cylinder(it == target ? "target" : "o" + std::to_string(next++), it->centre, it->radius,
+    scene.objects.push_back(standing_cylinder(it == target ? std::string("target") : obstacle_id(static_cast<std::size_t>(next++)), it->centre, it->radius,
                                               it->height, z0));
   }
   return scene;
@@ -166,7 +174,7 @@ Scene generate_push_shelf(const PushShelfSpec& spec, std::uint64_t seed) {
     }
   }
   for (std::size_t i = 0; i < centres.size(); ++i) {
-    SceneObject o = standing_cylinder(i == 0 ? "target" : "o" + std::to_string(i), centres[i], r, spec.object_height, z0);
+    SceneObject o = standing_cylinder(i == 0 ? std::string("target") : obstacle_id(i), centres[i], r, spec.object_height, z0);
     o.mass = spec.mass;
     o.friction = spec.friction;
     scene.objects.push_back(o);
@@ -213,7 +221,7 @@ Scene generate_table_scene(const TableSpec& spec, std::uint64_t seed) {
     if (free) discs.push_back({c, r, tall(rng)});
   }
   for (std::size_t i = 0; i < discs.size(); ++i) {
-    scene.objects.push_back(standing_cylinder(i == 0 ? "target" : "o" + std::to_string(i), discs[i].centre, discs[i].radius,
+    scene.objects.push_back(standing_cylinder(i == 0 ? std::string("target") : obstacle_id(i), discs[i].centre, discs[i].radius,
                                               discs[i].height, z0));
   }
   scene.target = 0;
@@ -283,7 +291,7 @@ Scene generate_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed) {
       const Eigen::Vector2d xy(x, y_front * (x - eye.x()) / (x_front - eye.x()));
       const bool is_target = c == target_column && r == spec.rows - 1;
       if (is_target) scene.target = static_cast<ObjectIndex>(scene.objects.size());
-      scene.objects.push_back(standing_cylinder(is_target ? "target" : "o" + std::to_string(next++), xy,
+      scene.objects.push_back(standing_cylinder(is_target ? std::string("target") : obstacle_id(static_cast<std::size_t>(next++)), xy,
                                                 r == 0 ? front_radius : radius(rng), r == 0 ? front_height : tall(rng), z0));
     }
   }
