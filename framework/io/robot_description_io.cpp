@@ -162,9 +162,6 @@ void read_home(const YamlFile& yaml, const YAML::Node& home, const std::optional
   if (!model.within_limits(q)) yaml.error(home, "home lies outside the joint limits: " + outside_limits(model, q));
 }
 
-// The fingers open by a distance, each half the stroke, along one prismatic joint: a
-// revolute jaw or a joint too short for the stroke would put every plan's finger
-// values outside the URDF's limits.
 // The tool frame's convention, checked on the hand at home: the fingers close along its
 // y axis, and its z axis (the approach) points away from the hand's base, the link the
 // finger joint hangs from. A frame turned from that makes every grasp turned, unseen
@@ -196,6 +193,9 @@ void check_tool_frame(const YamlFile& yaml, const YAML::Node& tip, const RobotDe
   }
 }
 
+// The fingers open by a distance, each half the stroke, along one prismatic joint: a
+// revolute jaw or a joint too short for the stroke would put every plan's finger
+// values outside the URDF's limits. The tool frame is checked against the hand's joint as well.
 void check_fingers(const YamlFile& yaml, const YAML::Node& stroke, const YAML::Node& tip, const RobotDescription& robot) {
   const auto finger = robot.finger_variable();
   if (!finger) return;

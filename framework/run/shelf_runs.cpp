@@ -2,8 +2,6 @@
 #include "cluttertamp/run/shelf_runs.hpp"
 
 #include <map>
-#include <optional>
-#include <vector>
 
 #include "cluttertamp/collision/shared_world.hpp"
 #include "cluttertamp/manipulation/actions.hpp"
@@ -12,10 +10,6 @@
 #include "cluttertamp/plugin/placement_sampler.hpp"
 
 namespace cluttertamp::run {
-
-namespace {
-constexpr double kTargetCheckSeconds = 300;
-}  // namespace
 
 plugin::Samplers shipped_samplers(const plugin::Registry& registry) {
   plugin::Samplers samplers;
@@ -45,8 +39,12 @@ Result plan_scene(const Scene& scene, const std::shared_ptr<const robot::RobotDe
   return result;
 }
 
-bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
-                               const plugin::Samplers& samplers, std::uint64_t seed) {
+namespace {
+constexpr double kTargetCheckSeconds = 300;
+
+// Whether `robot` retrieves the scene's target from `state`, the robot at its home.
+bool retrieves(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot, const plugin::Samplers& samplers,
+               std::uint64_t seed, WorldState state) {
   Problem problem;
   problem.scene = scene;
   problem.robot.loaded = robot;
@@ -55,39 +53,24 @@ bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const r
   // The samplers' work budgets decide; the clock only bounds a run on a machine so slow
   // that it should not decide which scenes are kept.
   plugin::PlanningContext context{problem, plugin::Deadline::after(kTargetCheckSeconds), seed, counters, samplers, &world};
-  WorldState state = WorldState::initial(scene);
   state.robot_configuration = robot->home();
   return manipulation::retrieve(context, state).ok;
 }
-
-namespace {
-// `scene` with its target and its immovable objects only, supports renumbered.
-Scene without_movable_obstacles(const Scene& scene) {
-  Scene alone = scene;
-  alone.objects.clear();
-  std::vector<std::optional<ObjectIndex>> kept(scene.objects.size());
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (static_cast<ObjectIndex>(i) != scene.target && scene.objects[i].movable) continue;
-    kept[i] = static_cast<ObjectIndex>(alone.objects.size());
-    alone.objects.push_back(scene.objects[i]);
-  }
-  for (SceneObject& object : alone.objects) {
-    std::vector<ObjectIndex> supports;
-    for (const ObjectIndex s : object.supports) {
-      if (const auto index = kept[s]) supports.push_back(*index);
-    }
-    object.supports = std::move(supports);  // what rested on a removed object now stands where it stood
-  }
-  alone.target = *kept[scene.target];
-  return alone;
-}
 }  // namespace
+
+bool target_comes_out_directly(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
+                               const plugin::Samplers& samplers, std::uint64_t seed) {
+  return retrieves(scene, robot, samplers, seed, WorldState::initial(scene));
+}
 
 TargetAccess target_access(const Scene& scene, const std::shared_ptr<const robot::RobotDescription>& robot,
                            const plugin::Samplers& samplers, std::uint64_t seed) {
   if (target_comes_out_directly(scene, robot, samplers, seed)) return TargetAccess::directly;
-  return target_comes_out_directly(without_movable_obstacles(scene), robot, samplers, seed) ? TargetAccess::after_removals
-                                                                                           : TargetAccess::never;
+  WorldState emptied = WorldState::initial(scene);  // every movable object but the target taken out
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    emptied.removed[i] = static_cast<ObjectIndex>(i) != scene.target && scene.objects[i].movable;
+  }
+  return retrieves(scene, robot, samplers, seed, std::move(emptied)) ? TargetAccess::after_removals : TargetAccess::never;
 }
 
 }  // namespace cluttertamp::run

@@ -141,10 +141,10 @@ Scene generate_shelf_scene(const ShelfSpec& spec, std::uint64_t seed) {
   const auto target = std::min_element(discs.begin(), discs.end(), [&](const Disc& a, const Disc& b) {
     return (a.centre - back).norm() < (b.centre - back).norm();
   });
-  int next = 1;
+  std::size_t next = 1;
   for (auto it = discs.begin(); it != discs.end(); ++it) {
     if (it == target) scene.target = static_cast<ObjectIndex>(scene.objects.size());
-    scene.objects.push_back(standing_cylinder(it == target ? std::string("target") : obstacle_id(static_cast<std::size_t>(next++)), it->centre, it->radius,
+    scene.objects.push_back(standing_cylinder(it == target ? std::string("target") : obstacle_id(next++), it->centre, it->radius,
                                               it->height, z0));
   }
   return scene;
@@ -283,7 +283,7 @@ Scene generate_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> radius(0.033, 0.037), tall(0.24, 0.29), jitter(-0.01, 0.01);
   const int target_column = std::uniform_int_distribution<int>(0, spec.columns - 1)(rng);
-  int next = 1;
+  std::size_t next = 1;
   for (int c = 0; c < spec.columns; ++c) {
     const double y_front = (c - (spec.columns - 1) / 2.0) * spec.column_spacing;
     for (int r = 0; r < spec.rows; ++r) {
@@ -291,7 +291,7 @@ Scene generate_occlusion_scene(const OcclusionSpec& spec, std::uint64_t seed) {
       const Eigen::Vector2d xy(x, y_front * (x - eye.x()) / (x_front - eye.x()));
       const bool is_target = c == target_column && r == spec.rows - 1;
       if (is_target) scene.target = static_cast<ObjectIndex>(scene.objects.size());
-      scene.objects.push_back(standing_cylinder(is_target ? std::string("target") : obstacle_id(static_cast<std::size_t>(next++)), xy,
+      scene.objects.push_back(standing_cylinder(is_target ? std::string("target") : obstacle_id(next++), xy,
                                                 r == 0 ? front_radius : radius(rng), r == 0 ? front_height : tall(rng), z0));
     }
   }
