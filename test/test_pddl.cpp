@@ -3,6 +3,7 @@
 // predicates, quantifiers, limits.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -336,8 +337,9 @@ TEST(PddlSearch, ACostBoundLeavesOnlyCheaperPlans) {
   }
 }
 
-TEST(PddlSearch, ActionCostsPickTheCheaperLongerPlan) {
-  const Domain d = parse_domain(R"((define (domain roads)
+// Driving between cities along roads of given lengths.
+Domain roads_domain() {
+  return parse_domain(R"((define (domain roads)
     (:requirements :strips :typing :action-costs)
     (:types city)
     (:predicates (at ?c - city) (road ?a ?b - city))
@@ -345,7 +347,11 @@ TEST(PddlSearch, ActionCostsPickTheCheaperLongerPlan) {
     (:action drive :parameters (?a ?b - city)
       :precondition (and (at ?a) (road ?a ?b))
       :effect (and (not (at ?a)) (at ?b) (increase (total-cost) (length ?a ?b))))))",
-                                "roads.pddl");
+                      "roads.pddl");
+}
+
+TEST(PddlSearch, ActionCostsPickTheCheaperLongerPlan) {
+  const Domain d = roads_domain();
   const Problem p = parse_problem(R"((define (problem trip) (:domain roads)
     (:objects a b c d - city)
     (:init (at a) (road a d) (road a b) (road b c) (road c d)
@@ -368,6 +374,58 @@ TEST(PddlSearch, ActionCostsPickTheCheaperLongerPlan) {
   const Problem missing = parse_problem(R"((define (problem trip) (:domain roads) (:objects a d - city)
     (:init (at a) (road a d)) (:goal (at d)) (:metric minimize (total-cost))))", "trip.pddl", d);
   EXPECT_THROW(search::ground(d, missing), InputError);
+}
+
+// Lazy searches keep whole keys in buckets of (parent, operator) and move them to a heap
+// at the first other key. Halving every cost halves every key of the greedy search: it
+// must expand the same states in the same order either way, heap or buckets. LAMA's
+// anytime mode adds one to each cost, so halving changes its keys: it must still end on
+// the cheapest plan.
+TEST(PddlSearch, HalvedCostsSearchAsTheWholeCostsDo) {
+  const Domain d = roads_domain();
+  const int cities = 30;
+  const auto problem = [&](int goal, double scale) {
+    std::ostringstream text;
+    text << "(define (problem trip) (:domain roads) (:objects";
+    for (int i = 0; i < cities; ++i) text << " c" << i;
+    text << " - city) (:init (at c0) (= (total-cost) 0)";
+    for (int i = 0; i < cities; ++i) {
+      for (int j : {(i + 1) % cities, (i + 5) % cities, (i + 11) % cities}) {
+        text << " (road c" << i << " c" << j << ") (= (length c" << i << " c" << j << ") " << scale * (1 + (i * 7 + j * 3) % 5) << ")";
+      }
+    }
+    text << ") (:goal (at c" << goal << ")) (:metric minimize (total-cost)))";
+    return parse_problem(text.str(), "trip.pddl", d);
+  };
+  int fractional_plans = 0;
+  for (int goal = 2; goal < cities; ++goal) {
+    const Problem whole = problem(goal, 1.0), halved = problem(goal, 0.5);
+    const search::Task whole_task = search::ground(d, whole), halved_task = search::ground(d, halved);
+    search::SearchOptions greedy;
+    greedy.algorithm = "lazy-gbfs-ff";
+    const search::SearchResult a = search::plan(whole_task, greedy), b = search::plan(halved_task, greedy);
+    ASSERT_TRUE(a.solved && b.solved) << "goal c" << goal;
+    EXPECT_EQ(a.statistics.expanded, b.statistics.expanded) << "goal c" << goal;
+    EXPECT_EQ(a.statistics.evaluated, b.statistics.evaluated) << "goal c" << goal;
+    EXPECT_EQ(a.plan, b.plan) << "goal c" << goal;
+    EXPECT_DOUBLE_EQ(b.cost, a.cost / 2) << "goal c" << goal;
+    if (b.cost != std::floor(b.cost)) ++fractional_plans;
+    search::SearchOptions anytime;
+    anytime.algorithm = "lama-first";
+    anytime.anytime = true;
+    search::SearchOptions optimal;
+    optimal.algorithm = "astar-lmcut";
+    const search::SearchResult cheapest = search::plan(halved_task, anytime);
+    for (const search::SearchResult& r : {b, cheapest}) {
+      ASSERT_TRUE(r.solved) << "goal c" << goal;
+      const PlanValidation v = validate_plan(d, halved, steps(halved_task, r, Loaded{d, halved}));
+      EXPECT_TRUE(v.valid) << v.reason;
+      EXPECT_DOUBLE_EQ(v.cost, r.cost);
+    }
+    EXPECT_EQ(cheapest.anytime_end, "no cheaper plan exists") << "goal c" << goal;
+    EXPECT_DOUBLE_EQ(cheapest.cost, search::plan(halved_task, optimal).cost) << "goal c" << goal;
+  }
+  EXPECT_GT(fractional_plans, 0);  // some searches met keys that are not whole
 }
 
 TEST(PddlSearch, DerivedPredicatesQuantifiersAndConditionalEffects) {

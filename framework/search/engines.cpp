@@ -38,18 +38,26 @@ struct Node {
   bool closed;
 };
 
-// States seen so far, each with the best path to it.
+// States seen so far, each with the best path to it. The states lie end to end in
+// one array and an open-addressing table indexes them: a state seen again costs a hash
+// and a compare, a new one no allocation of its own.
 class Registry {
  public:
+  explicit Registry(std::size_t words) : words_(words), slots_(1024, kEmpty) {}
   std::pair<int, bool> insert(const State& s) {
-    auto [it, inserted] = index_.emplace(s, static_cast<int>(states_.size()));
-    if (inserted) {
-      states_.push_back(&it->first);
-      nodes_.push_back({-1, -1, kInfinity, kInfinity, false});
+    std::size_t slot = hash(s) & (slots_.size() - 1);
+    for (; slots_[slot] != kEmpty; slot = (slot + 1) & (slots_.size() - 1)) {
+      if (std::equal(s.begin(), s.end(), words(slots_[slot]))) return {slots_[slot], false};
     }
-    return {it->second, inserted};
+    const int id = static_cast<int>(nodes_.size());
+    words_data_.insert(words_data_.end(), s.begin(), s.end());
+    nodes_.push_back({-1, -1, kInfinity, kInfinity, false});
+    slots_[slot] = id;
+    if (2 * nodes_.size() > slots_.size()) grow();
+    return {id, true};
   }
-  const State& state(int id) const { return *states_[id]; }
+  /// Copies state `id` into `out`.
+  void load(int id, State& out) const { out.assign(words(id), words(id) + words_); }
   Node& node(int id) { return nodes_[id]; }
   std::vector<OperatorId> path(int id) const {
     std::vector<OperatorId> plan;
@@ -58,8 +66,33 @@ class Registry {
   }
 
  private:
-  std::unordered_map<State, int, detail::StateHash> index_;
-  std::vector<const State*> states_;
+  static constexpr int kEmpty = -1;
+  // StateHash finished with a 64-bit mix (MurmurHash3's): slots are chosen by the low
+  // bits, which StateHash alone leaves clustered.
+  static std::size_t hash(const State& s) {
+    std::uint64_t h = detail::StateHash{}(s);
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
+    return static_cast<std::size_t>(h);
+  }
+  const std::uint64_t* words(int id) const { return words_data_.data() + static_cast<std::size_t>(id) * words_; }
+  void grow() {
+    std::vector<int> slots(2 * slots_.size(), kEmpty);
+    State s;
+    for (int id = 0; id < static_cast<int>(nodes_.size()); ++id) {
+      load(id, s);
+      std::size_t slot = hash(s) & (slots.size() - 1);
+      while (slots[slot] != kEmpty) slot = (slot + 1) & (slots.size() - 1);
+      slots[slot] = id;
+    }
+    slots_ = std::move(slots);
+  }
+  std::size_t words_;
+  std::vector<std::uint64_t> words_data_;  // state id * words_: its words
+  std::vector<int> slots_;                 // state ids by hash, kEmpty where none
   std::vector<Node> nodes_;
 };
 
@@ -224,14 +257,15 @@ SearchResult stopped(Registry&& registry, Open&& open, SearchResult& result) {
 SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h, bool use_preferred, bool reopen,
                    const Limits& limits) {
   SearchResult result;
-  Registry registry;
+  State state = space.initial(), child_state;
+  Registry registry(state.size());
   using Entry = std::tuple<double, double, std::uint64_t, int>;  // key, h, insertion order, state
   AlternationQueue<Entry> open(1);
   std::uint64_t order = 0;
-  const auto [start, inserted] = registry.insert(space.initial());
+  const auto [start, inserted] = registry.insert(state);
   (void)inserted;
   std::vector<OperatorId> preferred;
-  double best_h = h(registry.state(start), &preferred);
+  double best_h = h(state, &preferred);
   ++result.statistics.evaluated;
   limits.report(h.name(), best_h, result.statistics);
   if (best_h == kInfinity) {
@@ -248,11 +282,11 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
       (void)unused;
       Node& node = registry.node(id);
       if (node.closed || w_g * node.g + w_h * node.h < key - 1e-9) continue;  // stale entry
-      if (space.is_goal(registry.state(id))) return finish(space, registry, id, result);
+      registry.load(id, state);
+      if (space.is_goal(state)) return finish(space, registry, id, result);
       if (limits.exceeded(result.statistics, result.reason)) return stopped(std::move(registry), std::move(open), result);
       node.closed = true;
       ++result.statistics.expanded;
-      const State state = registry.state(id);
       const double g = node.g;
       preferred.clear();
       if (use_preferred) h(state, &preferred);
@@ -261,14 +295,15 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
         ++result.statistics.generated;
         const double child_g = g + space.task().operators[op].cost;
         if (child_g >= limits.cost_bound) continue;
-        const auto [child, is_new] = registry.insert(space.apply(state, op));
+        space.apply(state, op, child_state);
+        const auto [child, is_new] = registry.insert(child_state);
         Node& c = registry.node(child);
         if (!is_new && (child_g >= c.g || (c.closed && !reopen) || c.h == kInfinity)) continue;  // dead ends stay closed
         if (is_new) {
           // Evaluating every successor of one state can take seconds (LM-cut on hundreds
           // of blocks): the time limit is looked at before each evaluation.
           if (limits.time_up(result.reason)) return stopped(std::move(registry), std::move(open), result);
-          c.h = h(registry.state(child), nullptr);
+          c.h = h(child_state, nullptr);
           ++result.statistics.evaluated;
           if (c.h == kInfinity) {
             c.closed = true;
@@ -303,13 +338,15 @@ struct LazyKeys {
   bool reopen = false;  // a cheaper path to a state seen before opens it again
 };
 
-// One open list of the lazy search: entries (key, order, ...) taken by least key, then
-// least order (first in, first out). Whole keys go to a bucket each, as in Fast
-// Downward's open lists, which spares a heap's sifting on every push; the first other
-// key moves the list to a heap for good (the same order).
-template <class Entry>
+// One open list of the lazy search: entries (key, order, parent, op) taken by least key,
+// then least order (first in, first out). Whole keys go to a bucket each, as in Fast
+// Downward's open lists, which spares a heap's sifting on every push; a bucket holds
+// only (parent, op), 8 bytes where a heap entry takes 24: its key is its index and its
+// entries are in order. The first other key moves the list to a heap for good (the
+// same order).
 class BucketList {
  public:
+  using Entry = std::tuple<double, std::uint64_t, int, OperatorId>;
   void push(const Entry& e) {
     const double key = std::get<0>(e);
     if (!heap_.empty() || !whole(key)) {
@@ -319,15 +356,17 @@ class BucketList {
     }
     const auto k = static_cast<std::size_t>(key);
     if (k >= buckets_.size()) buckets_.resize(k + 1);
-    buckets_[k].items.push_back(e);
+    buckets_[k].items.push_back({std::get<2>(e), std::get<3>(e)});
     lowest_ = std::min(lowest_, k);
     ++size_;
   }
   bool empty() const { return size_ == 0 && heap_.empty(); }
-  const Entry& top() const {
+  /// The first entry; from a bucket its order is left 0 (the search does not read it).
+  Entry top() const {
     if (!heap_.empty()) return heap_.top();
-    const Bucket& b = buckets_[first()];
-    return b.items[b.head];
+    const std::size_t k = first();
+    const Bucket& b = buckets_[k];
+    return {static_cast<double>(k), 0, b.items[b.head].parent, b.items[b.head].op};
   }
   void pop() {
     if (!heap_.empty()) {
@@ -344,8 +383,12 @@ class BucketList {
 
  private:
   static constexpr std::size_t kMaxBucket = 1 << 18;
+  struct Item {
+    int parent;
+    OperatorId op;
+  };
   struct Bucket {
-    std::vector<Entry> items;
+    std::vector<Item> items;
     std::size_t head = 0;  // items before it are taken
   };
   static bool whole(double key) {
@@ -355,10 +398,15 @@ class BucketList {
     while (buckets_[lowest_].head == buckets_[lowest_].items.size()) ++lowest_;
     return lowest_;
   }
+  // Entries of one bucket share their key and lie in push order, so numbering them in
+  // that order keeps the order among them; every later push has a larger order (one
+  // number per successor, at most one push per list each).
   void to_heap() {
     if (size_ == 0) return;
-    for (Bucket& b : buckets_) {
-      for (std::size_t i = b.head; i < b.items.size(); ++i) heap_.push(b.items[i]);
+    std::uint64_t order = 0;
+    for (std::size_t k = 0; k < buckets_.size(); ++k) {
+      Bucket& b = buckets_[k];
+      for (std::size_t i = b.head; i < b.items.size(); ++i) heap_.push({static_cast<double>(k), order++, b.items[i].parent, b.items[i].op});
       b.items.clear();
       b.head = 0;
     }
@@ -375,18 +423,18 @@ class BucketList {
 SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& heuristics, const LazyKeys& keys,
                   const Limits& limits) {
   SearchResult result;
-  Registry registry;
+  State parent_state = space.initial(), state;
+  Registry registry(parent_state.size());
   const std::size_t k = heuristics.size();
-  using Entry = std::tuple<double, std::uint64_t, int, OperatorId>;  // key, order, parent, op
-  AlternationQueue<Entry, BucketList<Entry>> open(k);
+  using Entry = BucketList::Entry;  // key, order, parent, op
+  AlternationQueue<Entry, BucketList> open(k);
   std::uint64_t order = 0;
   std::vector<double> values;  // per state: its k heuristic values
   std::vector<double> best(k, kInfinity);
   std::vector<OperatorId> preferred, successors;
   // False: a dead end. The initial state's values are the first best ones, not progress
   // (as in Fast Downward: no boost before the first expansion).
-  auto evaluate = [&](int id, bool initial) -> bool {
-    const State& state = registry.state(id);
+  auto evaluate = [&](int id, const State& state, bool initial) -> bool {
     preferred.clear();
     ++result.statistics.evaluated;
     values.resize(std::max(values.size(), (static_cast<std::size_t>(id) + 1) * k));
@@ -404,9 +452,8 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     if (progress && !initial) open.boost();
     return true;
   };
-  auto expand = [&](int id) {
+  auto expand = [&](int id, const State& state) {
     ++result.statistics.expanded;
-    const State& state = registry.state(id);
     const double g = registry.node(id).g;
     space.applicable_operators(state, successors);
     for (OperatorId op : successors) {
@@ -418,15 +465,15 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
       ++order;
     }
   };
-  const int start = registry.insert(space.initial()).first;
+  const int start = registry.insert(parent_state).first;
   registry.node(start) = {-1, -1, 0.0, 0.0, true};
-  for (LazyHeuristic* h : heuristics) h->start(start, registry.state(start));
-  if (space.is_goal(registry.state(start))) return finish(space, registry, start, result);
-  if (!evaluate(start, true)) {
+  for (LazyHeuristic* h : heuristics) h->start(start, parent_state);
+  if (space.is_goal(parent_state)) return finish(space, registry, start, result);
+  if (!evaluate(start, parent_state, true)) {
     result.reason = "no plan exists (the initial state is a dead end)";
     return result;
   }
-  expand(start);
+  expand(start, parent_state);
   while (!open.empty()) {
     if (limits.exceeded(result.statistics, result.reason)) return stopped(std::move(registry), std::move(open), result);
     const auto [key, unused, parent, op] = open.pop();
@@ -434,23 +481,25 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     (void)unused;
     const double child_g = registry.node(parent).g + space.task().operators[op].cost;
     if (child_g >= limits.cost_bound) continue;
-    const auto [child, is_new] = registry.insert(space.apply(registry.state(parent), op));
+    registry.load(parent, parent_state);
+    space.apply(parent_state, op, state);
+    const auto [child, is_new] = registry.insert(state);
     Node& c = registry.node(child);
     if (!is_new && (!keys.reopen || c.h == kInfinity || child_g >= c.g)) continue;  // dead ends stay closed
     // Only a state evaluated now learns from this path (as in Fast Downward's lazy search):
     // a closed state's data stays what its children were queued with.
-    for (LazyHeuristic* h : heuristics) h->reach(parent, child, registry.state(parent), registry.state(child), is_new);
+    for (LazyHeuristic* h : heuristics) h->reach(parent, child, parent_state, state, is_new);
     c.parent = parent;
     c.op = op;
     c.g = child_g;
     c.closed = true;
-    if (space.is_goal(registry.state(child))) return finish(space, registry, child, result);
-    if (!evaluate(child, false)) {
+    if (space.is_goal(state)) return finish(space, registry, child, result);
+    if (!evaluate(child, state, false)) {
       registry.node(child).h = kInfinity;
       continue;
     }
     registry.node(child).h = values[child * k];
-    expand(child);
+    expand(child, state);
   }
   result.reason = limits.cost_bound < kInfinity ? "no plan found below the cost bound" : "no plan exists (every reachable state was expanded)";
   return result;

@@ -42,23 +42,27 @@ bool StateSpace::is_goal(const State& s) const {
 }
 
 State StateSpace::apply(const State& s, OperatorId id) const {
+  State next;
+  apply(s, id, next);
+  return next;
+}
+
+void StateSpace::apply(const State& s, OperatorId id, State& next) const {
   const Operator& op = task_.operators[id];
-  State next = s;
-  // Conditions of conditional effects are read in the state before the action.
-  std::vector<const ConditionalEffect*> firing;
-  for (const ConditionalEffect& c : op.conditional) {
-    if (satisfied(s, c.condition)) firing.push_back(&c);
-  }
+  next.assign(s.begin(), s.end());
+  // Conditions of conditional effects are read in s, the state before the action; all
+  // deletes come before all adds.
   for (FactId f : op.del) clear(next, f);
-  for (const ConditionalEffect* c : firing) {
-    for (FactId f : c->del) clear(next, f);
+  for (const ConditionalEffect& c : op.conditional) {
+    if (!satisfied(s, c.condition)) continue;
+    for (FactId f : c.del) clear(next, f);
   }
   for (FactId f : op.add) set(next, f);
-  for (const ConditionalEffect* c : firing) {
-    for (FactId f : c->add) set(next, f);
+  for (const ConditionalEffect& c : op.conditional) {
+    if (!satisfied(s, c.condition)) continue;
+    for (FactId f : c.add) set(next, f);
   }
   evaluate_axioms(next);
-  return next;
 }
 
 void StateSpace::evaluate_axioms(State& s) const {

@@ -44,6 +44,8 @@ class StateSpace {
   bool is_goal(const State& s) const;
   /// The successor of s under an applicable operator, derived facts included.
   State apply(const State& s, OperatorId op) const;
+  /// The same into `next` (any size before; no allocation once it has grown).
+  void apply(const State& s, OperatorId op, State& next) const;
   const TieOrder& tie_order() const { return order_; }
   /// The operators applicable in s, in successor order, into `out` (cleared first).
   void applicable_operators(const State& s, std::vector<OperatorId>& out) const;
