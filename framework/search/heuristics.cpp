@@ -107,48 +107,112 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
   }
   goal_ = next;
   facts_ = static_cast<std::size_t>(next) + 1;
-  auto condition = [&](const Condition& c, std::vector<FactId> pre) {
-    pre.insert(pre.end(), c.positive.begin(), c.positive.end());
+  build_operators(task, costs);
+  index_operators();
+  base_cost_.resize(ops_.size());
+  for (std::size_t i = 0; i < ops_.size(); ++i) base_cost_[i] = ops_[i].cost;
+  whole_costs_ = whole_numbers(base_cost_);
+  initial_order_.resize(static_cast<std::size_t>(goal_));
+  for (FactId f = 0; f < goal_; ++f) initial_order_[f] = f;
+}
+
+namespace {
+
+// Per key, the operators `keys_of` gives it, in operator order: a counting sort into
+// `items`, which `start` (per key, and one past the last) indexes.
+template <class KeysOf>
+void group_by(std::size_t keys, std::size_t ops, const KeysOf& keys_of, std::vector<std::uint32_t>& start,
+              std::vector<int>& items) {
+  start.assign(keys + 1, 0);
+  for (std::size_t i = 0; i < ops; ++i) {
+    for (FactId k : keys_of(i)) ++start[static_cast<std::size_t>(k) + 1];
+  }
+  for (std::size_t k = 0; k < keys; ++k) start[k + 1] += start[k];
+  items.resize(start[keys]);
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < ops; ++i) {
+    for (FactId k : keys_of(i)) items[next[static_cast<std::size_t>(k)]++] = static_cast<int>(i);
+  }
+}
+
+}  // namespace
+
+// The relaxed operators, their facts appended to op_facts_ and viewed once it is whole.
+void RelaxedTask::build_operators(const Task& task, Costs costs) {
+  struct Range {
+    std::size_t pre_begin, pre_end, eff_begin, eff_end;
+  };
+  std::vector<Range> ranges;
+  auto condition = [&](const Condition& c, const std::vector<FactId>* also) {
+    const std::size_t begin = op_facts_.size();
+    if (also) op_facts_.insert(op_facts_.end(), also->begin(), also->end());
+    op_facts_.insert(op_facts_.end(), c.positive.begin(), c.positive.end());
     for (FactId f : c.negative) {
-      if (complement_[f] >= 0) pre.push_back(complement_[f]);
+      if (complement_[f] >= 0) op_facts_.push_back(complement_[f]);
     }
-    std::sort(pre.begin(), pre.end());
-    pre.erase(std::unique(pre.begin(), pre.end()), pre.end());
-    return pre;
+    std::sort(op_facts_.begin() + static_cast<std::ptrdiff_t>(begin), op_facts_.end());
+    op_facts_.erase(std::unique(op_facts_.begin() + static_cast<std::ptrdiff_t>(begin), op_facts_.end()), op_facts_.end());
+    return begin;
   };
   auto effects = [&](const std::vector<FactId>& add, const std::vector<FactId>& del) {
-    std::vector<FactId> eff = add;
+    const std::size_t begin = op_facts_.size();
+    op_facts_.insert(op_facts_.end(), add.begin(), add.end());
     for (FactId f : del) {
-      if (complement_[f] >= 0) eff.push_back(complement_[f]);
+      if (complement_[f] >= 0) op_facts_.push_back(complement_[f]);
     }
-    return eff;
+    return begin;
   };
+  auto add_op = [&](std::size_t pre_begin, std::size_t pre_end, std::size_t eff_begin, double cost, OperatorId origin,
+                    bool conditional) {
+    if (eff_begin == op_facts_.size()) {  // no effect: no operator
+      op_facts_.resize(pre_begin);
+      return;
+    }
+    ranges.push_back({pre_begin, pre_end, eff_begin, op_facts_.size()});
+    ops_.push_back({{}, {}, cost, origin, conditional});
+  };
+  std::vector<FactId> pre;
   for (OperatorId id = 0; id < static_cast<OperatorId>(task.operators.size()); ++id) {
     const Operator& op = task.operators[id];
     const double cost = relaxed_cost(op.cost, costs);
-    const std::vector<FactId> pre = condition(op.precondition, {});
-    if (std::vector<FactId> eff = effects(op.add, op.del); !eff.empty()) ops_.push_back({pre, std::move(eff), cost, id});
+    const std::size_t pre_begin = condition(op.precondition, nullptr), pre_end = op_facts_.size();
+    pre.assign(op_facts_.begin() + static_cast<std::ptrdiff_t>(pre_begin), op_facts_.end());
+    add_op(pre_begin, pre_end, effects(op.add, op.del), cost, id, false);
     for (const ConditionalEffect& c : op.conditional) {
-      std::vector<FactId> eff = effects(c.add, c.del);
-      if (!eff.empty()) ops_.push_back({condition(c.condition, pre), std::move(eff), cost, id, true});
+      const std::size_t c_begin = condition(c.condition, &pre), c_end = op_facts_.size();
+      add_op(c_begin, c_end, effects(c.add, c.del), cost, id, true);
     }
   }
-  for (const Axiom& a : task.axioms) ops_.push_back({condition(a.body, {}), {a.head}, 0.0, -1});
-  for (const Condition& c : task.goal) ops_.push_back({condition(c, {}), {goal_}, 0.0, -1});
-  std::vector<std::vector<int>> precondition_of(facts_);
-  achievers_.resize(facts_);
-  for (int i = 0; i < static_cast<int>(ops_.size()); ++i) {
-    if (ops_[i].pre.empty()) no_precondition_.push_back(i);
-    for (FactId f : ops_[i].pre) precondition_of[f].push_back(i);
-    for (FactId f : ops_[i].eff) achievers_[f].push_back(i);
+  for (const Axiom& a : task.axioms) {
+    const std::size_t begin = condition(a.body, nullptr), end = op_facts_.size();
+    op_facts_.push_back(a.head);
+    add_op(begin, end, end, 0.0, -1, false);
   }
+  for (const Condition& c : task.goal) {
+    const std::size_t begin = condition(c, nullptr), end = op_facts_.size();
+    op_facts_.push_back(goal_);
+    add_op(begin, end, end, 0.0, -1, false);
+  }
+  for (std::size_t i = 0; i < ops_.size(); ++i) {
+    const Range& r = ranges[i];
+    ops_[i].pre = {op_facts_.data() + r.pre_begin, op_facts_.data() + r.pre_end};
+    ops_[i].eff = {op_facts_.data() + r.eff_begin, op_facts_.data() + r.eff_end};
+  }
+}
+
+// The flat arrays the explorations and LM-cut read: triggers, achievers, effects and
+// each task operator's relaxed operators.
+void RelaxedTask::index_operators() {
+  for (std::size_t i = 0; i < ops_.size(); ++i) {
+    if (ops_[i].pre.empty()) no_precondition_.push_back(static_cast<int>(i));
+  }
+  group_by(facts_, ops_.size(), [&](std::size_t i) { return ops_[i].pre; }, trigger_start_, triggers_);
+  group_by(facts_, ops_.size(), [&](std::size_t i) { return ops_[i].eff; }, achiever_start_, achievers_);
   in_cut_.resize(ops_.size());
   in_goal_zone_.resize(facts_);
   reached_.resize(facts_);
   fact_cost_.resize(facts_);
   supporter_.resize(facts_);
-  // The exploration's hot loop reads these flat arrays, not the operators' own vectors:
-  // on tasks of 10^5 operators a cache miss per vector is most of an evaluation.
   op_state_.resize(ops_.size());
   pre_count_.resize(ops_.size());
   effect_start_.reserve(ops_.size() + 1);
@@ -158,25 +222,11 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
     effects_.insert(effects_.end(), ops_[i].eff.begin(), ops_[i].eff.end());
   }
   effect_start_.push_back(static_cast<std::uint32_t>(effects_.size()));
-  for (std::size_t f = 0; f < facts_; ++f) {
-    trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
-    triggers_.insert(triggers_.end(), precondition_of[f].begin(), precondition_of[f].end());
-  }
-  trigger_start_.push_back(static_cast<std::uint32_t>(triggers_.size()));
-  std::vector<std::vector<int>> relaxed_of(origin_count_);
-  for (std::size_t i = 0; i < ops_.size(); ++i) {
-    if (ops_[i].origin >= 0) relaxed_of[ops_[i].origin].push_back(static_cast<int>(i));
-  }
-  for (const auto& list : relaxed_of) {
-    relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
-    relaxed_of_.insert(relaxed_of_.end(), list.begin(), list.end());
-  }
-  relaxed_start_.push_back(static_cast<std::uint32_t>(relaxed_of_.size()));
-  base_cost_.resize(ops_.size());
-  for (std::size_t i = 0; i < ops_.size(); ++i) base_cost_[i] = ops_[i].cost;
-  whole_costs_ = whole_numbers(base_cost_);
-  initial_order_.resize(static_cast<std::size_t>(goal_));
-  for (FactId f = 0; f < goal_; ++f) initial_order_[f] = f;
+  std::vector<FactId> origin(ops_.size());
+  for (std::size_t i = 0; i < ops_.size(); ++i) origin[i] = ops_[i].origin;
+  group_by(origin_count_, ops_.size(),
+           [&](std::size_t i) { return std::span<const FactId>(origin.data() + i, origin[i] >= 0 ? 1 : 0); },
+           relaxed_start_, relaxed_of_);
 }
 
 void RelaxedTask::follow(const TieOrder& order) {
@@ -315,7 +365,7 @@ double RelaxedTask::lmcut(const State& s) {
     while (!open_.empty()) {
       const FactId f = open_.back();
       open_.pop_back();
-      for (int i : achievers_[f]) {
+      for (int i : achievers(f)) {
         const FactId pcf = op_state_[i].costliest;
         if (op_state_[i].unsatisfied > 0 || cost[i] != 0.0 || pcf == none || in_goal_zone_[pcf]) continue;
         in_goal_zone_[pcf] = 1;

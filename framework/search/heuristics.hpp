@@ -24,6 +24,8 @@ class RelaxedTask {
   /// plus one (LAMA's later iterations: zero-cost operators still count).
   enum class Costs { normal, one, plus_one };
   explicit RelaxedTask(const Task& task, Costs costs = Costs::normal);
+  RelaxedTask(const RelaxedTask&) = delete;  // its operators view its own arrays
+  RelaxedTask& operator=(const RelaxedTask&) = delete;
   /// Explorations take the true facts and each operator's effects in `order`'s fact
   /// orders (a complement as its fact): among facts of equal cost the last taken comes
   /// first, so these orders decide the supporters where costs tie.
@@ -32,9 +34,11 @@ class RelaxedTask {
   /// evaluation on hundreds of blocks takes seconds.
   void set_deadline(std::chrono::steady_clock::time_point at) { deadline_ = at; }
 
+  /// A relaxed operator; `pre` (sorted, no repeats) and `eff` view arrays the task
+  /// keeps, one for all operators.
   struct Op {
-    std::vector<FactId> pre;
-    std::vector<FactId> eff;
+    std::span<const FactId> pre;
+    std::span<const FactId> eff;
     double cost;
     OperatorId origin;  ///< the task operator; -1 for axioms and goal operators
     bool conditional = false;  ///< one conditional effect of `origin` (pre holds its condition too)
@@ -60,7 +64,9 @@ class RelaxedTask {
   std::span<const int> precondition_of(FactId f) const {
     return {triggers_.data() + trigger_start_[f], triggers_.data() + trigger_start_[f + 1]};
   }
-  const std::vector<int>& achievers(FactId f) const { return achievers_[f]; }
+  std::span<const int> achievers(FactId f) const {
+    return {achievers_.data() + achiever_start_[f], achievers_.data() + achiever_start_[f + 1]};
+  }
   /// Task fact f's complement, or -1 when no condition needs f false.
   FactId complement_of(FactId f) const { return complement_[f]; }
   /// The task fact of complement c (task facts <= c < goal fact).
@@ -73,6 +79,8 @@ class RelaxedTask {
   template <class Queue>
   void explore(Queue& queue, const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
   void lower_hmax(const std::vector<int>& cheaper, const std::vector<double>& op_cost);
+  void build_operators(const Task& task, Costs costs);
+  void index_operators();
 
   FactId task_facts_;
   std::vector<FactId> complement_;    // per task fact: its complement, or -1
@@ -80,7 +88,9 @@ class RelaxedTask {
   std::size_t facts_;
   FactId goal_;
   std::vector<Op> ops_;
-  std::vector<std::vector<int>> achievers_;  // per fact: operators adding it
+  std::vector<FactId> op_facts_;  // every operator's preconditions and effects, which ops_ view
+  std::vector<std::uint32_t> achiever_start_;  // per fact: into achievers_
+  std::vector<int> achievers_;                 // per fact: operators adding it
   std::vector<int> no_precondition_;
   // Scratch, reused between calls.
   std::vector<double> fact_cost_;

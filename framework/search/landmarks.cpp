@@ -108,14 +108,14 @@ bool contains(const Label& label, FactId f) { return std::binary_search(label.be
 Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint64_t work_budget) : relaxed_(relaxed) {
   const auto& ops = relaxed.ops();
   const FactId goal = relaxed.goal_fact();
-  std::vector<int> goal_ops = relaxed.achievers(goal);
+  const std::span<const int> goal_ops = relaxed.achievers(goal);
   Labelling labelling(relaxed, work_budget);
   complete_ = labelling.run(initial);
   if (complete_ && !labelling.labelled(goal)) return;  // unreachable even relaxed: the FF heuristic says so
   // Goal facts: in every goal disjunct (the goal operators' preconditions).
   Label in_every_disjunct;
   for (std::size_t k = 0; k < goal_ops.size(); ++k) {
-    Label pre = ops[goal_ops[k]].pre;
+    Label pre(ops[goal_ops[k]].pre.begin(), ops[goal_ops[k]].pre.end());
     std::sort(pre.begin(), pre.end());
     if (k == 0) {
       in_every_disjunct = pre;
@@ -164,7 +164,7 @@ Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint
     Label shared;
     for (int op : relaxed.achievers(f)) {
       if (!labelling.reachable(op) || contains(labelling.op_label(op), f)) continue;
-      Label pre = ops[op].pre;
+      Label pre(ops[op].pre.begin(), ops[op].pre.end());
       std::sort(pre.begin(), pre.end());
       if (first) {
         shared = pre;

@@ -187,7 +187,7 @@ class RhwFactory {
     std::vector<FactId> shared;
     bool first = true;
     for (int op : relaxed_.achievers(relaxed_.goal_fact())) {
-      std::vector<FactId> pre = relaxed_.ops()[op].pre;
+      std::vector<FactId> pre(relaxed_.ops()[op].pre.begin(), relaxed_.ops()[op].pre.end());
       std::sort(pre.begin(), pre.end());
       shared = first ? pre : intersection(shared, pre);
       first = false;
@@ -303,7 +303,7 @@ class RhwFactory {
   }
 
   std::vector<FactId> sorted_pre(int op) const {
-    std::vector<FactId> pre = relaxed_.ops()[op].pre;
+    std::vector<FactId> pre(relaxed_.ops()[op].pre.begin(), relaxed_.ops()[op].pre.end());
     std::sort(pre.begin(), pre.end());
     return pre;
   }
