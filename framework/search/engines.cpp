@@ -5,7 +5,6 @@
 #include <queue>
 #include <stdexcept>
 #include <tuple>
-#include <unordered_map>
 
 #include "cluttertamp/search/planner.hpp"
 #include "cluttertamp/core/free_beside.hpp"

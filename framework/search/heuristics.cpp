@@ -213,6 +213,8 @@ void RelaxedTask::index_operators() {
   reached_.resize(facts_);
   fact_cost_.resize(facts_);
   supporter_.resize(facts_);
+  // The exploration's hot loop reads flat arrays of its own: effects_ is reordered by
+  // follow(), while each operator's `eff` keeps the task's order.
   op_state_.resize(ops_.size());
   pre_count_.resize(ops_.size());
   effect_start_.reserve(ops_.size() + 1);
