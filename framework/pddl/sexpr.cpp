@@ -122,7 +122,8 @@ std::string read_text_file(const std::filesystem::path& file) {
   if (!fs::is_regular_file(status)) throw InputError({file.string(), 0, 0}, "not a regular file");
   constexpr std::size_t kMaxBytes = 64u << 20;
   const auto too_large = [&] { return InputError({file.string(), 0, 0}, "larger than 64 MiB"); };
-  if (fs::file_size(file, ec) > kMaxBytes) throw too_large();
+  const std::uintmax_t reported = fs::file_size(file, ec);  // (uintmax_t)-1 on an error
+  if (reported > kMaxBytes) throw too_large();
   // read(2), not an ifstream: a fresh process's first ifstream costs a tenth of a
   // millisecond, as much as parsing a small PDDL problem.
   const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
@@ -132,7 +133,7 @@ std::string read_text_file(const std::filesystem::path& file) {
     ~Closer() { ::close(fd); }
   } closer{fd};
   // Until the end of the file, whatever its size said (files of /proc say 0).
-  std::string text(std::min<std::uintmax_t>(fs::file_size(file, ec), kMaxBytes) + 1, '\0');
+  std::string text(reported + 1, '\0');
   std::size_t size = 0;
   for (;;) {
     if (size == text.size()) {

@@ -115,8 +115,7 @@ Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint
   // Goal facts: in every goal disjunct (the goal operators' preconditions).
   Label in_every_disjunct;
   for (std::size_t k = 0; k < goal_ops.size(); ++k) {
-    Label pre(ops[goal_ops[k]].pre.begin(), ops[goal_ops[k]].pre.end());
-    std::sort(pre.begin(), pre.end());
+    const Label pre(ops[goal_ops[k]].pre.begin(), ops[goal_ops[k]].pre.end());  // sorted
     if (k == 0) {
       in_every_disjunct = pre;
       continue;
@@ -164,8 +163,7 @@ Landmarks::Landmarks(const RelaxedTask& relaxed, const State& initial, std::uint
     Label shared;
     for (int op : relaxed.achievers(f)) {
       if (!labelling.reachable(op) || contains(labelling.op_label(op), f)) continue;
-      Label pre(ops[op].pre.begin(), ops[op].pre.end());
-      std::sort(pre.begin(), pre.end());
+      const Label pre(ops[op].pre.begin(), ops[op].pre.end());  // sorted
       if (first) {
         shared = pre;
         first = false;

@@ -187,8 +187,7 @@ class RhwFactory {
     std::vector<FactId> shared;
     bool first = true;
     for (int op : relaxed_.achievers(relaxed_.goal_fact())) {
-      std::vector<FactId> pre(relaxed_.ops()[op].pre.begin(), relaxed_.ops()[op].pre.end());
-      std::sort(pre.begin(), pre.end());
+      const std::vector<FactId> pre(relaxed_.ops()[op].pre.begin(), relaxed_.ops()[op].pre.end());  // sorted
       shared = first ? pre : intersection(shared, pre);
       first = false;
     }
@@ -302,10 +301,8 @@ class RhwFactory {
     return both;
   }
 
-  std::vector<FactId> sorted_pre(int op) const {
-    std::vector<FactId> pre(relaxed_.ops()[op].pre.begin(), relaxed_.ops()[op].pre.end());
-    std::sort(pre.begin(), pre.end());
-    return pre;
+  std::vector<FactId> sorted_pre(int op) const {  // a relaxed operator's pre is sorted
+    return {relaxed_.ops()[op].pre.begin(), relaxed_.ops()[op].pre.end()};
   }
 
   void shared_precondition_landmarks(int l, const std::vector<int>& achievers) {
