@@ -84,6 +84,9 @@ struct Schema {
   std::vector<CAtom> core;  // positive top-level atoms, to enumerate bindings
   std::vector<int> mentioned;  // predicates anywhere in the precondition, sorted, once each
   bool literal_precondition = false;  // a conjunction of literals (the STRIPS case)
+  // A conjunction of positive atoms, all in `core`: a binding enumerate() finds satisfies
+  // the relaxed precondition, which need not be tested again.
+  bool joined_precondition = false;
 };
 
 constexpr std::size_t kNoObjects = std::numeric_limits<std::size_t>::max();
@@ -232,6 +235,8 @@ class __attribute__((visibility("hidden"))) Grounder {
   /// Whether `f` is a conjunction of literals (atoms, negated atoms, equalities): then
   /// literals() grounds it as one conjunction, without the DNF's nested vectors.
   static bool is_literal_conjunction(const CFormula& f);
+  /// Whether `f` is a conjunction of positive atoms (no equality).
+  static bool is_atom_conjunction(const CFormula& f);
   /// The conjunction of the literals of `f` (is_literal_conjunction) into `out`, each
   /// atom once, as dnf() would give it; false when it is false in every reachable state.
   bool literals(const CFormula& f, std::vector<int>& binding, bool negated, std::vector<Lit>& out) const;
@@ -310,6 +315,10 @@ class __attribute__((visibility("hidden"))) Grounder {
   std::vector<int> init_atoms_;  // of the last run()
   std::vector<int> strata_;  // per predicate
   mutable Cached* rec_ = nullptr;
+  // ground_instance()'s scratch, reused: a grounding makes thousands of operators.
+  std::vector<int> binding_;
+  std::vector<Lit> conjunction_;
+  std::vector<FactId> add_, del_;
   std::uint64_t generation_ = 0;  // changes when every cached instance is stale
   std::optional<bool> unit_cost_;
   std::vector<FactId> fact_ids_;  // per atom, -1: not a fact of the task yet

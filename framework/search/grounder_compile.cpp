@@ -218,7 +218,10 @@ void Grounder::compile() {
     order_joins(s.core);
     schemas_.push_back(std::move(s));
   }
-  for (Schema& s : schemas_) s.literal_precondition = is_literal_conjunction(s.precondition);
+  for (Schema& s : schemas_) {
+    s.literal_precondition = is_literal_conjunction(s.precondition);
+    s.joined_precondition = is_atom_conjunction(s.precondition);
+  }
   for (const Schema& s : schemas_) {
     // A parameter no core atom binds is enumerated over its type; a quantifier ranges
     // over one (or its witnesses): new objects may then make new instances.

@@ -365,10 +365,12 @@ void Grounder::explore() {
         check_deadline();
         parameters.clear();
         for (int slot : s.parameters) parameters.push_back(binding[slot]);
-        if (instances_[i].count(parameters)) return;
+        auto& known = instances_[i];
+        const auto at = known.lower_bound(parameters);
+        if (at != known.end() && at->first == parameters) return;
         b = binding;
-        if (!relaxed(s.precondition, b)) return;
-        instances_[i].emplace(parameters, nullptr);
+        if (!s.joined_precondition && !relaxed(s.precondition, b)) return;
+        known.emplace_hint(at, parameters, nullptr);
         if (s.axiom) {
           added.push_back(intern(s.head, b));
         } else {

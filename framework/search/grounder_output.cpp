@@ -65,6 +65,16 @@ bool Grounder::is_literal_conjunction(const CFormula& f) {
   }
 }
 
+bool Grounder::is_atom_conjunction(const CFormula& f) {
+  switch (f.kind) {
+    case Formula::Kind::truth: return true;
+    case Formula::Kind::atom: return f.atom.predicate >= 0;
+    case Formula::Kind::conjunction:
+      return std::all_of(f.children.begin(), f.children.end(), [](const CFormula& c) { return is_atom_conjunction(c); });
+    default: return false;
+  }
+}
+
 bool Grounder::literals(const CFormula& f, std::vector<int>& b, bool negated, std::vector<Lit>& out) const {
   switch (f.kind) {
     case Formula::Kind::truth: return true;
@@ -200,6 +210,9 @@ FactId Grounder::fact(int atom) {
 
 Condition Grounder::condition(const std::vector<Lit>& conjunction) {
   Condition c;
+  const auto positives = static_cast<std::size_t>(std::count_if(conjunction.begin(), conjunction.end(), [](const Lit& l) { return l.positive; }));
+  c.positive.reserve(positives);
+  c.negative.reserve(conjunction.size() - positives);
   for (const Lit& l : conjunction) (l.positive ? c.positive : c.negative).push_back(fact(l.atom));
   std::sort(c.positive.begin(), c.positive.end());
   std::sort(c.negative.begin(), c.negative.end());
@@ -322,40 +335,69 @@ bool Grounder::still_valid(const Cached& c) const {
   return true;
 }
 
-// The operators (or axioms) of one instance, with what they rest on when kept.
+// The operators (or axioms) of one instance, with what they rest on when kept. `out`
+// is emptied first; its vectors keep their capacity (one-shot grounding reuses one).
 void Grounder::ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& out) {
   const Schema& s = schemas_[schema];
-  out = Cached{};
+  out.computed = false;
+  out.reusable = true;
   out.generation = generation_;
+  out.atoms.clear();
+  out.witnesses.clear();
+  out.objects = kNoObjects;
+  out.costs.clear();
+  out.operators.clear();
+  out.axioms.clear();
   rec_ = keep_ ? &out : nullptr;
   struct Stop {
     Cached*& rec;
     ~Stop() { rec = nullptr; }
   } stop{rec_};
-  std::vector<int> b(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
+  std::vector<int>& b = binding_;
+  b.assign(static_cast<std::size_t>(std::max(1, s.slot_count)), -1);
   for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
+  // The precondition's disjuncts: of a conjunction of literals, the one conjunction_
+  // holds, or none when it is false (no DNF's nested vectors for the STRIPS case).
   Dnf pre;
+  std::size_t disjuncts = 0;
+  conjunction_.clear();
   try {
-    std::vector<Lit> conjunction;
-    if (!s.literal_precondition) pre = dnf(s.precondition, b, false);
-    else if (literals(s.precondition, b, false, conjunction)) pre.push_back(std::move(conjunction));
+    if (!s.literal_precondition) {
+      pre = dnf(s.precondition, b, false);
+      disjuncts = pre.size();
+    } else {
+      disjuncts = literals(s.precondition, b, false, conjunction_) ? 1 : 0;
+    }
   } catch (const TooManyDisjuncts&) {
     too_many(s.where, s.axiom ? "the body of derived predicate '" + s.name + "'" : "the precondition of '" + s.name + "'");
   }
+  const auto disjunct = [&](std::size_t k) -> const std::vector<Lit>& { return s.literal_precondition ? conjunction_ : pre[k]; };
   out.computed = true;
   if (s.axiom) {
     const int head = intern(s.head, b);
-    for (const auto& conjunction : pre) out.axioms.push_back({fact(head), condition(conjunction), strata_.empty() ? 0 : strata_[s.head.predicate]});
+    for (std::size_t k = 0; k < disjuncts; ++k) {
+      out.axioms.push_back({fact(head), condition(disjunct(k)), strata_.empty() ? 0 : strata_[s.head.predicate]});
+    }
     return;
   }
-  if (pre.empty()) return;
+  if (disjuncts == 0) return;
   Operator op;
-  op.name = "(" + s.name;
-  for (int o : parameters) op.name += " " + object_names_[o];
-  op.name += ")";
+  std::size_t length = s.name.size() + 2;
+  for (int o : parameters) length += object_names_[o].size() + 1;
+  op.name.reserve(length);
+  op.name += '(';
+  op.name += s.name;
+  for (int o : parameters) (op.name += ' ') += object_names_[o];
+  op.name += ')';
   std::vector<std::pair<Dnf, std::pair<std::vector<Lit>, bool>>> conditional;
   double cost = 0;
-  ground_effect(s.effect, b, Dnf{{}}, op, conditional, cost);
+  // Effects go to the scratch vectors first, then to vectors of their exact size.
+  add_.clear();
+  del_.clear();
+  op.add.swap(add_);
+  op.del.swap(del_);
+  static const Dnf kTruth{{}};
+  ground_effect(s.effect, b, kTruth, op, conditional, cost);
   op.cost = task_.unit_cost ? 1.0 : cost;
   // Add after delete: an atom both added and deleted ends up true.
   std::sort(op.add.begin(), op.add.end());
@@ -363,6 +405,10 @@ void Grounder::ground_instance(std::size_t schema, const std::vector<int>& param
   std::sort(op.del.begin(), op.del.end());
   op.del.erase(std::unique(op.del.begin(), op.del.end()), op.del.end());
   std::erase_if(op.del, [&](FactId f) { return std::binary_search(op.add.begin(), op.add.end(), f); });
+  add_.swap(op.add);
+  del_.swap(op.del);
+  op.add.assign(add_.begin(), add_.end());
+  op.del.assign(del_.begin(), del_.end());
   for (const auto& [cond, lit] : conditional) {
     for (const auto& conjunction : cond) {
       ConditionalEffect ce;
@@ -371,9 +417,9 @@ void Grounder::ground_instance(std::size_t schema, const std::vector<int>& param
       op.conditional.push_back(std::move(ce));
     }
   }
-  for (std::size_t i = 0; i < pre.size(); ++i) {
-    Operator& o = out.operators.emplace_back(i + 1 < pre.size() ? op : std::move(op));
-    o.precondition = condition(pre[i]);
+  for (std::size_t k = 0; k < disjuncts; ++k) {
+    Operator& o = out.operators.emplace_back(k + 1 < disjuncts ? op : std::move(op));
+    o.precondition = condition(disjunct(k));
   }
 }
 

@@ -93,12 +93,12 @@ Task Grounder::run(const pddl::Problem& problem, GroundingStats* stats, double t
   out.operators.reserve(instances);
   std::size_t reused = 0;
   std::vector<Span> spans;  // each instance's operators
+  Cached once;  // outside a session: every instance's, in turn
   for (std::size_t i = 0; i < schemas_.size(); ++i) {
     for (auto& [parameters, cached] : instances_[i]) {
       check_deadline();  // millions of operators are made here too
       const std::size_t first = out.operators.size();
       if (!keep_) {
-        Cached once;
         ground_instance(i, parameters, once);
         std::move(once.operators.begin(), once.operators.end(), std::back_inserter(out.operators));
         std::move(once.axioms.begin(), once.axioms.end(), std::back_inserter(out.axioms));

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "cluttertamp/search/grounding.hpp"  // TimeLimit
+#include "search/small_sort.hpp"
 
 namespace cluttertamp::search::detail {
 
@@ -241,7 +242,7 @@ void RelaxedTask::follow(const TieOrder& order) {
   if (order.effect_rank.empty()) return;
   const auto rank = [&](FactId f) { return f == goal_ ? ~std::uint32_t{0} : order.effect_rank[task_fact(f)]; };
   for (std::size_t i = 0; i < ops_.size(); ++i) {
-    std::stable_sort(effects_.begin() + effect_start_[i], effects_.begin() + effect_start_[i + 1],
+    stable_sort_short(effects_.begin() + effect_start_[i], effects_.begin() + effect_start_[i + 1],
                      [&](FactId a, FactId b) { return rank(a) < rank(b); });
   }
 }

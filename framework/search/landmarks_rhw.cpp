@@ -146,7 +146,8 @@ class RhwFactory {
       }
     };
     auto condition_value = [&](int v) { return condition ? required(v, *condition) : -1; };
-    std::vector<int> changed;
+    std::vector<int>& changed = changed_;
+    changed.clear();
     for (FactId f : add) {
       const int v = var_of_[f];
       if (v < 0) continue;
@@ -631,6 +632,7 @@ class RhwFactory {
   std::vector<char> initially_;
   std::vector<int> class_;
   std::vector<Variable> variables_;
+  std::vector<int> changed_;  // dtg_edges' scratch: the variables an effect sets
   std::vector<int> var_of_, value_of_;
   std::vector<std::vector<int>> groups_of_;  // per task fact: the mutex groups holding it
 

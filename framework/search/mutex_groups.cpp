@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 
 namespace cluttertamp::search::detail {
@@ -17,9 +18,9 @@ struct GroundAtom {
   std::vector<int> args;
 };
 
-// "(pred a b)" -> {"pred", "a", "b"}.
-std::vector<std::string> atom_words(const std::string& text) {
-  std::vector<std::string> words;
+// "(pred a b)" -> {"pred", "a", "b"}, views into `text`.
+std::vector<std::string_view> atom_words(std::string_view text) {
+  std::vector<std::string_view> words;
   std::size_t i = text.empty() || text[0] != '(' ? 0 : 1;
   while (i < text.size()) {
     while (i < text.size() && (text[i] == ' ' || text[i] == ')')) ++i;
@@ -36,10 +37,12 @@ std::vector<std::string> atom_words(const std::string& text) {
 GroundAtom parse_atom(const std::string& text, std::unordered_map<std::string, int>& predicates,
                       std::unordered_map<std::string, int>& objects) {
   GroundAtom atom;
-  const std::vector<std::string> words = atom_words(text);
+  const std::vector<std::string_view> words = atom_words(text);
   for (std::size_t k = 0; k < words.size(); ++k) {
-    if (k == 0) atom.predicate = predicates.emplace(words[k], static_cast<int>(predicates.size())).first->second;
-    else atom.args.push_back(objects.emplace(words[k], static_cast<int>(objects.size())).first->second);
+    auto& ids = k == 0 ? predicates : objects;
+    const int id = ids.try_emplace(std::string(words[k]), static_cast<int>(ids.size())).first->second;
+    if (k == 0) atom.predicate = id;
+    else atom.args.push_back(id);
   }
   return atom;
 }
@@ -362,7 +365,7 @@ std::vector<char> never_applicable(const Task& task, const MutexGroups& mutexes)
 }
 
 std::vector<std::uint32_t> atom_order(const Task& task) {
-  std::vector<std::vector<std::string>> words(task.fact_count());
+  std::vector<std::vector<std::string_view>> words(task.fact_count());
   for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) words[f] = atom_words(task.fact_names[f]);
   std::vector<FactId> sorted(task.fact_count());
   for (FactId f = 0; f < static_cast<FactId>(sorted.size()); ++f) sorted[f] = f;

@@ -6,6 +6,8 @@
 #include <map>
 #include <numeric>
 
+#include "search/small_sort.hpp"
+
 namespace cluttertamp::search::detail {
 
 namespace {
@@ -75,7 +77,7 @@ class Encoding {
       else out.negated.items.push_back(var(f));
     }
     const auto by_var = [](const Fact& a, const Fact& b) { return a.first < b.first; };
-    std::stable_sort(pre.begin() + pre_begin, pre.end(), by_var);
+    stable_sort_short(pre.begin() + pre_begin, pre.end(), by_var);
     pre.erase(std::unique(pre.begin() + pre_begin, pre.end(), [](const Fact& a, const Fact& b) { return a.first == b.first; }),
               pre.end());
     // The value the precondition requires of `v`, or -1.
