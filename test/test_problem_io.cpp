@@ -66,7 +66,7 @@ TEST(ProblemIo, TaskMustBeRetrieveReachOrPddl) {
 TEST(ProblemIo, SceneErrorsAreReportedWithTheScenesLocation) {
   const Diagnostics d = expect_input_error([] { io::load_problem(data("problems/bad_scene_inside.yaml")); });
   ASSERT_EQ(d.size(), 1u);
-  EXPECT_NE(d.items()[0].location.file.find("bad_interpenetrating.yaml"), std::string::npos);
+  EXPECT_NE(d.items()[0].location.file.str().find("bad_interpenetrating.yaml"), std::string::npos);
   EXPECT_EQ(d.items()[0].location.line, 7u);
 }
 

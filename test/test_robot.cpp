@@ -305,7 +305,7 @@ TEST(MobileManipulator, BaseAndArmFormOneChain) {
 TEST(RobotErrors, AMissingMeshIsLocatedWhereItsFilenameStands) {
   const Diagnostics d = test::expect_input_error([] { RobotModel::load_urdf(test::data("robots/mesh.urdf")); });
   ASSERT_EQ(d.size(), 1u);
-  EXPECT_NE(d.items()[0].location.file.find("mesh.urdf"), std::string::npos);
+  EXPECT_NE(d.items()[0].location.file.str().find("mesh.urdf"), std::string::npos);
   EXPECT_TRUE(test::has_error(d, 5, 32, "mesh 'arm.stl' not found: no file")) << d.str();
 }
 

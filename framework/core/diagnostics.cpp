@@ -1,12 +1,20 @@
 #include "cluttertamp/core/diagnostics.hpp"
 
 #include <algorithm>
+#include <ostream>
 #include <tuple>
 
 namespace cluttertamp {
 
+const std::string& FileName::empty_name() {
+  static const std::string empty;
+  return empty;
+}
+
+std::ostream& operator<<(std::ostream& out, const FileName& f) { return out << f.str(); }
+
 std::string SourceLocation::str() const {
-  std::string out = file.empty() ? std::string("<input>") : file;
+  std::string out = file.empty() ? std::string("<input>") : file.str();
   if (line > 0) {
     // Appended piece by piece: g++ 12 warns falsely (-Wrestrict) on ":" + std::string.
     out += ':';

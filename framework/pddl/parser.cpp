@@ -167,7 +167,7 @@ class Reader {
       error(e.where, "preferences are not supported");
     } else {
       f.kind = Formula::Kind::atom;
-      if (auto a = atom(e, "a condition")) f.atom = *a;
+      if (auto a = atom(e, "a condition")) f.atom = std::move(*a);
       else f.kind = Formula::Kind::truth;
     }
     return f;
@@ -187,7 +187,7 @@ class Reader {
     } else if (head == "not") {
       out.kind = Effect::Kind::remove;
       if (e.items.size() != 2) error(e.where, "(not ATOM) takes one atom");
-      else if (auto a = atom(e.items[1], "a deleted atom")) out.atom = *a;
+      else if (auto a = atom(e.items[1], "a deleted atom")) out.atom = std::move(*a);
     } else if (head == "forall") {
       out.kind = Effect::Kind::forall;
       if (e.items.size() != 3 || !e.items[1].is_list) {
@@ -215,7 +215,7 @@ class Reader {
       error(e.where, "numeric effect (" + head + " ...) is not supported; only (increase (total-cost) VALUE)");
     } else {
       out.kind = Effect::Kind::add;
-      if (auto a = atom(e, "an added atom")) out.atom = *a;
+      if (auto a = atom(e, "an added atom")) out.atom = std::move(*a);
       else out.kind = Effect::Kind::conjunction;
     }
     return out;
@@ -236,7 +236,7 @@ class Reader {
       }
       return c;
     }
-    if (auto a = atom(e, "a cost function term")) c.function = *a;
+    if (auto a = atom(e, "a cost function term")) c.function = std::move(*a);
     return c;
   }
 
@@ -468,7 +468,7 @@ class DomainReader : public Reader {
     check_stratified();
     finish();
     domain_.warnings = diagnostics_.warnings();
-    return domain_;
+    return std::move(domain_);  // read once: a copy would cost as much as the reading
   }
 
  private:
@@ -778,7 +778,7 @@ class ProblemReader : public Reader {
       checker.check_formula(problem_.goal, {}, objects_);
     }
     finish();
-    return problem_;
+    return std::move(problem_);
   }
 
  private:
@@ -824,7 +824,7 @@ class ProblemReader : public Reader {
       }
       if (derived.count(a->predicate)) error(a->where, "'" + a->predicate + "' is derived and cannot be an initial fact");
       checker.check_atom(*a, {}, objects_, true);
-      problem_.init.push_back(*a);
+      problem_.init.push_back(std::move(*a));
     }
   }
 

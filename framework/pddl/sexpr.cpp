@@ -6,21 +6,28 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstdint>
+#include <string_view>
 
 namespace cluttertamp::pddl {
 
 namespace {
 constexpr std::size_t kMaxDepth = 200;
 
-bool symbol_char(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '?' || c == ':' || c == '.' ||
-         c == '=' || c == '<' || c == '>' || c == '+' || c == '*' || c == '/' || c == '@' || c == '!' || c == '#' ||
-         c == '$' || c == '%' || c == '&' || c == '^' || c == '~' || c == '[' || c == ']' || c == '{' || c == '}' ||
-         c == '|' || c == '\'';
-}
+// The characters of a name, ASCII only whatever the locale.
+constexpr std::array<bool, 256> kSymbolChars = [] {
+  std::array<bool, 256> table{};
+  for (int c = '0'; c <= '9'; ++c) table[c] = true;
+  for (int c = 'a'; c <= 'z'; ++c) table[c] = table[c - 'a' + 'A'] = true;
+  for (unsigned char c : std::string_view("-_?:.=<>+*/@!#$%&^~[]{}|'")) table[c] = true;
+  return table;
+}();
+
+bool symbol_char(char c) { return kSymbolChars[static_cast<unsigned char>(c)]; }
+char lower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
 }  // namespace
 
 std::string SourceText::excerpt(const SourceLocation& where) const {
@@ -70,7 +77,7 @@ std::vector<SExpr> read_sexprs(const SourceText& source) {
     const char c = s[i];
     if (c == ';') {
       while (i < s.size() && s[i] != '\n') advance();
-    } else if (std::isspace(static_cast<unsigned char>(c))) {
+    } else if (c == ' ' || c == '\n' || c == '\t' || c == '\r' || c == '\f' || c == '\v') {
       advance();
     } else if (c == '(') {
       if (stack.size() >= kMaxDepth) source.fail(here(), "expressions nested deeper than 200 levels");
@@ -90,10 +97,12 @@ std::vector<SExpr> read_sexprs(const SourceText& source) {
       atom.where = here();
       // A '?' always begins a name, as in Fast Downward's reader: "(aircraft?a)" is the
       // predicate aircraft applied to ?a (IPC zenotravel writes it so).
-      while (i < s.size() && symbol_char(s[i]) && !(s[i] == '?' && !atom.text.empty())) {
-        atom.text += static_cast<char>(std::tolower(static_cast<unsigned char>(s[i])));
-        advance();
-      }
+      std::size_t end = i + 1;
+      while (end < s.size() && symbol_char(s[end]) && s[end] != '?') ++end;
+      atom.text.resize(end - i);
+      std::transform(s.begin() + static_cast<std::ptrdiff_t>(i), s.begin() + static_cast<std::ptrdiff_t>(end), atom.text.begin(), lower);
+      column += end - i;  // a name holds no line break
+      i = end;
       if (stack.empty()) source.fail(atom.where, "'" + atom.text + "' outside any parenthesised expression");
       stack.back().items.push_back(std::move(atom));
     } else {
@@ -160,6 +169,7 @@ std::optional<Atom> read_atom(const SExpr& e, NotAnAtom& why, SourceLocation& wh
   Atom a;
   a.predicate = e.items[0].text;
   a.where = e.where;
+  a.args.reserve(e.items.size() - 1);
   for (std::size_t i = 1; i < e.items.size(); ++i) {
     const SExpr& arg = e.items[i];
     if (!arg.is_atom()) {

@@ -214,7 +214,7 @@ void translate_input_errors(py::module_& m) {
     } catch (const InputError& e) {
       py::list errors;
       for (const Diagnostic& d : e.diagnostics().items()) {
-        errors.append(py::make_tuple(d.location.file, d.location.line, d.location.column, d.message));
+        errors.append(py::make_tuple(d.location.file.str(), d.location.line, d.location.column, d.message));
       }
       std::string text = e.diagnostics().str();
       while (!text.empty() && text.back() == '\n') text.pop_back();

@@ -118,7 +118,7 @@ class GrtcPlanner final : public plugin::TaskPlanner {
   std::filesystem::path guidance_file(const Problem& problem) const {
     const std::filesystem::path path(guidance_);
     if (path.is_absolute()) return path;
-    const std::filesystem::path base = !guidance_where_.file.empty() ? std::filesystem::path(guidance_where_.file)
+    const std::filesystem::path base = !guidance_where_.file.empty() ? std::filesystem::path(guidance_where_.file.str())
                                                                      : problem.source_file;
     return base.parent_path() / path;
   }

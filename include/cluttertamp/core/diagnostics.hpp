@@ -1,18 +1,53 @@
 #pragma once
 
+#include <compare>
 #include <cstddef>
+#include <iosfwd>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "cluttertamp/export.hpp"
 
 namespace cluttertamp {
 
+/// The name of an input file, shared by the copies: a parser gives every token of a
+/// file a location, and copying one copies a pointer instead of the name. Reads as the
+/// `const std::string&` it holds.
+class CLUTTERTAMP_API FileName {
+ public:
+  FileName() = default;
+  FileName(std::string name)  // NOLINT(google-explicit-constructor): a location is written {file, line, column}
+      : name_(name.empty() ? nullptr : std::make_shared<const std::string>(std::move(name))) {}
+  FileName(const char* name) : FileName(std::string(name)) {}  // NOLINT(google-explicit-constructor)
+
+  const std::string& str() const { return name_ ? *name_ : empty_name(); }
+  operator const std::string&() const { return str(); }  // NOLINT(google-explicit-constructor)
+  const char* c_str() const { return str().c_str(); }
+  bool empty() const { return !name_; }
+
+  friend bool operator==(const FileName& a, const FileName& b) { return a.name_ == b.name_ || a.str() == b.str(); }
+  friend std::strong_ordering operator<=>(const FileName& a, const FileName& b) { return a.str() <=> b.str(); }
+  /// Against "s.pddl", a std::string or a std::string_view.
+  template <class Text>
+    requires std::is_convertible_v<const Text&, std::string_view>
+  friend bool operator==(const FileName& a, const Text& b) {
+    return std::string_view(a.str()) == std::string_view(b);
+  }
+  friend std::ostream& operator<<(std::ostream& out, const FileName& f);
+
+ private:
+  static const std::string& empty_name();
+  std::shared_ptr<const std::string> name_;  // null when empty
+};
+
 /// A place in an input file. Lines and columns count from 1; 0 means "unknown"
 /// (for example a whole-file problem such as a missing file).
 struct SourceLocation {
-  std::string file;
+  FileName file;
   std::size_t line = 0;
   std::size_t column = 0;
 

@@ -26,7 +26,7 @@ struct SExpr {
 
 /// The text of a file, kept to quote lines in error messages.
 struct SourceText {
-  std::string file;
+  FileName file;  ///< shared by the locations read_sexprs gives
   std::string text;
 
   /// "  <line>\n  <spaces>^" for a location in this text; empty when out of range.

@@ -20,7 +20,7 @@ namespace cluttertamp::plugin {
 /// tip and wall-force limits, PushOutcome's tipped objects and wall force.
 /// It is part of every exported symbol name (cluttertamp_abi<N>_<kind>__<name>), so a
 /// mismatch is seen before the library is loaded.
-#define CLUTTERTAMP_PLUGIN_ABI_VERSION 24
+#define CLUTTERTAMP_PLUGIN_ABI_VERSION 25
 inline constexpr std::uint32_t kAbiVersion = CLUTTERTAMP_PLUGIN_ABI_VERSION;
 
 /// Marks a PluginRecord and a PluginEntry, so a stray symbol in the plugin section is
