@@ -165,7 +165,10 @@ class __attribute__((visibility("hidden"))) Grounder {
   void compile();
   void order_joins(std::vector<CAtom>& core) const;
   void add_objects(const pddl::Problem& problem);
-  void ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& out);
+  /// The operators (or axioms) of one instance, appended to `operators` (`axioms`);
+  /// `record` receives what they rest on (in a session).
+  void ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& record,
+                       std::vector<Operator>& operators, std::vector<Axiom>& axioms);
   bool still_valid(const Cached& c) const;
   std::uint8_t state(int atom) const { return static_cast<std::uint8_t>((reached_[atom] ? 1 : 0) | (initially_[atom] ? 2 : 0)); }
   // The recording of the instance being grounded, if any.

@@ -335,20 +335,18 @@ bool Grounder::still_valid(const Cached& c) const {
   return true;
 }
 
-// The operators (or axioms) of one instance, with what they rest on when kept. `out`
-// is emptied first; its vectors keep their capacity (one-shot grounding reuses one).
-void Grounder::ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& out) {
+// `record` is emptied first but for its operators and axioms, which the caller chooses.
+void Grounder::ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& record,
+                               std::vector<Operator>& operators, std::vector<Axiom>& axioms) {
   const Schema& s = schemas_[schema];
-  out.computed = false;
-  out.reusable = true;
-  out.generation = generation_;
-  out.atoms.clear();
-  out.witnesses.clear();
-  out.objects = kNoObjects;
-  out.costs.clear();
-  out.operators.clear();
-  out.axioms.clear();
-  rec_ = keep_ ? &out : nullptr;
+  record.computed = false;
+  record.reusable = true;
+  record.generation = generation_;
+  record.atoms.clear();
+  record.witnesses.clear();
+  record.objects = kNoObjects;
+  record.costs.clear();
+  rec_ = keep_ ? &record : nullptr;
   struct Stop {
     Cached*& rec;
     ~Stop() { rec = nullptr; }
@@ -372,11 +370,11 @@ void Grounder::ground_instance(std::size_t schema, const std::vector<int>& param
     too_many(s.where, s.axiom ? "the body of derived predicate '" + s.name + "'" : "the precondition of '" + s.name + "'");
   }
   const auto disjunct = [&](std::size_t k) -> const std::vector<Lit>& { return s.literal_precondition ? conjunction_ : pre[k]; };
-  out.computed = true;
+  record.computed = true;
   if (s.axiom) {
     const int head = intern(s.head, b);
     for (std::size_t k = 0; k < disjuncts; ++k) {
-      out.axioms.push_back({fact(head), condition(disjunct(k)), strata_.empty() ? 0 : strata_[s.head.predicate]});
+      axioms.push_back({fact(head), condition(disjunct(k)), strata_.empty() ? 0 : strata_[s.head.predicate]});
     }
     return;
   }
@@ -418,7 +416,7 @@ void Grounder::ground_instance(std::size_t schema, const std::vector<int>& param
     }
   }
   for (std::size_t k = 0; k < disjuncts; ++k) {
-    Operator& o = out.operators.emplace_back(k + 1 < disjuncts ? op : std::move(op));
+    Operator& o = operators.emplace_back(k + 1 < disjuncts ? op : std::move(op));
     o.precondition = condition(disjunct(k));
   }
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <iterator>
 #include <memory>
 #include <numeric>
 
@@ -93,19 +92,22 @@ Task Grounder::run(const pddl::Problem& problem, GroundingStats* stats, double t
   out.operators.reserve(instances);
   std::size_t reused = 0;
   std::vector<Span> spans;  // each instance's operators
-  Cached once;  // outside a session: every instance's, in turn
+  Cached unkept;  // outside a session: nothing is recorded, and operators go straight out
   for (std::size_t i = 0; i < schemas_.size(); ++i) {
     for (auto& [parameters, cached] : instances_[i]) {
       check_deadline();  // millions of operators are made here too
       const std::size_t first = out.operators.size();
       if (!keep_) {
-        ground_instance(i, parameters, once);
-        std::move(once.operators.begin(), once.operators.end(), std::back_inserter(out.operators));
-        std::move(once.axioms.begin(), once.axioms.end(), std::back_inserter(out.axioms));
+        ground_instance(i, parameters, unkept, out.operators, out.axioms);
       } else {
         if (!cached) cached = std::make_unique<Cached>();
-        if (still_valid(*cached)) ++reused;
-        else ground_instance(i, parameters, *cached);
+        if (still_valid(*cached)) {
+          ++reused;
+        } else {
+          cached->operators.clear();
+          cached->axioms.clear();
+          ground_instance(i, parameters, *cached, cached->operators, cached->axioms);
+        }
         out.operators.insert(out.operators.end(), cached->operators.begin(), cached->operators.end());
         out.axioms.insert(out.axioms.end(), cached->axioms.begin(), cached->axioms.end());
       }

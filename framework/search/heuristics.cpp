@@ -255,33 +255,48 @@ void RelaxedTask::exploration(const State& s, bool max, const std::vector<double
   if (whole_costs_) {
     try {
       BucketQueue queue(buckets_);
-      explore(queue, s, max, op_cost, stop_at_goal);
+      if (max) explore<true>(queue, s, op_cost, stop_at_goal);
+      else explore<false>(queue, s, op_cost, stop_at_goal);
       return;
     } catch (const BucketQueue::Overflow&) {
     }
   }
   HeapQueue queue;
-  explore(queue, s, max, op_cost, stop_at_goal);
+  if (max) explore<true>(queue, s, op_cost, stop_at_goal);
+  else explore<false>(queue, s, op_cost, stop_at_goal);
 }
 
-template <class Queue>
-void RelaxedTask::explore(Queue& queue, const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal) {
+// The hot loop of every FF, h_add and h_max evaluation: it reads the arrays through
+// local pointers, which the compiler keeps in registers (through the members it reloads
+// them after every store, as a store might change them).
+template <bool Max, class Queue>
+void RelaxedTask::explore(Queue& queue, const State& s, const std::vector<double>& op_cost, bool stop_at_goal) {
+  double* const fact_cost = fact_cost_.data();
+  int* const supporter = supporter_.data();
+  OpState* const op_state = op_state_.data();
+  const double* const cost_of = op_cost.data();
+  const std::uint32_t* const effect_start = effect_start_.data();
+  const FactId* const effects = effects_.data();
+  const std::uint32_t* const trigger_start = trigger_start_.data();
+  const int* const triggers = triggers_.data();
+  const FactId goal = goal_;
   std::fill(fact_cost_.begin(), fact_cost_.end(), kInfinity);
   std::fill(supporter_.begin(), supporter_.end(), -1);
-  for (std::size_t i = 0; i < ops_.size(); ++i) op_state_[i] = {pre_count_[i], -1, 0.0};
+  const int* const pre_count = pre_count_.data();
+  for (std::size_t i = 0, n = ops_.size(); i < n; ++i) op_state[i] = {pre_count[i], -1, 0.0};
   for (FactId f : initial_order_) {
     if (holds_in(s, f)) {
-      fact_cost_[f] = 0.0;
+      fact_cost[f] = 0.0;
       queue.push(0.0, f);
     }
   }
-  auto fire = [&](int i) {
-    const double value = op_state_[i].value + op_cost[i];
-    for (std::uint32_t k = effect_start_[i]; k < effect_start_[i + 1]; ++k) {
-      const FactId e = effects_[k];
-      if (value < fact_cost_[e]) {
-        fact_cost_[e] = value;
-        supporter_[e] = i;
+  const auto fire = [&](int i) {
+    const double value = op_state[i].value + cost_of[i];
+    for (std::uint32_t k = effect_start[i], end = effect_start[i + 1]; k < end; ++k) {
+      const FactId e = effects[k];
+      if (value < fact_cost[e]) {
+        fact_cost[e] = value;
+        supporter[e] = i;
         queue.push(value, e);
       }
     }
@@ -289,12 +304,12 @@ void RelaxedTask::explore(Queue& queue, const State& s, bool max, const std::vec
   for (int i : no_precondition_) fire(i);
   while (!queue.empty()) {
     const auto [cost, f] = queue.pop();
-    if (cost > fact_cost_[f]) continue;
-    if (f == goal_ && stop_at_goal) break;
-    for (std::uint32_t k = trigger_start_[f]; k < trigger_start_[f + 1]; ++k) {
-      const int i = triggers_[k];
-      OpState& o = op_state_[i];
-      if (!max) {
+    if (cost > fact_cost[f]) continue;
+    if (f == goal && stop_at_goal) break;
+    for (std::uint32_t k = trigger_start[f], end = trigger_start[f + 1]; k < end; ++k) {
+      const int i = triggers[k];
+      OpState& o = op_state[i];
+      if constexpr (!Max) {
         o.value += cost;
       } else if (cost >= o.value) {  // facts come in cost order: the last is a costliest
         o.value = cost;

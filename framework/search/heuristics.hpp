@@ -76,8 +76,8 @@ class RelaxedTask {
  private:
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
   void exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
-  template <class Queue>
-  void explore(Queue& queue, const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
+  template <bool Max, class Queue>
+  void explore(Queue& queue, const State& s, const std::vector<double>& op_cost, bool stop_at_goal);
   void lower_hmax(const std::vector<int>& cheaper, const std::vector<double>& op_cost);
   void build_operators(const Task& task, Costs costs);
   void index_operators();

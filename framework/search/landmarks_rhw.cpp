@@ -91,7 +91,7 @@ class RhwFactory {
     }
     var_of_.assign(relaxed_.fact_count(), -1);
     value_of_.assign(relaxed_.fact_count(), -1);
-    for (auto& facts : choose_variables(task_, mutexes)) {
+    for (const std::vector<FactId>& facts : mutexes.variables) {
       if (facts.size() < 2) continue;
       const int v = static_cast<int>(variables_.size());
       for (std::size_t k = 0; k < facts.size(); ++k) {
@@ -99,7 +99,7 @@ class RhwFactory {
         value_of_[facts[k]] = static_cast<int>(k);
       }
       Variable var;
-      var.facts = std::move(facts);
+      var.facts = facts;
       var.successors.assign(var.facts.size() + 1, {});
       var.initial = static_cast<int>(var.facts.size());
       for (std::size_t k = 0; k < var.facts.size(); ++k) {

@@ -341,7 +341,9 @@ class Synthesis {
 }  // namespace
 
 MutexGroups find_mutex_groups(const Task& task, std::uint64_t work_budget) {
-  return Synthesis(task, work_budget).run();
+  MutexGroups out = Synthesis(task, work_budget).run();
+  out.variables = choose_variables(task, out);
+  return out;
 }
 
 std::vector<char> never_applicable(const Task& task, const MutexGroups& mutexes) {

@@ -32,7 +32,11 @@ struct MutexGroups {
   std::size_t invariants = 0;               ///< invariants proven
   std::size_t candidates = 0;               ///< candidates examined
   bool complete = true;                     ///< false when the work budget ran out
+  /// choose_variables(task, groups): the successor order and the landmark factory both
+  /// read them, and choosing them twice cost as much as finding the groups.
+  std::vector<std::vector<FactId>> variables;
 };
+/// The groups, and the variables chosen from them.
 MutexGroups find_mutex_groups(const Task& task, std::uint64_t work_budget);
 
 /// Per operator: 1 when its precondition needs two facts of one mutex group, so that no

@@ -43,7 +43,7 @@ class Encoding {
   Encoding(const Task& task, const MutexGroups& mutexes) {
     var_of_.assign(task.fact_count(), -1);
     value_of_.assign(task.fact_count(), -1);
-    for (const std::vector<FactId>& facts : choose_variables(task, mutexes)) add_variable(facts);
+    for (const std::vector<FactId>& facts : mutexes.variables) add_variable(facts);
     for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
       if (task.derived[f]) add_variable({f});
     }
@@ -341,11 +341,15 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
   }
   std::vector<OperatorId> sorted(op_count);
   std::iota(sorted.begin(), sorted.end(), 0);
+  // The grounder names its operators in order: then the stable sort keeps ties in name
+  // order without comparing names.
+  const bool named_in_order = std::is_sorted(task.operators.begin(), task.operators.end(),
+                                             [](const Operator& a, const Operator& b) { return a.name < b.name; });
   std::stable_sort(sorted.begin(), sorted.end(), [&](OperatorId a, OperatorId b) {
     if (left_out[a] != left_out[b]) return left_out[b] != 0;
     const auto order = std::lexicographical_compare_three_way(keys.first(a), keys.last(a), keys.first(b), keys.last(b));
     if (order != 0) return order < 0;
-    return task.operators[a].name < task.operators[b].name;
+    return !named_in_order && task.operators[a].name < task.operators[b].name;
   });
   out.rank.resize(op_count);
   for (std::size_t k = 0; k < op_count; ++k) out.rank[sorted[k]] = static_cast<std::uint32_t>(k);

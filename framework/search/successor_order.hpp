@@ -33,7 +33,7 @@ struct SuccessorOrder {
   std::size_t relevant_variables = 0;  ///< of those, the ones the goal depends on
 };
 
-/// The variables are `choose_variables`' (derived facts one each), without those whose
+/// The variables are `mutexes.variables` (derived facts one each), without those whose
 /// transition graph reaches no second value. They are ordered as Fast Downward's
 /// translator orders them: strongly connected components of the causal graph (edges
 /// from precondition and effect-condition variables to effect variables, weighted by
