@@ -904,6 +904,30 @@ TEST(PddlGrounding, ASessionGroundsEachProblemAsAFreshGroundingDoes) {
   }
 }
 
+// A parameter of a wider type than its predicate's puts an object outside the
+// predicate's type into an atom: such an atom has no place in the one-shot grounder's
+// per-type atom tables and is found all the same (a session keeps no tables).
+TEST(PddlGrounding, AnAtomWithAnObjectOutsideItsPredicatesTypeIsFound) {
+  const Domain d = parse_domain(R"((define (domain wide) (:requirements :typing)
+    (:types ball box - thing room)
+    (:predicates (at ?b - ball ?r - room) (free ?t - thing) (done))
+    (:action drop :parameters (?t - thing ?r - room) :precondition (free ?t) :effect (at ?t ?r))
+    (:action check :parameters (?t - thing ?r - room) :precondition (at ?t ?r) :effect (done))))",
+                                "wide.pddl");
+  const Problem p = parse_problem(R"((define (problem w) (:domain wide)
+    (:objects b1 - ball x1 - box r1 r2 - room) (:init (free x1)) (:goal (done))))",
+                                  "w.pddl", d);
+  const search::Task fresh = search::ground(d, p);
+  search::Grounding session(d);
+  EXPECT_EQ(reachable_part(fresh), reachable_part(session.ground(p)));
+  const search::SearchResult r = search::plan(fresh, search::SearchOptions{});
+  ASSERT_TRUE(r.solved) << r.reason;
+  ASSERT_EQ(r.plan.size(), 2u);
+  EXPECT_EQ(fresh.operators[r.plan[0]].name.rfind("(drop x1 ", 0), 0u) << fresh.operators[r.plan[0]].name;
+  EXPECT_EQ(fresh.operators[r.plan[1]].name.rfind("(check x1 ", 0), 0u) << fresh.operators[r.plan[1]].name;
+  EXPECT_TRUE(validate_plan(d, p, steps(fresh, r, Loaded{d, p})).valid);
+}
+
 // An instance an earlier problem reached reads a cost the next problem does not give
 // (jump b, with (At b) no longer reachable): the session grounds as ground() does,
 // without "no value for the cost".

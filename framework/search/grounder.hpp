@@ -291,6 +291,8 @@ class __attribute__((visibility("hidden"))) Grounder {
   /// The id of atom `a` under `binding` if already interned, or -1, without building
   /// an argument vector (the relaxed tests and DNF ask this millions of times).
   int find_ground(const CAtom& a, const std::vector<int>& binding) const {
+    const std::size_t place = dense_place(a.predicate, a.args.size(), [&](std::size_t i) { return object_of(a.args[i], binding); });
+    if (place != kNoPlace) return dense_[a.predicate].ids[place];
     key_scratch_.resize(a.args.size() + 1);
     key_scratch_[0] = a.predicate;
     for (std::size_t i = 0; i < a.args.size(); ++i) {
@@ -300,6 +302,38 @@ class __attribute__((visibility("hidden"))) Grounder {
     return it == atom_ids_.end() ? -1 : it->second;
   }
   mutable std::vector<int> key_scratch_;  // find_ground's key, reused
+
+  // Per predicate, outside a session: the ids of its atoms in a table indexed by their
+  // arguments' places in the predicate's declared types, when that table is small. A
+  // lookup there is a few multiplications where the hash index hashes a key and follows
+  // two pointers. The hash index holds every atom besides: a parameter of a wider type
+  // can put an object outside the declared one, and such an atom has no place here.
+  struct DenseAtoms {
+    std::vector<std::vector<int>> place_of;  // per argument: object -> place in its type, -1 outside
+    std::vector<std::size_t> stride;
+    std::vector<int> ids;  // -1: not interned; empty: no table
+  };
+  static constexpr std::size_t kNoPlace = std::numeric_limits<std::size_t>::max();
+  static constexpr std::size_t kMaxDenseAtoms = std::size_t{1} << 14;  // per predicate
+  std::vector<DenseAtoms> dense_;
+  /// After the objects are known: the tables of the predicates small enough for one.
+  void index_atoms_densely();
+  /// The place of the atom whose i-th argument is `arg(i)` in its predicate's table, or
+  /// kNoPlace when there is no table or an argument lies outside the declared type.
+  template <class Arg>
+  std::size_t dense_place(int predicate, std::size_t arity, const Arg& arg) const {
+    if (predicate < 0 || static_cast<std::size_t>(predicate) >= dense_.size()) return kNoPlace;
+    const DenseAtoms& d = dense_[predicate];
+    if (d.ids.empty() || arity != d.place_of.size()) return kNoPlace;
+    std::size_t place = 0;
+    for (std::size_t i = 0; i < arity; ++i) {
+      const int o = arg(i);
+      const std::vector<int>& places = d.place_of[i];
+      if (o < 0 || static_cast<std::size_t>(o) >= places.size() || places[o] < 0) return kNoPlace;
+      place += static_cast<std::size_t>(places[o]) * d.stride[i];
+    }
+    return place;
+  }
   std::vector<std::pair<int, std::vector<int>>> atoms_;  // predicate, args
   std::vector<bool> reached_;
   std::vector<bool> initially_;  // atoms true in the initial state (static or not)
@@ -367,6 +401,8 @@ inline int Grounder::atom_id(int predicate, const std::vector<int>& args) {
   key.insert(key.end(), args.begin(), args.end());
   auto [it, inserted] = atom_ids_.emplace(std::move(key), static_cast<int>(atoms_.size()));
   if (inserted) {
+    const std::size_t place = dense_place(predicate, args.size(), [&](std::size_t i) { return args[i]; });
+    if (place != kNoPlace) dense_[predicate].ids[place] = it->second;
     atoms_.emplace_back(predicate, args);
     reached_.push_back(false);
     initially_.push_back(false);

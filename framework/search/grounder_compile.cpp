@@ -127,6 +127,34 @@ void Grounder::add_objects(const pddl::Problem& problem) {
       if (fits) objects.push_back(id);
     }
   }
+  index_atoms_densely();
+}
+
+void Grounder::index_atoms_densely() {
+  dense_.assign(predicate_names_.size(), {});
+  if (keep_) return;  // a session adds objects each problem: every table would be rebuilt
+  for (const auto& [name, decl] : domain_.predicates) {
+    DenseAtoms& d = dense_[predicate_ids_.at(name)];
+    std::size_t size = 1;
+    for (const pddl::TypedName& parameter : decl.parameters) {
+      const std::vector<int>& objects = *objects_of(parameter.types);
+      std::vector<int>& place = d.place_of.emplace_back(object_names_.size(), -1);
+      for (std::size_t k = 0; k < objects.size(); ++k) place[objects[k]] = static_cast<int>(k);
+      d.stride.push_back(size);
+      size *= std::max<std::size_t>(objects.size(), 1);
+      if (size > kMaxDenseAtoms) break;
+    }
+    if (size > kMaxDenseAtoms) {
+      d = {};
+      continue;
+    }
+    d.ids.assign(size, -1);
+  }
+  for (std::size_t id = 0; id < atoms_.size(); ++id) {
+    const auto& [predicate, args] = atoms_[id];
+    const std::size_t place = dense_place(predicate, args.size(), [&](std::size_t i) { return args[i]; });
+    if (place != kNoPlace) dense_[predicate].ids[place] = static_cast<int>(id);
+  }
 }
 
 // The order the core atoms are joined in: next, an atom with an argument bound by those
