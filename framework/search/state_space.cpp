@@ -6,11 +6,26 @@ namespace cluttertamp::search::detail {
 
 StateSpace::StateSpace(const Task& task, TieOrder order)
     : task_(task), words_((task.fact_count() + 63) / 64 + 1), order_(std::move(order)) {
-  triggered_by_.resize(task.fact_count());
-  for (OperatorId op = 0; op < static_cast<OperatorId>(task.operators.size()); ++op) {
+  const auto ops = static_cast<OperatorId>(task.operators.size());
+  precondition_start_.reserve(task.operators.size() + 1);
+  negative_start_.reserve(task.operators.size());
+  trigger_start_.assign(task.fact_count() + 1, 0);
+  for (OperatorId op = 0; op < ops; ++op) {
+    const Condition& pre = task.operators[op].precondition;
+    precondition_start_.push_back(static_cast<std::uint32_t>(precondition_facts_.size()));
+    precondition_facts_.insert(precondition_facts_.end(), pre.positive.begin(), pre.positive.end());
+    negative_start_.push_back(static_cast<std::uint32_t>(precondition_facts_.size()));
+    precondition_facts_.insert(precondition_facts_.end(), pre.negative.begin(), pre.negative.end());
+    if (pre.positive.empty()) always_.push_back(op);
+    else ++trigger_start_[static_cast<std::size_t>(pre.positive.front()) + 1];
+  }
+  precondition_start_.push_back(static_cast<std::uint32_t>(precondition_facts_.size()));
+  for (std::size_t f = 0; f < task.fact_count(); ++f) trigger_start_[f + 1] += trigger_start_[f];
+  triggered_.resize(trigger_start_.back());
+  std::vector<std::uint32_t> next(trigger_start_.begin(), trigger_start_.end() - 1);
+  for (OperatorId op = 0; op < ops; ++op) {  // in operator order within each fact
     const auto& positive = task.operators[op].precondition.positive;
-    if (positive.empty()) always_.push_back(op);
-    else triggered_by_[positive.front()].push_back(op);
+    if (!positive.empty()) triggered_[next[positive.front()]++] = op;
   }
   for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
     if (task.derived[f]) derived_facts_.push_back(f);
@@ -105,9 +120,9 @@ void StateSpace::for_each_applicable(const State& s, const F& f) const {
       const int bit = __builtin_ctzll(bits);
       bits &= bits - 1;
       const FactId fact = static_cast<FactId>(w * 64 + static_cast<std::size_t>(bit));
-      if (fact >= static_cast<FactId>(triggered_by_.size())) break;
-      for (OperatorId op : triggered_by_[fact]) {
-        if (applicable(s, op)) f(op);
+      if (fact >= static_cast<FactId>(trigger_start_.size()) - 1) break;
+      for (std::uint32_t k = trigger_start_[fact]; k < trigger_start_[fact + 1]; ++k) {
+        if (applicable(s, triggered_[k])) f(triggered_[k]);
       }
     }
   }

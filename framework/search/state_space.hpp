@@ -40,7 +40,18 @@ class StateSpace {
   const Task& task() const { return task_; }
   State initial() const;
   bool satisfied(const State& s, const Condition& c) const;
-  bool applicable(const State& s, OperatorId op) const { return satisfied(s, task_.operators[op].precondition); }
+  bool applicable(const State& s, OperatorId op) const {
+    const FactId* f = precondition_facts_.data() + precondition_start_[op];
+    const FactId* const negative = precondition_facts_.data() + negative_start_[op];
+    const FactId* const end = precondition_facts_.data() + precondition_start_[op + 1];
+    for (; f != negative; ++f) {
+      if (!holds(s, *f)) return false;
+    }
+    for (; f != end; ++f) {
+      if (holds(s, *f)) return false;
+    }
+    return true;
+  }
   bool is_goal(const State& s) const;
   /// The successor of s under an applicable operator, derived facts included.
   State apply(const State& s, OperatorId op) const;
@@ -60,7 +71,12 @@ class StateSpace {
 
   const Task& task_;
   std::size_t words_;
-  std::vector<std::vector<OperatorId>> triggered_by_;  // per fact: operators whose first precondition it is
+  // Every operator's precondition in one array (its positive facts, then its negative
+  // ones): successor generation tests thousands per state.
+  std::vector<FactId> precondition_facts_;
+  std::vector<std::uint32_t> precondition_start_, negative_start_;  // per operator (and one past the last)
+  std::vector<std::uint32_t> trigger_start_;  // per fact (and one past the last): into triggered_
+  std::vector<OperatorId> triggered_;         // per fact: operators whose first precondition it is
   std::vector<OperatorId> always_;                     // operators without positive preconditions
   std::vector<FactId> derived_facts_;
   TieOrder order_;
