@@ -243,15 +243,24 @@ class RhwFactory {
     std::fill(reached_.begin(), reached_.end(), 0);
     is_excluded_fact_.assign(relaxed_.fact_count(), 0);
     for (FactId f : excluded) is_excluded_fact_[f] = 1;
-    std::vector<char> origin_out(task_.operators.size(), 0);
+    // Per task operator: left out (origin_out_ is all zero between calls).
+    std::vector<char>& origin_out = origin_out_;
+    origin_out.resize(task_.operators.size(), 0);
+    std::vector<OperatorId>& left_out = left_out_;
+    left_out.clear();
     for (FactId f : excluded) {
       for (int i : relaxed_.achievers(f)) {
-        if (ops[i].origin >= 0 && !ops[i].conditional) origin_out[ops[i].origin] = 1;
+        if (ops[i].origin >= 0 && !ops[i].conditional && !origin_out[ops[i].origin]) {
+          origin_out[ops[i].origin] = 1;
+          left_out.push_back(ops[i].origin);
+        }
       }
     }
     unsatisfied_.resize(ops.size());
     for (std::size_t i = 0; i < ops.size(); ++i) unsatisfied_[i] = static_cast<int>(ops[i].pre.size());
-    std::deque<FactId> queue;
+    std::vector<FactId>& queue = queue_;  // first in, first out from `head`
+    queue.clear();
+    std::size_t head = 0;
     auto reach = [&](FactId f) {
       if (reached_[f] || is_excluded_fact_[f]) return;
       reached_[f] = 1;
@@ -266,14 +275,14 @@ class RhwFactory {
       if (initially_[f]) reach(f);
     }
     for (int i : relaxed_.without_preconditions()) apply(i);
-    while (!queue.empty()) {
-      const FactId f = queue.front();
-      queue.pop_front();
+    while (head < queue.size()) {
+      const FactId f = queue[head++];
       for (int i : relaxed_.precondition_of(f)) {
         ++work_;
         if (--unsatisfied_[i] == 0) apply(i);
       }
     }
+    for (OperatorId o : left_out) origin_out[o] = 0;
   }
 
   bool possibly_first(int op) const {
@@ -633,6 +642,10 @@ class RhwFactory {
   std::vector<int> class_;
   std::vector<Variable> variables_;
   std::vector<int> changed_;  // dtg_edges' scratch: the variables an effect sets
+  // explore_without's scratch, kept between its calls.
+  std::vector<char> origin_out_;
+  std::vector<OperatorId> left_out_;
+  std::vector<FactId> queue_;
   std::vector<int> var_of_, value_of_;
   std::vector<std::vector<int>> groups_of_;  // per task fact: the mutex groups holding it
 
