@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "cli/commands.hpp"
 #include "cluttertamp/io/text_file.hpp"
@@ -22,6 +23,16 @@ std::string number(double v) {
   std::snprintf(text, sizeof text, "%.10g", v);
   return text;
 }
+
+// Writes one message to standard error in one piece. std::cerr is unbuffered: a line
+// streamed part by part costs a system call per part, and a verbose search's progress
+// lines made hundreds of them inside the search's measured time.
+template <class... Parts>
+void say(const Parts&... parts) {
+  std::ostringstream line;
+  (line << ... << parts);
+  std::cerr << line.str();
+}
 }  // namespace
 
 int pddl(const PddlArgs& args) {
@@ -30,13 +41,13 @@ int pddl(const PddlArgs& args) {
   const pddl::Problem problem = pddl::load_problem(args.problem, domain);
   if (!args.plan_file.empty()) io::check_writable(args.plan_file, "plan file (--plan)");
   if (args.verbosity != Verbosity::quiet) {
-    for (const Diagnostic& w : domain.warnings) std::cerr << w.str() << "\n";
+    for (const Diagnostic& w : domain.warnings) say(w.str(), "\n");
   }
   // The time limit counts from the start: parsing is part of it.
   const double parsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (args.verbosity == Verbosity::verbose) {
-    std::cerr << "parsing: " << problem.objects.size() << " objects, " << problem.init.size() << " initial facts in "
-              << number(parsed) << " s\n";
+    say("parsing: ", problem.objects.size(), " objects, ", problem.init.size(), " initial facts in ", number(parsed),
+        " s\n");
   }
   search::GroundingStats grounding;
   search::Task task;
@@ -44,20 +55,20 @@ int pddl(const PddlArgs& args) {
     if (parsed >= args.time_limit) throw search::TimeLimit("time limit (parsing)");
     task = search::ground(domain, problem, &grounding, args.time_limit - parsed);
   } catch (const search::TooLarge& e) {
-    std::cerr << "no plan: grounding: " << e.what() << "\n";
+    say("no plan: grounding: ", e.what(), "\n");
     return run::ExitCode::no_plan;
   } catch (const search::TimeLimit& e) {
     if (args.verbosity == Verbosity::verbose) {
-      std::cerr << "stopped after " << number(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())
-                << " s\n";
+      say("stopped after ", number(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()),
+          " s\n");
     }
-    std::cerr << "no plan: " << e.what() << "\n";
+    say("no plan: ", e.what(), "\n");
     return run::ExitCode::no_plan;
   }
   if (args.verbosity != Verbosity::quiet) {
-    std::cerr << "grounding: " << grounding.reachable_facts << " reachable atoms (" << grounding.static_facts
-              << " static), " << task.fact_count() << " state facts, " << grounding.operators << " operators, "
-              << grounding.axioms << " axioms in " << number(grounding.seconds) << " s\n";
+    say("grounding: ", grounding.reachable_facts, " reachable atoms (", grounding.static_facts, " static), ",
+        task.fact_count(), " state facts, ", grounding.operators, " operators, ", grounding.axioms, " axioms in ",
+        number(grounding.seconds), " s\n");
   }
   search::SearchOptions options;
   options.algorithm = args.search;
@@ -78,40 +89,38 @@ int pddl(const PddlArgs& args) {
     // outside keeps its best plan.
     options.on_plan = [&](const search::SearchResult& r) {
       if (args.verbosity != Verbosity::quiet) {
-        std::cerr << "plan " << r.plans_found << ": cost " << number(r.cost) << ", " << r.plan.size() << " steps after "
-                  << r.statistics.expanded << " expansions, "
-                  << number(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) << " s\n";
+        say("plan ", r.plans_found, ": cost ", number(r.cost), ", ", r.plan.size(), " steps after ",
+            r.statistics.expanded, " expansions, ",
+            number(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()), " s\n");
       }
       if (!args.plan_file.empty()) io::write_text_file(args.plan_file, plan_text(r), "plan file");
     };
   }
   if (args.verbosity == Verbosity::verbose) {
     options.on_progress = [](const search::SearchProgress& p) {
-      std::cerr << "search: " << (p.evaluated == 1 ? "initial " : "new best ") << p.heuristic << " " << number(p.value)
-                << " after " << p.expanded << " expanded, " << p.evaluated << " evaluated\n";
+      say("search: ", (p.evaluated == 1 ? "initial " : "new best "), p.heuristic, " ", number(p.value), " after ",
+          p.expanded, " expanded, ", p.evaluated, " evaluated\n");
     };
   }
   const search::SearchResult result = search::plan(task, options);
   if (args.verbosity != Verbosity::quiet) {
-    std::cerr << "search: " << args.search << (args.anytime ? " then anytime" : "") << ", " << result.statistics.expanded << " expanded, "
-              << result.statistics.generated << " generated, " << result.statistics.evaluated << " evaluated in "
-              << number(result.statistics.seconds) << " s\n";
+    say("search: ", args.search, (args.anytime ? " then anytime" : ""), ", ", result.statistics.expanded,
+        " expanded, ", result.statistics.generated, " generated, ", result.statistics.evaluated, " evaluated in ",
+        number(result.statistics.seconds), " s\n");
     if (result.statistics.never_applicable > 0) {
-      std::cerr << "search: left out " << result.statistics.never_applicable
-                << " operators whose preconditions are mutex (never applicable)\n";
+      say("search: left out ", result.statistics.never_applicable,
+          " operators whose preconditions are mutex (never applicable)\n");
     }
     if (result.statistics.irrelevant > 0) {
-      std::cerr << "search: left out " << result.statistics.irrelevant
-                << " operators that change nothing the goal depends on\n";
+      say("search: left out ", result.statistics.irrelevant, " operators that change nothing the goal depends on\n");
     }
     if (const auto& s = result.statistics; s.landmarks > 0) {
-      std::cerr << "landmarks: " << args.landmarks << ", " << s.landmarks << " (" << s.disjunctive_landmarks
-                << " disjunctive), " << s.landmark_orders << " orders, " << s.variables
-                << " finite-domain variables of several facts\n";
+      say("landmarks: ", args.landmarks, ", ", s.landmarks, " (", s.disjunctive_landmarks, " disjunctive), ",
+          s.landmark_orders, " orders, ", s.variables, " finite-domain variables of several facts\n");
     }
   }
   if (!result.solved) {
-    std::cerr << "no plan: " << result.reason << "\n";
+    say("no plan: ", result.reason, "\n");
     if (result.reason == "time limit") free_beside(std::move(task));  // the limit left no time to free it
     return run::ExitCode::no_plan;
   }
@@ -119,8 +128,8 @@ int pddl(const PddlArgs& args) {
   std::cout << text;
   if (!args.plan_file.empty()) io::write_text_file(args.plan_file, text, "plan file");
   if (args.verbosity != Verbosity::quiet) {
-    std::cerr << "plan: " << result.plan.size() << " steps, cost " << number(result.cost) << "\n";
-    if (args.anytime) std::cerr << "anytime: " << result.plans_found << " plans, stopped: " << result.anytime_end << "\n";
+    say("plan: ", result.plan.size(), " steps, cost ", number(result.cost), "\n");
+    if (args.anytime) say("anytime: ", result.plans_found, " plans, stopped: ", result.anytime_end, "\n");
   }
   return run::ExitCode::solved;
 }
