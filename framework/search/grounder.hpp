@@ -202,8 +202,8 @@ class __attribute__((visibility("hidden"))) Grounder {
   // -- compilation
   CTerm term(const pddl::Term& t, const std::map<std::string, int>& scope) const;
   CAtom atom(const pddl::Atom& a, const std::map<std::string, int>& scope) const;
-  CFormula formula(const Formula& f, std::map<std::string, int> scope, int& slots);
-  CEffect effect(const Effect& e, std::map<std::string, int> scope, int& slots);
+  CFormula formula(const Formula& f, const std::map<std::string, int>& scope, int& slots);
+  CEffect effect(const Effect& e, const std::map<std::string, int>& scope, int& slots);
   void collect_core(const CFormula& f, std::vector<CAtom>& core, std::vector<int> quantified = {}) const;
   static void collect_predicates(const CFormula& f, std::vector<int>& out);
   static bool has_when(const CEffect& e) {

@@ -33,28 +33,35 @@ CAtom Grounder::atom(const pddl::Atom& a, const std::map<std::string, int>& scop
   return out;
 }
 
-CFormula Grounder::formula(const Formula& f, std::map<std::string, int> scope, int& slots) {
+// The scope is copied only where a quantifier adds variables to it.
+CFormula Grounder::formula(const Formula& f, const std::map<std::string, int>& outer, int& slots) {
   CFormula out;
   out.kind = f.kind;
-  if (f.kind == Formula::Kind::atom) out.atom = atom(f.atom, scope);
+  if (f.kind == Formula::Kind::atom) out.atom = atom(f.atom, outer);
+  std::map<std::string, int> inner;
+  if (!f.variables.empty()) inner = outer;
   for (const pddl::TypedName& v : f.variables) {
-    scope[v.name] = slots;
+    inner[v.name] = slots;
     out.slots.push_back(slots++);
     out.domains.push_back(objects_of(v.types));
   }
+  const std::map<std::string, int>& scope = f.variables.empty() ? outer : inner;
   for (const Formula& c : f.children) out.children.push_back(formula(c, scope, slots));
   return out;
 }
 
-CEffect Grounder::effect(const Effect& e, std::map<std::string, int> scope, int& slots) {
+CEffect Grounder::effect(const Effect& e, const std::map<std::string, int>& outer, int& slots) {
   CEffect out;
   out.kind = e.kind;
-  if (e.kind == Effect::Kind::add || e.kind == Effect::Kind::remove) out.atom = atom(e.atom, scope);
+  if (e.kind == Effect::Kind::add || e.kind == Effect::Kind::remove) out.atom = atom(e.atom, outer);
+  std::map<std::string, int> inner;
+  if (!e.variables.empty()) inner = outer;
   for (const pddl::TypedName& v : e.variables) {
-    scope[v.name] = slots;
+    inner[v.name] = slots;
     out.slots.push_back(slots++);
     out.domains.push_back(objects_of(v.types));
   }
+  const std::map<std::string, int>& scope = e.variables.empty() ? outer : inner;
   if (e.kind == Effect::Kind::when) out.condition = formula(e.condition, scope, slots);
   if (e.kind == Effect::Kind::increase) {
     out.has_cost = true;
