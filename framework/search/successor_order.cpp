@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <compare>
-#include <deque>
 #include <map>
 #include <numeric>
 
@@ -197,44 +196,49 @@ using Weights = std::vector<std::map<int, long>>;  // per source: target -> weig
 // The translator's greedy order inside one component: repeatedly the variable with the
 // least weight of incoming edges from the variables not yet taken; an edge into a goal
 // variable also counts 100000 that is never taken away, so goal variables come last.
+// Variables are numbered by their place in `scc` here.
 std::vector<int> order_component(const std::vector<int>& scc, const Weights& weights, const std::vector<char>& goal) {
   constexpr long kGoal = 100000;
-  std::vector<char> inside(weights.size(), 0);
-  for (int v : scc) inside[v] = 1;
-  std::map<int, std::vector<std::pair<int, long>>> edges;
-  std::map<int, long> incoming;
-  for (int v : scc) {
-    auto& list = edges[v];
-    for (const auto& [target, cost] : weights[v]) {
-      if (!inside[target]) continue;
-      if (goal[target]) list.push_back({target, kGoal + cost});
-      list.push_back({target, cost});
+  std::vector<int> place(weights.size(), -1);
+  for (std::size_t k = 0; k < scc.size(); ++k) place[scc[k]] = static_cast<int>(k);
+  std::vector<std::vector<std::pair<int, long>>> edges(scc.size());  // (target's place, weight)
+  std::vector<long> incoming(scc.size(), 0);
+  for (std::size_t k = 0; k < scc.size(); ++k) {
+    auto& list = edges[k];
+    for (const auto& [target, cost] : weights[scc[k]]) {
+      if (place[target] < 0) continue;
+      if (goal[target]) list.push_back({place[target], kGoal + cost});
+      list.push_back({place[target], cost});
     }
     for (const auto& [target, w] : list) incoming[target] += w;
   }
-  std::map<long, std::deque<int>> by_weight;
-  for (int v : scc) by_weight[incoming[v]].push_back(v);
-  std::vector<char> done(weights.size(), 0);
+  // Per weight, the variables listed with it, taken from `head` on (first in, first out).
+  struct Listed {
+    std::size_t head = 0;
+    std::vector<int> entries;
+  };
+  std::map<long, Listed> by_weight;
+  for (std::size_t k = 0; k < scc.size(); ++k) by_weight[incoming[k]].entries.push_back(static_cast<int>(k));
+  std::vector<char> done(scc.size(), 0);
   std::vector<int> result;
   while (!by_weight.empty()) {
     const auto least = by_weight.begin();
     const long key = least->first;
-    std::deque<int>& entries = least->second;
+    Listed& listed = least->second;
     int taken = -1;
-    while (!entries.empty() && (taken < 0 || done[taken] || key > incoming[taken])) {
-      taken = entries.front();
-      entries.pop_front();
+    while (listed.head < listed.entries.size() && (taken < 0 || done[taken] || key > incoming[taken])) {
+      taken = listed.entries[listed.head++];
     }
-    if (entries.empty()) by_weight.erase(least);
+    if (listed.head == listed.entries.size()) by_weight.erase(least);
     if (taken < 0 || done[taken]) continue;
     done[taken] = 1;
-    result.push_back(taken);
+    result.push_back(scc[taken]);
     for (const auto& [target, w] : edges[taken]) {
       if (done[target]) continue;
       const long weight = w % kGoal;
       if (weight == 0) continue;
       incoming[target] -= weight;
-      by_weight[incoming[target]].push_back(target);
+      by_weight[incoming[target]].entries.push_back(target);
     }
   }
   return result;
