@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -147,6 +148,35 @@ class __attribute__((visibility("hidden"))) ReachedTuples {
   std::vector<std::vector<std::vector<std::vector<std::uint32_t>>>> index_;
 };
 
+// The parameter bindings found for one schema, in the order found, one after another in
+// a flat array with an open-addressing index: a grounding finds thousands, and a map
+// node and a vector each were a third of the relaxed exploration. In a session each
+// binding also keeps what it grounded to.
+class __attribute__((visibility("hidden"))) InstanceSet {
+ public:
+  explicit InstanceSet(std::size_t arity) : arity_(arity) {}
+  std::size_t size() const { return size_; }
+  std::span<const int> operator[](std::size_t k) const { return {params_.data() + k * arity_, arity_}; }
+  bool contains(std::span<const int> p) const { return !slots_.empty() && slots_[slot(p)] != 0; }
+  /// Adds `p` (of the schema's arity) unless present; whether it was added.
+  bool insert(std::span<const int> p);
+  /// The bindings in the order of their objects' indices, lexicographically (a map's).
+  std::vector<std::uint32_t> sorted() const;
+  /// What binding k grounded to, in a session (null until grounded).
+  std::unique_ptr<Cached>& cached(std::size_t k) {
+    if (cached_.size() < size_) cached_.resize(size_);
+    return cached_[k];
+  }
+
+ private:
+  /// The slot holding `p`, or the empty slot where it would go.
+  std::size_t slot(std::span<const int> p) const;
+  std::size_t arity_, size_ = 0;
+  std::vector<int> params_;
+  std::vector<std::uint32_t> slots_;  // binding + 1, 0 when empty; a power of two long
+  std::vector<std::unique_ptr<Cached>> cached_;
+};
+
 // Hidden: the library exports its symbols by default, and the grounder is none of its
 // interface (nor may another library interpose its functions).
 class __attribute__((visibility("hidden"))) Grounder {
@@ -167,7 +197,7 @@ class __attribute__((visibility("hidden"))) Grounder {
   void add_objects(const pddl::Problem& problem);
   /// The operators (or axioms) of one instance, appended to `operators` (`axioms`);
   /// `record` receives what they rest on (in a session).
-  void ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& record,
+  void ground_instance(std::size_t schema, std::span<const int> parameters, Cached& record,
                        std::vector<Operator>& operators, std::vector<Axiom>& axioms);
   bool still_valid(const Cached& c) const;
   std::uint8_t state(int atom) const { return static_cast<std::uint8_t>((reached_[atom] ? 1 : 0) | (initially_[atom] ? 2 : 0)); }
@@ -255,7 +285,7 @@ class __attribute__((visibility("hidden"))) Grounder {
   // Where one instance's operators lie in the output.
   struct Span {
     std::size_t schema;
-    const std::vector<int>* parameters;
+    const int* parameters;  // as many as the schema has
     std::size_t begin, end;
   };
   void in_name_order(std::vector<Span>& spans, std::vector<Operator>& operators) const;
@@ -344,7 +374,7 @@ class __attribute__((visibility("hidden"))) Grounder {
   std::vector<bool> effect_by_type_;  // per schema: an effect ranges over a type (forall)
   // Per schema: the parameter bindings found, and in a session what each grounded to
   // (null outside a session: a one-shot grounding of millions of instances keeps none).
-  std::vector<std::map<std::vector<int>, std::unique_ptr<Cached>>> instances_;
+  std::vector<InstanceSet> instances_;
   // explore(): per schema, the reached atoms of its predicates and the objects at its last pass
   std::vector<std::size_t> seen_, seen_objects_;
   std::vector<std::vector<std::size_t>> joined_;  // per schema and core atom: tuples joined at its last pass

@@ -273,7 +273,7 @@ void Grounder::compile() {
     effect_by_type_.push_back(!s.axiom && effect_forall(s.effect));
     by_type_.push_back(by_type || !core_complete_.back() || effect_by_type_.back());
   }
-  instances_.resize(schemas_.size());
+  for (const Schema& s : schemas_) instances_.emplace_back(s.parameters.size());
   if (!domain_.derived.empty()) strata_ = stratify();
 }
 

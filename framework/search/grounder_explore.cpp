@@ -7,6 +7,45 @@ namespace cluttertamp::search::detail {
 
 namespace {
 
+std::uint64_t hash_ints(std::span<const int> p) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ull ^ p.size();
+  for (int v : p) h = (h ^ static_cast<std::uint32_t>(v)) * 0xff51afd7ed558ccdull;
+  return h ^ (h >> 32);
+}
+
+}  // namespace
+
+std::size_t InstanceSet::slot(std::span<const int> p) const {
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t at = hash_ints(p) & mask;; at = (at + 1) & mask) {
+    const std::uint32_t k = slots_[at];
+    if (k == 0 || std::equal(p.begin(), p.end(), params_.begin() + static_cast<std::ptrdiff_t>((k - 1) * arity_))) return at;
+  }
+}
+
+bool InstanceSet::insert(std::span<const int> p) {
+  if (contains(p)) return false;
+  if (2 * (size_ + 1) > slots_.size()) {  // at most half full
+    slots_.assign(std::max<std::size_t>(16, 2 * slots_.size()), 0);
+    for (std::size_t k = 0; k < size_; ++k) slots_[slot((*this)[k])] = static_cast<std::uint32_t>(k + 1);
+  }
+  slots_[slot(p)] = static_cast<std::uint32_t>(++size_);
+  params_.insert(params_.end(), p.begin(), p.end());
+  return true;
+}
+
+std::vector<std::uint32_t> InstanceSet::sorted() const {
+  std::vector<std::uint32_t> order(size_);
+  for (std::uint32_t k = 0; k < size_; ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const auto x = (*this)[a], y = (*this)[b];
+    return std::lexicographical_compare(x.begin(), x.end(), y.begin(), y.end());
+  });
+  return order;
+}
+
+namespace {
+
 // Tuples [first, second) of each core atom's predicate are joined.
 using Ranges = std::vector<std::pair<std::size_t, std::size_t>>;
 constexpr std::size_t kMaxInlineArgs = 16;
@@ -354,7 +393,8 @@ void Grounder::explore() {
       if (s.conditional || (effect_by_type_[i] && objects_changed)) {
         // A (when ...) condition may have become reachable since an instance was found;
         // a (forall ...) effect reaches the new objects too.
-        for (const auto& [parameters, unused] : instances_[i]) {
+        for (std::size_t k = 0; k < instances_[i].size(); ++k) {
+          const std::span<const int> parameters = instances_[i][k];
           std::vector<int> b(binding.size(), -1);
           for (std::size_t p = 0; p < parameters.size(); ++p) b[s.parameters[p]] = parameters[p];
           relaxed_effects(s.effect, b, added);
@@ -365,12 +405,11 @@ void Grounder::explore() {
         check_deadline();
         parameters.clear();
         for (int slot : s.parameters) parameters.push_back(binding[slot]);
-        auto& known = instances_[i];
-        const auto at = known.lower_bound(parameters);
-        if (at != known.end() && at->first == parameters) return;
+        InstanceSet& known = instances_[i];
+        if (known.contains(parameters)) return;
         b = binding;
         if (!s.joined_precondition && !relaxed(s.precondition, b)) return;
-        known.emplace_hint(at, parameters, nullptr);
+        known.insert(parameters);
         if (s.axiom) {
           added.push_back(intern(s.head, b));
         } else {

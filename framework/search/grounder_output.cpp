@@ -336,7 +336,7 @@ bool Grounder::still_valid(const Cached& c) const {
 }
 
 // `record` is emptied first but for its operators and axioms, which the caller chooses.
-void Grounder::ground_instance(std::size_t schema, const std::vector<int>& parameters, Cached& record,
+void Grounder::ground_instance(std::size_t schema, std::span<const int> parameters, Cached& record,
                                std::vector<Operator>& operators, std::vector<Axiom>& axioms) {
   const Schema& s = schemas_[schema];
   record.computed = false;

@@ -39,7 +39,8 @@ void Grounder::in_name_order(std::vector<Span>& spans, std::vector<Operator>& op
   for (const Schema& s : schemas_) keys.push_back(s.name + (s.parameters.empty() ? ")" : " "));
   std::stable_sort(spans.begin(), spans.end(), [&](const Span& a, const Span& b) {
     if (a.schema != b.schema) return keys[a.schema] < keys[b.schema];
-    return std::lexicographical_compare(a.parameters->begin(), a.parameters->end(), b.parameters->begin(), b.parameters->end(),
+    const std::size_t arity = schemas_[a.schema].parameters.size();
+    return std::lexicographical_compare(a.parameters, a.parameters + arity, b.parameters, b.parameters + arity,
                                         [&](int x, int y) { return object_rank[x] < object_rank[y]; });
   });
   bool sorted = true;
@@ -94,12 +95,15 @@ Task Grounder::run(const pddl::Problem& problem, GroundingStats* stats, double t
   std::vector<Span> spans;  // each instance's operators
   Cached unkept;  // outside a session: nothing is recorded, and operators go straight out
   for (std::size_t i = 0; i < schemas_.size(); ++i) {
-    for (auto& [parameters, cached] : instances_[i]) {
+    InstanceSet& found = instances_[i];
+    for (std::uint32_t k : found.sorted()) {
       check_deadline();  // millions of operators are made here too
+      const std::span<const int> parameters = found[k];
       const std::size_t first = out.operators.size();
       if (!keep_) {
         ground_instance(i, parameters, unkept, out.operators, out.axioms);
       } else {
+        std::unique_ptr<Cached>& cached = found.cached(k);
         if (!cached) cached = std::make_unique<Cached>();
         if (still_valid(*cached)) {
           ++reused;
@@ -111,7 +115,7 @@ Task Grounder::run(const pddl::Problem& problem, GroundingStats* stats, double t
         out.operators.insert(out.operators.end(), cached->operators.begin(), cached->operators.end());
         out.axioms.insert(out.axioms.end(), cached->axioms.begin(), cached->axioms.end());
       }
-      if (out.operators.size() > first) spans.push_back({i, &parameters, first, out.operators.size()});
+      if (out.operators.size() > first) spans.push_back({i, parameters.data(), first, out.operators.size()});
     }
   }
   in_name_order(spans, out.operators);
