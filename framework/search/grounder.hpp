@@ -79,6 +79,7 @@ struct Schema {
   int slot_count = 0;
   std::vector<int> parameters;  // slots
   std::vector<const std::vector<int>*> parameter_domains;
+  std::vector<const std::vector<int>*> slot_domain;  // per slot: its parameter's objects, null for a quantified variable
   CFormula precondition;
   CEffect effect;
   CAtom head;  // axioms

@@ -254,6 +254,8 @@ void Grounder::compile() {
     schemas_.push_back(std::move(s));
   }
   for (Schema& s : schemas_) {
+    s.slot_domain.assign(static_cast<std::size_t>(std::max(1, s.slot_count)), nullptr);
+    for (std::size_t p = 0; p < s.parameters.size(); ++p) s.slot_domain[s.parameters[p]] = s.parameter_domains[p];
     s.literal_precondition = is_literal_conjunction(s.precondition);
     s.joined_precondition = is_atom_conjunction(s.precondition);
   }

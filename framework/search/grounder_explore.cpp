@@ -71,9 +71,7 @@ bool bind_tuple(const Schema& s, const CAtom& a, const std::vector<int>& tuple, 
       if (binding[term.value] != tuple[i]) return false;
     } else {
       // The parameter's type must admit the object.
-      const auto param = std::find(s.parameters.begin(), s.parameters.end(), term.value);
-      if (param != s.parameters.end()) {
-        const auto* domain = s.parameter_domains[param - s.parameters.begin()];
+      if (const std::vector<int>* domain = s.slot_domain[static_cast<std::size_t>(term.value)]) {
         if (!std::binary_search(domain->begin(), domain->end(), tuple[i])) return false;
       }
       binding[term.value] = tuple[i];
@@ -87,8 +85,9 @@ bool bind_tuple(const Schema& s, const CAtom& a, const std::vector<int>& tuple, 
 // Binds the schema's parameters by joining its positive precondition atoms with the
 // facts reached so far, then the rest from their types. Where an argument of the next
 // atom is already fixed, only the tuples with that object there are tried.
+template <class Visit>
 void enumerate(const Schema& s, const ReachedTuples& reached, std::size_t k, std::vector<int>& binding,
-               std::vector<bool>& bound, const Ranges& ranges, const std::function<void()>& visit) {
+               std::vector<bool>& bound, const Ranges& ranges, const Visit& visit) {
   if (k < s.core.size()) {
     const CAtom& a = s.core[k];
     const auto& tuples = reached.of(a.predicate);
