@@ -258,22 +258,23 @@ class Checker {
   using Scope = std::map<std::string, std::vector<std::string>>;  // variable -> types
 
   // The types of a term, or nullopt (reported) when it names nothing.
-  std::optional<std::vector<std::string>> term_types(const Term& t, const Scope& scope,
-                                                     const std::map<std::string, std::vector<std::string>>& objects) {
+  /// The types of a term, or null (and an error) when it is undeclared.
+  const std::vector<std::string>* term_types(const Term& t, const Scope& scope,
+                                             const std::map<std::string, std::vector<std::string>>& objects) {
     if (t.variable) {
       auto it = scope.find(t.name);
       if (it == scope.end()) {
         reader_.error(t.where, "undeclared variable '" + t.name + "'");
-        return std::nullopt;
+        return nullptr;
       }
-      return it->second;
+      return &it->second;
     }
     auto it = objects.find(t.name);
     if (it == objects.end()) {
       reader_.error(t.where, "undeclared constant or object '" + t.name + "'");
-      return std::nullopt;
+      return nullptr;
     }
-    return it->second;
+    return &it->second;
   }
 
   bool types_overlap(const std::vector<std::string>& a, const std::vector<std::string>& b) const {
@@ -353,21 +354,24 @@ class Checker {
     }
   }
 
-  void check_formula(const Formula& f, Scope scope, const std::map<std::string, std::vector<std::string>>& objects) {
+  // The scope is copied only where a quantifier adds to it.
+  void check_formula(const Formula& f, const Scope& scope, const std::map<std::string, std::vector<std::string>>& objects) {
     switch (f.kind) {
       case Formula::Kind::atom: check_atom(f.atom, scope, objects, false); break;
       case Formula::Kind::exists:
-      case Formula::Kind::forall:
+      case Formula::Kind::forall: {
         check_types_exist(f.variables);
-        for (const TypedName& v : f.variables) scope[v.name] = v.types;
-        for (const Formula& c : f.children) check_formula(c, scope, objects);
+        Scope inner = scope;
+        for (const TypedName& v : f.variables) inner[v.name] = v.types;
+        for (const Formula& c : f.children) check_formula(c, inner, objects);
         break;
+      }
       default:
         for (const Formula& c : f.children) check_formula(c, scope, objects);
     }
   }
 
-  void check_effect(const Effect& e, Scope scope, const std::map<std::string, std::vector<std::string>>& objects,
+  void check_effect(const Effect& e, const Scope& scope, const std::map<std::string, std::vector<std::string>>& objects,
                     const std::set<std::string>& derived, bool nested = false) {
     switch (e.kind) {
       case Effect::Kind::add:
@@ -376,11 +380,13 @@ class Checker {
         else if (derived.count(e.atom.predicate)) reader_.error(e.atom.where, "'" + e.atom.predicate + "' is derived; actions cannot change it");
         else check_atom(e.atom, scope, objects, false);
         break;
-      case Effect::Kind::forall:
+      case Effect::Kind::forall: {
         check_types_exist(e.variables);
-        for (const TypedName& v : e.variables) scope[v.name] = v.types;
-        for (const Effect& c : e.children) check_effect(c, scope, objects, derived, true);
+        Scope inner = scope;
+        for (const TypedName& v : e.variables) inner[v.name] = v.types;
+        for (const Effect& c : e.children) check_effect(c, inner, objects, derived, true);
         break;
+      }
       case Effect::Kind::when:
         check_formula(e.condition, scope, objects);
         for (const Effect& c : e.children) check_effect(c, scope, objects, derived, true);
