@@ -340,13 +340,14 @@ class __attribute__((visibility("hidden"))) Grounder {
   // two pointers. The hash index holds every atom besides: a parameter of a wider type
   // can put an object outside the declared one, and such an atom has no place here.
   struct DenseAtoms {
-    std::vector<std::vector<int>> place_of;  // per argument: object -> place in its type, -1 outside
+    std::vector<const std::vector<int>*> place_of;  // per argument: object -> place in its type, -1 outside
     std::vector<std::size_t> stride;
     std::vector<int> ids;  // -1: not interned; empty: no table
   };
   static constexpr std::size_t kNoPlace = std::numeric_limits<std::size_t>::max();
   static constexpr std::size_t kMaxDenseAtoms = std::size_t{1} << 14;  // per predicate
   std::vector<DenseAtoms> dense_;
+  std::map<const std::vector<int>*, std::vector<int>> dense_places_;  // per type's objects: their places
   /// After the objects are known: the tables of the predicates small enough for one.
   void index_atoms_densely();
   /// The place of the atom whose i-th argument is `arg(i)` in its predicate's table, or
@@ -359,7 +360,7 @@ class __attribute__((visibility("hidden"))) Grounder {
     std::size_t place = 0;
     for (std::size_t i = 0; i < arity; ++i) {
       const int o = arg(i);
-      const std::vector<int>& places = d.place_of[i];
+      const std::vector<int>& places = *d.place_of[i];
       if (o < 0 || static_cast<std::size_t>(o) >= places.size() || places[o] < 0) return kNoPlace;
       place += static_cast<std::size_t>(places[o]) * d.stride[i];
     }

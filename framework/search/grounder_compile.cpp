@@ -139,21 +139,27 @@ void Grounder::add_objects(const pddl::Problem& problem) {
 
 void Grounder::index_atoms_densely() {
   dense_.assign(predicate_names_.size(), {});
+  dense_places_.clear();
   if (keep_) return;  // a session adds objects each problem: every table would be rebuilt
   for (const auto& [name, decl] : domain_.predicates) {
-    DenseAtoms& d = dense_[predicate_ids_.at(name)];
+    std::vector<const std::vector<int>*> domains;
     std::size_t size = 1;
     for (const pddl::TypedName& parameter : decl.parameters) {
-      const std::vector<int>& objects = *objects_of(parameter.types);
-      std::vector<int>& place = d.place_of.emplace_back(object_names_.size(), -1);
-      for (std::size_t k = 0; k < objects.size(); ++k) place[objects[k]] = static_cast<int>(k);
-      d.stride.push_back(size);
-      size *= std::max<std::size_t>(objects.size(), 1);
+      domains.push_back(objects_of(parameter.types));
+      size *= std::max<std::size_t>(domains.back()->size(), 1);
       if (size > kMaxDenseAtoms) break;
     }
-    if (size > kMaxDenseAtoms) {
-      d = {};
-      continue;
+    if (size > kMaxDenseAtoms) continue;
+    DenseAtoms& d = dense_[predicate_ids_.at(name)];
+    for (const std::vector<int>* objects : domains) {
+      // One array of places per type, shared by the arguments of that type.
+      auto [places, fresh] = dense_places_.try_emplace(objects);
+      if (fresh) {
+        places->second.assign(object_names_.size(), -1);
+        for (std::size_t k = 0; k < objects->size(); ++k) places->second[(*objects)[k]] = static_cast<int>(k);
+      }
+      d.place_of.push_back(&places->second);
+      d.stride.push_back(d.stride.empty() ? 1 : d.stride.back() * std::max<std::size_t>(domains[d.stride.size() - 1]->size(), 1));
     }
     d.ids.assign(size, -1);
   }

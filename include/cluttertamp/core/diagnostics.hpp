@@ -16,7 +16,8 @@ namespace cluttertamp {
 
 /// The name of an input file, shared by the copies: a parser gives every token of a
 /// file a location, and copying one copies a pointer instead of the name. Reads as the
-/// `const std::string&` it holds.
+/// `const std::string&` it holds, which lives as long as some copy of the FileName does:
+/// `const std::string& f = make_location().file;` would dangle (copy the string instead).
 class CLUTTERTAMP_API FileName {
  public:
   FileName() = default;
