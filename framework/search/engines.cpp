@@ -14,6 +14,7 @@
 #include "search/mutex_groups.hpp"
 #include "search/state_space.hpp"
 #include "search/successor_order.hpp"
+#include "search/tuple_index.hpp"
 
 namespace cluttertamp::search {
 
@@ -37,26 +38,21 @@ struct Node {
   bool closed;
 };
 
-// States seen so far, each with the best path to it. The states lie end to end in
-// one array and an open-addressing table indexes them: a state seen again costs a hash
-// and a compare, a new one no allocation of its own.
+// States seen so far, each with the best path to it: a state's id is its place in
+// the TupleIndex of their words.
 class Registry {
  public:
-  explicit Registry(std::size_t words) : words_(words), slots_(1024, kEmpty) {}
+  explicit Registry(std::size_t words) : states_(words) {}
   std::pair<int, bool> insert(const State& s) {
-    std::size_t slot = hash(s) & (slots_.size() - 1);
-    for (; slots_[slot] != kEmpty; slot = (slot + 1) & (slots_.size() - 1)) {
-      if (std::equal(s.begin(), s.end(), words(slots_[slot]))) return {slots_[slot], false};
-    }
-    const int id = static_cast<int>(nodes_.size());
-    words_data_.insert(words_data_.end(), s.begin(), s.end());
-    nodes_.push_back({-1, -1, kInfinity, kInfinity, false});
-    slots_[slot] = id;
-    if (2 * nodes_.size() > slots_.size()) grow();
-    return {id, true};
+    const auto [id, added] = states_.insert(s);
+    if (added) nodes_.push_back({-1, -1, kInfinity, kInfinity, false});
+    return {static_cast<int>(id), added};
   }
   /// Copies state `id` into `out`.
-  void load(int id, State& out) const { out.assign(words(id), words(id) + words_); }
+  void load(int id, State& out) const {
+    const std::span<const std::uint64_t> words = states_[static_cast<std::size_t>(id)];
+    out.assign(words.begin(), words.end());
+  }
   Node& node(int id) { return nodes_[id]; }
   std::vector<OperatorId> path(int id) const {
     std::vector<OperatorId> plan;
@@ -65,34 +61,8 @@ class Registry {
   }
 
  private:
-  static constexpr int kEmpty = -1;
-  // StateHash finished with a 64-bit mix (MurmurHash3's): slots are chosen by the low
-  // bits, which StateHash alone leaves clustered.
-  static std::size_t hash(const State& s) {
-    std::uint64_t h = detail::StateHash{}(s);
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdull;
-    h ^= h >> 33;
-    h *= 0xc4ceb9fe1a85ec53ull;
-    h ^= h >> 33;
-    return static_cast<std::size_t>(h);
-  }
-  const std::uint64_t* words(int id) const { return words_data_.data() + static_cast<std::size_t>(id) * words_; }
-  void grow() {
-    std::vector<int> slots(2 * slots_.size(), kEmpty);
-    State s;
-    for (int id = 0; id < static_cast<int>(nodes_.size()); ++id) {
-      load(id, s);
-      std::size_t slot = hash(s) & (slots.size() - 1);
-      while (slots[slot] != kEmpty) slot = (slot + 1) & (slots.size() - 1);
-      slots[slot] = id;
-    }
-    slots_ = std::move(slots);
-  }
-  std::size_t words_;
-  std::vector<std::uint64_t> words_data_;  // state id * words_: its words
-  std::vector<int> slots_;                 // state ids by hash, kEmpty where none
-  std::vector<Node> nodes_;
+  detail::TupleIndex<std::uint64_t> states_;
+  std::vector<Node> nodes_;  // per state id
 };
 
 class Evaluator {

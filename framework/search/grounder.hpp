@@ -23,6 +23,7 @@
 #include "cluttertamp/core/diagnostics.hpp"
 #include "cluttertamp/pddl/ast.hpp"
 #include "cluttertamp/search/grounding.hpp"
+#include "search/tuple_index.hpp"
 
 namespace cluttertamp::search::detail {
 
@@ -108,6 +109,18 @@ struct Cached {
   std::vector<std::pair<std::vector<int>, double>> costs;
   std::vector<Operator> operators;
   std::vector<Axiom> axioms;
+
+  /// Empties what was recorded (keeping the vectors' capacity), but for the operators
+  /// and axioms, which the grounder fills where its caller chooses.
+  void restart(std::uint64_t at_generation) {
+    computed = false;
+    reusable = true;
+    generation = at_generation;
+    atoms.clear();
+    witnesses.clear();
+    objects = kNoObjects;
+    costs.clear();
+  }
 };
 
 // Atoms an instance may look up and still be kept for reuse: an (exists ...) over every
@@ -149,32 +162,26 @@ class __attribute__((visibility("hidden"))) ReachedTuples {
   std::vector<std::vector<std::vector<std::vector<std::uint32_t>>>> index_;
 };
 
-// The parameter bindings found for one schema, in the order found, one after another in
-// a flat array with an open-addressing index: a grounding finds thousands, and a map
-// node and a vector each were a third of the relaxed exploration. In a session each
-// binding also keeps what it grounded to.
+// The parameter bindings found for one schema, in the order found (a grounding finds
+// thousands; a map node and a vector each were a third of the relaxed exploration). In
+// a session each binding also keeps what it grounded to.
 class __attribute__((visibility("hidden"))) InstanceSet {
  public:
-  explicit InstanceSet(std::size_t arity) : arity_(arity) {}
-  std::size_t size() const { return size_; }
-  std::span<const int> operator[](std::size_t k) const { return {params_.data() + k * arity_, arity_}; }
-  bool contains(std::span<const int> p) const { return !slots_.empty() && slots_[slot(p)] != 0; }
-  /// Adds `p` (of the schema's arity) unless present; whether it was added.
-  bool insert(std::span<const int> p);
+  explicit InstanceSet(std::size_t arity) : bindings_(arity) {}
+  std::size_t size() const { return bindings_.size(); }
+  std::span<const int> operator[](std::size_t k) const { return bindings_[k]; }
+  bool contains(std::span<const int> p) const { return bindings_.contains(p); }
+  void insert(std::span<const int> p) { bindings_.insert(p); }
   /// The bindings in the order of their objects' indices, lexicographically (a map's).
   std::vector<std::uint32_t> sorted() const;
   /// What binding k grounded to, in a session (null until grounded).
   std::unique_ptr<Cached>& cached(std::size_t k) {
-    if (cached_.size() < size_) cached_.resize(size_);
+    if (cached_.size() < size()) cached_.resize(size());
     return cached_[k];
   }
 
  private:
-  /// The slot holding `p`, or the empty slot where it would go.
-  std::size_t slot(std::span<const int> p) const;
-  std::size_t arity_, size_ = 0;
-  std::vector<int> params_;
-  std::vector<std::uint32_t> slots_;  // binding + 1, 0 when empty; a power of two long
+  TupleIndex<int> bindings_;
   std::vector<std::unique_ptr<Cached>> cached_;
 };
 

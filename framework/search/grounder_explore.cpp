@@ -5,38 +5,9 @@
 
 namespace cluttertamp::search::detail {
 
-namespace {
-
-std::uint64_t hash_ints(std::span<const int> p) {
-  std::uint64_t h = 0x9e3779b97f4a7c15ull ^ p.size();
-  for (int v : p) h = (h ^ static_cast<std::uint32_t>(v)) * 0xff51afd7ed558ccdull;
-  return h ^ (h >> 32);
-}
-
-}  // namespace
-
-std::size_t InstanceSet::slot(std::span<const int> p) const {
-  const std::size_t mask = slots_.size() - 1;
-  for (std::size_t at = hash_ints(p) & mask;; at = (at + 1) & mask) {
-    const std::uint32_t k = slots_[at];
-    if (k == 0 || std::equal(p.begin(), p.end(), params_.begin() + static_cast<std::ptrdiff_t>((k - 1) * arity_))) return at;
-  }
-}
-
-bool InstanceSet::insert(std::span<const int> p) {
-  if (contains(p)) return false;
-  if (2 * (size_ + 1) > slots_.size()) {  // at most half full
-    slots_.assign(std::max<std::size_t>(16, 2 * slots_.size()), 0);
-    for (std::size_t k = 0; k < size_; ++k) slots_[slot((*this)[k])] = static_cast<std::uint32_t>(k + 1);
-  }
-  slots_[slot(p)] = static_cast<std::uint32_t>(++size_);
-  params_.insert(params_.end(), p.begin(), p.end());
-  return true;
-}
-
 std::vector<std::uint32_t> InstanceSet::sorted() const {
-  std::vector<std::uint32_t> order(size_);
-  for (std::uint32_t k = 0; k < size_; ++k) order[k] = k;
+  std::vector<std::uint32_t> order(size());
+  for (std::uint32_t k = 0; k < order.size(); ++k) order[k] = k;
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     const auto x = (*this)[a], y = (*this)[b];
     return std::lexicographical_compare(x.begin(), x.end(), y.begin(), y.end());

@@ -335,17 +335,10 @@ bool Grounder::still_valid(const Cached& c) const {
   return true;
 }
 
-// `record` is emptied first but for its operators and axioms, which the caller chooses.
 void Grounder::ground_instance(std::size_t schema, std::span<const int> parameters, Cached& record,
                                std::vector<Operator>& operators, std::vector<Axiom>& axioms) {
   const Schema& s = schemas_[schema];
-  record.computed = false;
-  record.reusable = true;
-  record.generation = generation_;
-  record.atoms.clear();
-  record.witnesses.clear();
-  record.objects = kNoObjects;
-  record.costs.clear();
+  record.restart(generation_);
   rec_ = keep_ ? &record : nullptr;
   struct Stop {
     Cached*& rec;

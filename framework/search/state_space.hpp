@@ -15,16 +15,6 @@ inline bool holds(const State& s, FactId f) { return (s[f >> 6] >> (f & 63)) & 1
 inline void set(State& s, FactId f) { s[f >> 6] |= std::uint64_t{1} << (f & 63); }
 inline void clear(State& s, FactId f) { s[f >> 6] &= ~(std::uint64_t{1} << (f & 63)); }
 
-struct StateHash {
-  std::size_t operator()(const State& s) const {
-    std::uint64_t h = 1469598103934665603ull;
-    for (std::uint64_t w : s) {
-      h ^= w + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-    }
-    return static_cast<std::size_t>(h);
-  }
-};
-
 /// Orders a search follows where ties are broken; each may be empty (then an order of
 /// ids is used).
 struct TieOrder {
