@@ -72,7 +72,12 @@ std::vector<SExpr> read_sexprs(const SourceText& source) {
     ++i;
   };
   std::vector<SExpr> top;
-  std::vector<SExpr> stack;  // open lists, innermost last
+  // Open lists, innermost last; the items read so far of all of them lie one after
+  // another in `items`, each list's from its `first_item` on, and move into the list
+  // when it closes: one allocation of the right size per list, not one per doubling.
+  std::vector<SExpr> stack;
+  std::vector<std::size_t> first_item;
+  std::vector<SExpr> items;
   while (i < s.size()) {
     const char c = s[i];
     if (c == ';') {
@@ -85,12 +90,17 @@ std::vector<SExpr> read_sexprs(const SourceText& source) {
       list.is_list = true;
       list.where = here();
       stack.push_back(std::move(list));
+      first_item.push_back(items.size());
       advance();
     } else if (c == ')') {
       if (stack.empty()) source.fail(here(), "unmatched ')'");
       SExpr done = std::move(stack.back());
       stack.pop_back();
-      (stack.empty() ? top : stack.back().items).push_back(std::move(done));
+      const auto first = static_cast<std::ptrdiff_t>(first_item.back());
+      first_item.pop_back();
+      done.items.assign(std::make_move_iterator(items.begin() + first), std::make_move_iterator(items.end()));
+      items.erase(items.begin() + first, items.end());
+      (stack.empty() ? top : items).push_back(std::move(done));
       advance();
     } else if (symbol_char(c)) {
       SExpr atom;
@@ -104,7 +114,7 @@ std::vector<SExpr> read_sexprs(const SourceText& source) {
       column += end - i;  // a name holds no line break
       i = end;
       if (stack.empty()) source.fail(atom.where, "'" + atom.text + "' outside any parenthesised expression");
-      stack.back().items.push_back(std::move(atom));
+      items.push_back(std::move(atom));
     } else {
       const unsigned char u = static_cast<unsigned char>(c);
       source.fail(here(), u >= 0x20 && u < 0x7f ? std::string("unexpected character '") + c + "'"
