@@ -127,6 +127,53 @@ TEST(PddlSuccessorOrder, OperatorsThatChangeNothingTheGoalDependsOnAreLeftOut) {
   EXPECT_TRUE(bell.valid(rung));
 }
 
+// A task's operators without those the search leaves out, by name; names kept.
+Task without(const Task& task, const std::set<std::string>& left_out) {
+  Task copy = task;
+  std::erase_if(copy.operators, [&](const Operator& op) { return left_out.count(op.name) > 0; });
+  return copy;
+}
+
+std::vector<std::string> plan_names(const Task& task, const SearchResult& r) {
+  std::vector<std::string> names;
+  for (OperatorId op : r.plan) names.push_back(task.operators[op].name);
+  return names;
+}
+
+TEST(PddlSuccessorOrder, ASearchWithOperatorsLeftOutIsTheSearchOfATaskWithoutThem) {
+  // The searches run on the grounded task with the operators they leave out marked. A
+  // shortcut needs the porter in two rooms at once: never applicable, but in the delete
+  // relaxation it would carry the parcel straight to c. Ringing is irrelevant and, if
+  // it were searched, would add successors.
+  std::string domain = kPorterDomain;
+  domain.insert(domain.rfind(')'), R"(
+  (:action shortcut :parameters (?p) :precondition (and (porter-at a) (porter-at c) (parcel-at ?p a))
+           :effect (and (parcel-at ?p c) (not (parcel-at ?p a)))))");
+  domain.insert(domain.find("(:predicates"), "(:constants a c) ");
+  std::string problem = porter_problem("(parcel-at p c)");
+  problem.replace(problem.find("(:objects a b c p)"), 18, "(:objects b p)");
+  const Grounded g(domain, problem);
+  const Task searched = without(g.task, {"(shortcut p)", "(ring a)", "(ring b)", "(ring c)"});
+  ASSERT_EQ(searched.operators.size() + 4, g.task.operators.size());
+  for (const std::string algorithm : {"lama-first", "lazy-gbfs-ff", "eager-gbfs-ff", "gbfs-add", "astar-lmcut", "astar-hmax"}) {
+    const SearchResult marked = plan(g.task, {.algorithm = algorithm});
+    const SearchResult copied = plan(searched, {.algorithm = algorithm});
+    ASSERT_TRUE(marked.solved) << algorithm;
+    ASSERT_TRUE(copied.solved) << algorithm;
+    EXPECT_EQ(marked.statistics.never_applicable, 1u) << algorithm;
+    EXPECT_EQ(marked.statistics.irrelevant, 3u) << algorithm;
+    EXPECT_EQ(copied.statistics.never_applicable + copied.statistics.irrelevant, 0u) << algorithm;
+    EXPECT_EQ(marked.statistics.expanded, copied.statistics.expanded) << algorithm;
+    EXPECT_EQ(marked.statistics.generated, copied.statistics.generated) << algorithm;
+    EXPECT_EQ(marked.statistics.evaluated, copied.statistics.evaluated) << algorithm;
+    EXPECT_EQ(plan_names(g.task, marked), plan_names(searched, copied)) << algorithm;
+    EXPECT_TRUE(g.valid(marked)) << algorithm;
+  }
+  // Relaxed, the shortcut would save picking the parcel up and dropping it.
+  EXPECT_EQ(initial_heuristic(searched, "hff"), 4.0);
+  EXPECT_EQ(initial_heuristic(g.task, "hff"), 3.0);
+}
+
 TEST(PddlSuccessorOrder, AVariableAPreconditionNeedsOutOfAValueMatters) {
   // The door locks only while the porter is not in room b, where it starts: walking out
   // is needed although no goal names a room, and nothing names a room positively.

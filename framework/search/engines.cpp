@@ -69,7 +69,7 @@ class Evaluator {
  public:
   Evaluator(Heuristic kind, const Task& task, const StateSpace& space, Clock::time_point deadline,
             RelaxedTask::Costs costs = RelaxedTask::Costs::normal)
-      : kind_(kind), relaxed_(task, costs), space_(space) {
+      : kind_(kind), relaxed_(task, costs, space.left_out()), space_(space) {
     relaxed_.follow(space.tie_order());
     relaxed_.set_deadline(deadline);
   }
@@ -612,13 +612,16 @@ void improve(const Task& task, const StateSpace& space, const SearchOptions& opt
 // are left out, the rest are numbered by name, and successors are listed in its
 // successor generator's order. Ties in every heuristic follow operator order and greedy
 // searches follow successor order, so the same orders keep our searches close to its.
-// `original` maps an operator back to the grounded task, which names it (the search
-// task's operators go without names, which no search reads).
+// The grounder gives its operators in name order: then the grounded task is searched
+// with the operators left out marked (`left_out`). Otherwise a copy in name order is,
+// without the operators left out and without names, which no search reads; `original`
+// maps its operators back to the grounded task, which names them.
 struct SearchTask {
   detail::MutexGroups mutexes;
-  bool as_grounded = false;  // the grounded task is searched as it is, else `reduced`
-  Task reduced;              // the operators searched, when some are left out or out of order
-  std::vector<OperatorId> original;  // per operator searched: its id in the grounded task
+  bool as_grounded = false;  // the grounded task is searched, else `reduced`
+  std::vector<char> left_out;  // per grounded operator, when some are left out of it
+  Task reduced;
+  std::vector<OperatorId> original;  // per operator of `reduced`: its id in the grounded task
   detail::TieOrder order;  // per operator and fact searched
   std::size_t never_applicable = 0, irrelevant = 0;
 };
@@ -636,9 +639,13 @@ SearchTask search_task(const Task& grounded) {
   const auto by_name = [&](OperatorId a, OperatorId b) { return grounded.operators[a].name < grounded.operators[b].name; };
   out.order.initial_rank = std::move(order.search_variable);
   out.order.effect_rank = std::move(order.translator_variable);
-  // The grounder gives its operators in name order: most tasks are searched as they are.
-  if (out.original.size() == grounded.operators.size() && std::is_sorted(out.original.begin(), out.original.end(), by_name)) {
+  if (std::is_sorted(out.original.begin(), out.original.end(), by_name)) {
     out.as_grounded = true;
+    if (out.original.size() < grounded.operators.size()) {
+      out.left_out.assign(grounded.operators.size(), 1);
+      for (OperatorId o : out.original) out.left_out[o] = 0;
+    }
+    out.original.clear();
     out.order.successor_rank = std::move(order.rank);
     return out;
   }
@@ -674,6 +681,7 @@ SearchResult plan(const Task& grounded, const SearchOptions& options) {
   const Task& task = prepared->as_grounded ? grounded : prepared->reduced;
   const detail::MutexGroups& mutexes = prepared->mutexes;
   const auto to_grounded = [&](SearchResult& r) {
+    if (prepared->as_grounded) return;
     for (OperatorId& op : r.plan) op = prepared->original[op];
   };
   SearchOptions inner = options;
@@ -684,7 +692,7 @@ SearchResult plan(const Task& grounded, const SearchOptions& options) {
       options.on_plan(said);
     };
   }
-  auto space = std::make_unique<const StateSpace>(task, prepared->order);
+  auto space = std::make_unique<const StateSpace>(task, prepared->order, prepared->left_out);
   const Limits limits{start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
                                   std::min(options.time_limit, 1e9))),
                       options.max_expansions, options.cost_bound, options.on_progress};

@@ -81,8 +81,8 @@ bool whole_numbers(const std::vector<double>& costs) {
 
 }  // namespace
 
-RelaxedTask::RelaxedTask(const Task& task, Costs costs)
-    : task_facts_(static_cast<FactId>(task.fact_count())), origin_count_(task.operators.size()) {
+RelaxedTask::RelaxedTask(const Task& task, Costs costs, const std::vector<char>& left_out)
+    : left_out_(left_out), task_facts_(static_cast<FactId>(task.fact_count())), origin_count_(task.operators.size()) {
   origin_reduced_.assign(origin_count_, 0);
   // A fluent fact some condition needs false gets a complement fact, added by the
   // operators that delete the fact, as Fast Downward's translation gives it a value of
@@ -94,9 +94,10 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
       if (!task.derived[f]) complement_[f] = 0;
     }
   };
-  for (const Operator& op : task.operators) {
-    note(op.precondition);
-    for (const ConditionalEffect& c : op.conditional) note(c.condition);
+  for (OperatorId o = 0; o < static_cast<OperatorId>(task.operators.size()); ++o) {
+    if (this->left_out(o)) continue;
+    note(task.operators[o].precondition);
+    for (const ConditionalEffect& c : task.operators[o].conditional) note(c.condition);
   }
   for (const Axiom& a : task.axioms) note(a.body);
   for (const Condition& c : task.goal) note(c);
@@ -108,7 +109,7 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs)
   }
   goal_ = next;
   facts_ = static_cast<std::size_t>(next) + 1;
-  build_operators(task, costs);
+  build_operators(task, costs, left_out);
   index_operators();
   base_cost_.resize(ops_.size());
   for (std::size_t i = 0; i < ops_.size(); ++i) base_cost_[i] = ops_[i].cost;
@@ -139,7 +140,7 @@ void group_by(std::size_t keys, std::size_t ops, const KeysOf& keys_of, std::vec
 }  // namespace
 
 // The relaxed operators, their facts appended to op_facts_ and viewed once it is whole.
-void RelaxedTask::build_operators(const Task& task, Costs costs) {
+void RelaxedTask::build_operators(const Task& task, Costs costs, const std::vector<char>& left_out) {
   struct Range {
     std::size_t pre_begin, pre_end, eff_begin, eff_end;
   };
@@ -174,6 +175,7 @@ void RelaxedTask::build_operators(const Task& task, Costs costs) {
   };
   std::vector<FactId> pre;
   for (OperatorId id = 0; id < static_cast<OperatorId>(task.operators.size()); ++id) {
+    if (!left_out.empty() && left_out[id]) continue;
     const Operator& op = task.operators[id];
     const double cost = relaxed_cost(op.cost, costs);
     const std::size_t pre_begin = condition(op.precondition, nullptr), pre_end = op_facts_.size();

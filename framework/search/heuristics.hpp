@@ -23,7 +23,9 @@ class RelaxedTask {
   /// How an operator's cost enters the relaxation: as it is, as 1 (plan length), or
   /// plus one (LAMA's later iterations: zero-cost operators still count).
   enum class Costs { normal, one, plus_one };
-  explicit RelaxedTask(const Task& task, Costs costs = Costs::normal);
+  /// `left_out` (per operator, may be empty): operators the relaxation leaves out, as
+  /// the search does (StateSpace::left_out).
+  explicit RelaxedTask(const Task& task, Costs costs = Costs::normal, const std::vector<char>& left_out = {});
   RelaxedTask(const RelaxedTask&) = delete;  // its operators view its own arrays
   RelaxedTask& operator=(const RelaxedTask&) = delete;
   /// Explorations take the true facts and each operator's effects in `order`'s fact
@@ -72,6 +74,8 @@ class RelaxedTask {
   /// The task fact of complement c (task facts <= c < goal fact).
   FactId complemented(FactId c) const { return complemented_[c - task_facts_]; }
   const std::vector<int>& without_preconditions() const { return no_precondition_; }
+  /// Whether task operator `op` has no relaxed operator because the search leaves it out.
+  bool left_out(OperatorId op) const { return !left_out_.empty() && left_out_[op]; }
 
  private:
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
@@ -79,9 +83,10 @@ class RelaxedTask {
   template <bool Max, class Queue>
   void explore(Queue& queue, const State& s, const std::vector<double>& op_cost, bool stop_at_goal);
   void lower_hmax(const std::vector<int>& cheaper, const std::vector<double>& op_cost);
-  void build_operators(const Task& task, Costs costs);
+  void build_operators(const Task& task, Costs costs, const std::vector<char>& left_out);
   void index_operators();
 
+  std::vector<char> left_out_;  // per task operator, or empty
   FactId task_facts_;
   std::vector<FactId> complement_;    // per task fact: its complement, or -1
   std::vector<FactId> complemented_;  // per complement (from task_facts_ on): its fact

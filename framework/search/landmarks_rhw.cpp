@@ -107,7 +107,9 @@ class RhwFactory {
       }
       variables_.push_back(std::move(var));
     }
-    for (const Operator& op : task_.operators) {
+    for (OperatorId o = 0; o < static_cast<OperatorId>(task_.operators.size()); ++o) {
+      if (relaxed_.left_out(o)) continue;
+      const Operator& op = task_.operators[o];
       dtg_edges(op.precondition.positive, nullptr, op.add, op.del);
       for (const ConditionalEffect& c : op.conditional) {
         std::vector<FactId> del = op.del;

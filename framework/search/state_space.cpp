@@ -4,8 +4,9 @@
 
 namespace cluttertamp::search::detail {
 
-StateSpace::StateSpace(const Task& task, TieOrder order)
-    : task_(task), words_((task.fact_count() + 63) / 64 + 1), order_(std::move(order)) {
+StateSpace::StateSpace(const Task& task, TieOrder order, std::vector<char> left_out)
+    : task_(task), words_((task.fact_count() + 63) / 64 + 1), order_(std::move(order)), left_out_(std::move(left_out)) {
+  const auto searched = [&](OperatorId op) { return left_out_.empty() || !left_out_[op]; };
   const auto ops = static_cast<OperatorId>(task.operators.size());
   precondition_start_.reserve(task.operators.size() + 1);
   negative_start_.reserve(task.operators.size());
@@ -16,6 +17,7 @@ StateSpace::StateSpace(const Task& task, TieOrder order)
     precondition_facts_.insert(precondition_facts_.end(), pre.positive.begin(), pre.positive.end());
     negative_start_.push_back(static_cast<std::uint32_t>(precondition_facts_.size()));
     precondition_facts_.insert(precondition_facts_.end(), pre.negative.begin(), pre.negative.end());
+    if (!searched(op)) continue;
     if (pre.positive.empty()) always_.push_back(op);
     else ++trigger_start_[static_cast<std::size_t>(pre.positive.front()) + 1];
   }
@@ -25,7 +27,7 @@ StateSpace::StateSpace(const Task& task, TieOrder order)
   std::vector<std::uint32_t> next(trigger_start_.begin(), trigger_start_.end() - 1);
   for (OperatorId op = 0; op < ops; ++op) {  // in operator order within each fact
     const auto& positive = task.operators[op].precondition.positive;
-    if (!positive.empty()) triggered_[next[positive.front()]++] = op;
+    if (!positive.empty() && searched(op)) triggered_[next[positive.front()]++] = op;
   }
   for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
     if (task.derived[f]) derived_facts_.push_back(f);

@@ -25,9 +25,13 @@ struct TieOrder {
 
 class StateSpace {
  public:
-  explicit StateSpace(const Task& task, TieOrder order = {});
+  /// `left_out`: per operator, nonzero for one the search never applies (its
+  /// preconditions are mutex, or it changes nothing the goal depends on); empty when the
+  /// search may apply all. Heuristics built over this space leave them out too.
+  explicit StateSpace(const Task& task, TieOrder order = {}, std::vector<char> left_out = {});
 
   const Task& task() const { return task_; }
+  const std::vector<char>& left_out() const { return left_out_; }
   State initial() const;
   bool satisfied(const State& s, const Condition& c) const;
   bool applicable(const State& s, OperatorId op) const {
@@ -70,6 +74,7 @@ class StateSpace {
   std::vector<OperatorId> always_;                     // operators without positive preconditions
   std::vector<FactId> derived_facts_;
   TieOrder order_;
+  std::vector<char> left_out_;
 };
 
 }  // namespace cluttertamp::search::detail
