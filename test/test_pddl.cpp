@@ -215,6 +215,35 @@ TEST(PddlSearch, OptimalSearchesMatchTheKnownOptimaAndEveryPlanValidates) {
   }
 }
 
+// h_add and h_FF explore in 32-bit integers when costs are whole, in a bucket queue up
+// to 65535 and in doubles beyond or for fractional costs: the same values on every path.
+TEST(PddlSearch, RelaxedCostsAreTheSameWholeLargeOrFractional) {
+  const Domain d = parse_domain(R"((define (domain roads)
+    (:requirements :strips :action-costs)
+    (:predicates (at ?c) (seen ?c) (road ?a ?b))
+    (:functions (total-cost) - number (length ?a ?b) - number (effort ?c) - number)
+    (:action drive :parameters (?a ?b) :precondition (and (at ?a) (road ?a ?b))
+      :effect (and (not (at ?a)) (at ?b) (increase (total-cost) (length ?a ?b))))
+    (:action look :parameters (?c) :precondition (at ?c)
+      :effect (and (seen ?c) (increase (total-cost) (effort ?c))))))",
+                                "roads.pddl");
+  for (const double scale : {1.0, 7000.0, 20000.0, 0.5}) {  // 7000: each cost whole and below 65536, sums above
+    const auto cost = [&](double c) { return std::to_string(c * scale); };
+    const Problem p = parse_problem(
+        "(define (problem line) (:domain roads) (:objects a b c d)"
+        " (:init (at a) (road a b) (road b c) (road c d) (= (length a b) " + cost(1) + ") (= (length b c) " + cost(2) +
+            ") (= (length c d) " + cost(3) + ") (= (effort a) " + cost(9) + ") (= (effort b) " + cost(5) + ") (= (effort c) " +
+            cost(9) + ") (= (effort d) " + cost(9) + ") (= (total-cost) 0))"
+            " (:goal (and (at d) (seen b))) (:metric minimize (total-cost)))",
+        "line.pddl", d);
+    const search::Task task = search::ground(d, p);
+    // h_add: (at d) costs 1 + 2 + 3, (seen b) 1 + 5; the relaxed plan drives once.
+    EXPECT_DOUBLE_EQ(search::initial_heuristic(task, "hadd"), 12 * scale) << scale;
+    EXPECT_DOUBLE_EQ(search::initial_heuristic(task, "hff"), 11 * scale) << scale;
+    EXPECT_DOUBLE_EQ(search::initial_heuristic(task, "hmax"), 6 * scale) << scale;
+  }
+}
+
 TEST(PddlSearch, AdmissibleHeuristicsNeverOverestimate) {
   for (const Instance& instance : manifest()) {
     const Loaded l = load(instance.domain, instance.problem);

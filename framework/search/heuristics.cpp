@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <queue>
 #include <tuple>
+#include <type_traits>
 
 #include "cluttertamp/search/grounding.hpp"  // TimeLimit
 #include "search/small_sort.hpp"
@@ -21,20 +22,23 @@ double relaxed_cost(double cost, RelaxedTask::Costs costs) {
   return cost;
 }
 
+constexpr std::size_t kMaxBucket = 1 << 16;
+struct BucketOverflow {};
+
 // The exploration's queue where costs are whole numbers (as in every IPC task): one
 // bucket per cost, each taken from its back, so that of facts of equal cost the one
-// reached last comes first (Fast Downward's bucket queue). Past kMaxBucket it gives up.
+// reached last comes first (Fast Downward's bucket queue). Costs are held as `Cost`;
+// past kMaxBucket it gives up (throws BucketOverflow).
+template <class Cost>
 class BucketQueue {
  public:
-  static constexpr std::size_t kMaxBucket = 1 << 16;
-  struct Overflow {};
   explicit BucketQueue(std::vector<std::vector<FactId>>& buckets) : buckets_(buckets) {}
   ~BucketQueue() {
     for (std::size_t k = current_; k <= highest_ && k < buckets_.size(); ++k) buckets_[k].clear();
   }
-  void push(double cost, FactId f) {
+  void push(Cost cost, FactId f) {
     const auto k = static_cast<std::size_t>(cost);
-    if (k >= kMaxBucket) throw Overflow{};
+    if (k >= kMaxBucket) throw BucketOverflow{};
     if (k >= buckets_.size()) buckets_.resize(k + 1);
     current_ = std::min(current_, k);
     highest_ = std::max(highest_, k);
@@ -42,12 +46,12 @@ class BucketQueue {
     ++size_;
   }
   bool empty() const { return size_ == 0; }
-  std::pair<double, FactId> pop() {
+  std::pair<Cost, FactId> pop() {
     while (buckets_[current_].empty()) ++current_;
     const FactId f = buckets_[current_].back();
     buckets_[current_].pop_back();
     --size_;
-    return {static_cast<double>(current_), f};
+    return {static_cast<Cost>(current_), f};
   }
 
  private:
@@ -75,7 +79,7 @@ class HeapQueue {
 
 bool whole_numbers(const std::vector<double>& costs) {
   return std::all_of(costs.begin(), costs.end(), [](double c) {
-    return c >= 0.0 && c < static_cast<double>(BucketQueue::kMaxBucket) && c == static_cast<double>(static_cast<std::int64_t>(c));
+    return c >= 0.0 && c < static_cast<double>(kMaxBucket) && c == static_cast<double>(static_cast<std::int64_t>(c));
   });
 }
 
@@ -114,6 +118,11 @@ RelaxedTask::RelaxedTask(const Task& task, Costs costs, const std::vector<char>&
   base_cost_.resize(ops_.size());
   for (std::size_t i = 0; i < ops_.size(); ++i) base_cost_[i] = ops_[i].cost;
   whole_costs_ = whole_numbers(base_cost_);
+  // Sums of whole costs below kMaxBucket stay within 32 bits while no operator has 2^15
+  // preconditions or more: h_add then explores in 32-bit integers.
+  if (whole_costs_ && std::all_of(pre_count_.begin(), pre_count_.end(), [](int n) { return n < (1 << 15); })) {
+    whole_base_cost_.assign(base_cost_.begin(), base_cost_.end());
+  }
   initial_order_.resize(static_cast<std::size_t>(goal_));
   for (FactId f = 0; f < goal_; ++f) initial_order_[f] = f;
 }
@@ -219,6 +228,9 @@ void RelaxedTask::index_operators() {
   // The exploration's hot loop reads flat arrays of its own: effects_ is reordered by
   // follow(), while each operator's `eff` keeps the task's order.
   op_state_.resize(ops_.size());
+  add_state_.resize(ops_.size());
+  whole_add_state_.resize(ops_.size());
+  whole_fact_cost_.resize(facts_);
   pre_count_.resize(ops_.size());
   effect_start_.reserve(ops_.size() + 1);
   for (std::size_t i = 0; i < ops_.size(); ++i) {
@@ -253,47 +265,61 @@ void RelaxedTask::follow(const TieOrder& order) {
 // value is the max (h_max) or sum (h_add) of its preconditions' costs. Among facts of
 // equal cost the one reached last comes first (LIFO, as Fast Downward's bucket queue):
 // the supporters, and so relaxed plans and preferred operators, follow the same order.
-void RelaxedTask::exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal) {
+double RelaxedTask::exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal) {
+  const auto with = [&](auto& queue) {
+    if (max) explore<true>(queue, s, op_cost.data(), fact_cost_.data(), op_state_.data(), stop_at_goal);
+    else explore<false>(queue, s, op_cost.data(), fact_cost_.data(), add_state_.data(), stop_at_goal);
+    return fact_cost_[goal_];
+  };
   if (whole_costs_) {
     try {
-      BucketQueue queue(buckets_);
-      if (max) explore<true>(queue, s, op_cost, stop_at_goal);
-      else explore<false>(queue, s, op_cost, stop_at_goal);
-      return;
-    } catch (const BucketQueue::Overflow&) {
+      // h_add of the task's own costs in 32-bit integers: half the memory per operator
+      // and fact that the hot loop reads in doubles.
+      if (!max && &op_cost == &base_cost_ && !whole_base_cost_.empty()) {
+        BucketQueue<std::int32_t> queue(buckets_);
+        explore<false>(queue, s, whole_base_cost_.data(), whole_fact_cost_.data(), whole_add_state_.data(), stop_at_goal);
+        const std::int32_t goal_cost = whole_fact_cost_[goal_];
+        return goal_cost == std::numeric_limits<std::int32_t>::max() ? kInfinity : goal_cost;
+      }
+      BucketQueue<double> queue(buckets_);
+      return with(queue);
+    } catch (const BucketOverflow&) {
     }
   }
   HeapQueue queue;
-  if (max) explore<true>(queue, s, op_cost, stop_at_goal);
-  else explore<false>(queue, s, op_cost, stop_at_goal);
+  return with(queue);
 }
 
 // The hot loop of every FF, h_add and h_max evaluation: it reads the arrays through
 // local pointers, which the compiler keeps in registers (through the members it reloads
 // them after every store, as a store might change them).
-template <bool Max, class Queue>
-void RelaxedTask::explore(Queue& queue, const State& s, const std::vector<double>& op_cost, bool stop_at_goal) {
-  double* const fact_cost = fact_cost_.data();
+template <bool Max, class Queue, class Value, class Record>
+void RelaxedTask::explore(Queue& queue, const State& s, const Value* cost_of, Value* fact_cost, Record* op_state,
+                          bool stop_at_goal) {
+  static_assert(!Max || std::is_same_v<Record, OpState>, "h_max keeps a costliest precondition");
+  constexpr Value kUnreached =
+      std::numeric_limits<Value>::has_infinity ? std::numeric_limits<Value>::infinity() : std::numeric_limits<Value>::max();
   int* const supporter = supporter_.data();
-  OpState* const op_state = op_state_.data();
-  const double* const cost_of = op_cost.data();
   const std::uint32_t* const effect_start = effect_start_.data();
   const FactId* const effects = effects_.data();
   const std::uint32_t* const trigger_start = trigger_start_.data();
   const int* const triggers = triggers_.data();
   const FactId goal = goal_;
-  std::fill(fact_cost_.begin(), fact_cost_.end(), kInfinity);
+  std::fill(fact_cost, fact_cost + facts_, kUnreached);
   std::fill(supporter_.begin(), supporter_.end(), -1);
   const int* const pre_count = pre_count_.data();
-  for (std::size_t i = 0, n = ops_.size(); i < n; ++i) op_state[i] = {pre_count[i], -1, 0.0};
+  for (std::size_t i = 0, n = ops_.size(); i < n; ++i) {
+    if constexpr (Max) op_state[i] = {pre_count[i], -1, 0.0};
+    else op_state[i] = {pre_count[i], 0};
+  }
   for (FactId f : initial_order_) {
     if (holds_in(s, f)) {
-      fact_cost[f] = 0.0;
-      queue.push(0.0, f);
+      fact_cost[f] = 0;
+      queue.push(0, f);
     }
   }
   const auto fire = [&](int i) {
-    const double value = op_state[i].value + cost_of[i];
+    const Value value = op_state[i].value + cost_of[i];
     for (std::uint32_t k = effect_start[i], end = effect_start[i + 1]; k < end; ++k) {
       const FactId e = effects[k];
       if (value < fact_cost[e]) {
@@ -310,7 +336,7 @@ void RelaxedTask::explore(Queue& queue, const State& s, const std::vector<double
     if (f == goal && stop_at_goal) break;
     for (std::uint32_t k = trigger_start[f], end = trigger_start[f + 1]; k < end; ++k) {
       const int i = triggers[k];
-      OpState& o = op_state[i];
+      Record& o = op_state[i];
       if constexpr (!Max) {
         o.value += cost;
       } else if (cost >= o.value) {  // facts come in cost order: the last is a costliest
@@ -322,14 +348,10 @@ void RelaxedTask::explore(Queue& queue, const State& s, const std::vector<double
   }
 }
 
-double RelaxedTask::cost_to_goal(const State& s, bool max) {
-  exploration(s, max, base_cost_, true);
-  return fact_cost_[goal_];
-}
+double RelaxedTask::cost_to_goal(const State& s, bool max) { return exploration(s, max, base_cost_, true); }
 
 double RelaxedTask::ff(const State& s, const StateSpace& space, std::vector<OperatorId>* preferred) {
-  exploration(s, false, base_cost_, true);
-  if (fact_cost_[goal_] == kInfinity) return kInfinity;
+  if (exploration(s, false, base_cost_, true) == kInfinity) return kInfinity;
   std::vector<char>& marked_fact = marked_fact_;
   std::vector<char>& used_origin = used_origin_;
   marked_fact.assign(facts_, 0);

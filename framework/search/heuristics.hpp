@@ -79,9 +79,11 @@ class RelaxedTask {
 
  private:
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
-  void exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
-  template <bool Max, class Queue>
-  void explore(Queue& queue, const State& s, const std::vector<double>& op_cost, bool stop_at_goal);
+  /// Fills the facts' costs and supporters (for whole-cost h_add of base_cost_, only the
+  /// supporters); returns the goal fact's cost.
+  double exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal);
+  template <bool Max, class Queue, class Value, class Record>
+  void explore(Queue& queue, const State& s, const Value* cost_of, Value* fact_cost, Record* op_state, bool stop_at_goal);
   void lower_hmax(const std::vector<int>& cheaper, const std::vector<double>& op_cost);
   void build_operators(const Task& task, Costs costs, const std::vector<char>& left_out);
   void index_operators();
@@ -107,6 +109,15 @@ class RelaxedTask {
     double value;      // max or sum of the reached preconditions' costs
   };
   std::vector<OpState> op_state_;
+  template <class Value>
+  struct AddState {  // h_add needs no costliest precondition
+    int unsatisfied;
+    Value value;
+  };
+  std::vector<AddState<double>> add_state_;
+  // Whole-cost h_add in 32 bits (whole_base_cost_ empty when costs are not whole).
+  std::vector<AddState<std::int32_t>> whole_add_state_;
+  std::vector<std::int32_t> whole_base_cost_, whole_fact_cost_;
   std::vector<int> pre_count_;
   std::vector<std::uint32_t> effect_start_, trigger_start_;  // per operator, per fact: into the flat arrays
   std::vector<FactId> effects_;
