@@ -167,12 +167,13 @@ class __attribute__((visibility("hidden"))) ReachedTuples {
 // a session each binding also keeps what it grounded to.
 class __attribute__((visibility("hidden"))) InstanceSet {
  public:
-  explicit InstanceSet(std::size_t arity) : bindings_(arity) {}
+  explicit InstanceSet(std::size_t arity) : arity_(arity), bindings_(arity) {}
   std::size_t size() const { return bindings_.size(); }
   std::span<const int> operator[](std::size_t k) const { return bindings_[k]; }
   bool contains(std::span<const int> p) const { return bindings_.contains(p); }
   void insert(std::span<const int> p) { bindings_.insert(p); }
-  /// The bindings in the order of their objects' indices, lexicographically (a map's).
+  /// The bindings (of objects, indices from 0) in the order of their objects' indices,
+  /// lexicographically (a map's).
   std::vector<std::uint32_t> sorted() const;
   /// What binding k grounded to, in a session (null until grounded).
   std::unique_ptr<Cached>& cached(std::size_t k) {
@@ -181,6 +182,7 @@ class __attribute__((visibility("hidden"))) InstanceSet {
   }
 
  private:
+  std::size_t arity_;
   TupleIndex<int> bindings_;
   std::vector<std::unique_ptr<Cached>> cached_;
 };

@@ -1,4 +1,5 @@
 #include "search/grounder.hpp"
+#include "search/tuple_order.hpp"
 
 #include <array>
 #include <set>
@@ -6,13 +7,12 @@
 namespace cluttertamp::search::detail {
 
 std::vector<std::uint32_t> InstanceSet::sorted() const {
-  std::vector<std::uint32_t> order(size());
-  for (std::uint32_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const auto x = (*this)[a], y = (*this)[b];
-    return std::lexicographical_compare(x.begin(), x.end(), y.begin(), y.end());
-  });
-  return order;
+  int most = 0;
+  for (std::size_t k = 0; k < size(); ++k) {
+    for (int o : (*this)[k]) most = std::max(most, o);
+  }
+  return lexicographic_order(size(), arity_, static_cast<std::uint64_t>(most),
+                             [&](std::uint32_t k, std::size_t i) { return static_cast<std::uint64_t>((*this)[k][i]); });
 }
 
 namespace {

@@ -7,6 +7,7 @@
 
 #include "cluttertamp/core/free_beside.hpp"
 #include "search/grounder.hpp"
+#include "search/tuple_order.hpp"
 #include "search/universal.hpp"
 
 namespace cluttertamp::search {
@@ -37,12 +38,29 @@ void Grounder::in_name_order(std::vector<Span>& spans, std::vector<Operator>& op
   // "(name " or "(name)" decides between schemas: no name holds a space or parenthesis.
   std::vector<std::string> keys;
   for (const Schema& s : schemas_) keys.push_back(s.name + (s.parameters.empty() ? ")" : " "));
-  std::stable_sort(spans.begin(), spans.end(), [&](const Span& a, const Span& b) {
-    if (a.schema != b.schema) return keys[a.schema] < keys[b.schema];
-    const std::size_t arity = schemas_[a.schema].parameters.size();
-    return std::lexicographical_compare(a.parameters, a.parameters + arity, b.parameters, b.parameters + arity,
-                                        [&](int x, int y) { return object_rank[x] < object_rank[y]; });
-  });
+  std::vector<std::uint32_t> schema_rank(schemas_.size());
+  {
+    std::vector<std::uint32_t> by_key(schemas_.size());
+    std::iota(by_key.begin(), by_key.end(), 0u);
+    std::sort(by_key.begin(), by_key.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+    for (std::uint32_t k = 0; k < by_key.size(); ++k) schema_rank[by_key[k]] = k;
+  }
+  // Each instance once: its schema's rank, then its objects' ranks (a schema's instances
+  // all have its arity, so the zeros after a shorter tuple never decide).
+  std::size_t width = 1;
+  for (const Schema& s : schemas_) width = std::max(width, 1 + s.parameters.size());
+  const std::vector<std::uint32_t> order = lexicographic_order(
+      spans.size(), width, std::max<std::uint64_t>(schemas_.size(), object_names_.size()), [&](std::uint32_t k, std::size_t i) {
+        const Span& span = spans[k];
+        if (i == 0) return std::uint64_t{schema_rank[span.schema]};
+        return i <= schemas_[span.schema].parameters.size() ? std::uint64_t{object_rank[span.parameters[i - 1]]} : 0;
+      });
+  {
+    std::vector<Span> ordered;
+    ordered.reserve(spans.size());
+    for (std::uint32_t k : order) ordered.push_back(spans[k]);
+    spans.swap(ordered);
+  }
   bool sorted = true;
   for (std::size_t k = 1; k < spans.size() && sorted; ++k) sorted = spans[k - 1].end == spans[k].begin;
   if (sorted) return;
