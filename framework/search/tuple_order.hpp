@@ -11,9 +11,8 @@
 
 namespace cluttertamp::search::detail {
 
-/// Ids 0 .. count-1 in lexicographic order of their tuples: `item(id, i)` is item i
-/// (below `width`) of tuple `id`, each at most `max_item`. Tuples must be distinct (the
-/// order of equal ones is unspecified).
+/// Ids 0 .. count-1 in lexicographic order of their tuples, equal tuples in id order:
+/// `item(id, i)` is item i (below `width`) of tuple `id`, each at most `max_item`.
 template <class Item>
 std::vector<std::uint32_t> lexicographic_order(std::size_t count, std::size_t width, std::uint64_t max_item, const Item& item) {
   std::vector<std::uint32_t> order(count);
@@ -35,7 +34,7 @@ std::vector<std::uint32_t> lexicographic_order(std::size_t count, std::size_t wi
       const std::uint64_t x = item(a, i), y = item(b, i);
       if (x != y) return x < y;
     }
-    return false;
+    return a < b;
   });
   return order;
 }
