@@ -1,5 +1,5 @@
-// The grounder's order of bindings and operators: tuples packed into 64-bit keys where
-// they fit, compared item by item where they do not, the same order either way.
+// The grounder's and the successor order's sorts of tuples: packed into one 64-bit word
+// or into several, the order is lexicographic, equal tuples in id order.
 #include <algorithm>
 #include <cstdint>
 #include <random>
@@ -28,9 +28,10 @@ std::vector<std::vector<std::uint64_t>> distinct_tuples(std::size_t count, std::
 }
 
 TEST(PddlTupleOrder, PackedAndItemByItemOrdersAreLexicographic) {
-  // Widths and item sizes that fit in 64 bits (3 x 21, 1 x 64, 2 x 1) and that do not (3 x 22, 9 x 8).
+  // Widths and item sizes that fit in one word (3 x 21 bits, 1 x 64, 2 x 1) and that take
+  // two or more (3 x 22, 9 x 8, 5 x 64).
   const std::vector<std::pair<std::size_t, std::uint64_t>> shapes{
-      {3, (1u << 21) - 1}, {1, ~std::uint64_t{0}}, {2, 1}, {3, 1u << 21}, {9, 200}};
+      {3, (1u << 21) - 1}, {1, ~std::uint64_t{0}}, {2, 1}, {3, 1u << 21}, {9, 200}, {5, ~std::uint64_t{0}}};
   for (const auto& [width, max_item] : shapes) {
     const std::size_t count = max_item == 1 ? 4 : 500;
     const auto tuples = distinct_tuples(count, width, max_item, static_cast<unsigned>(width * 31 + max_item % 97));
@@ -42,6 +43,13 @@ TEST(PddlTupleOrder, PackedAndItemByItemOrdersAreLexicographic) {
     std::vector<std::vector<std::uint64_t>> expected = tuples;
     std::sort(expected.begin(), expected.end());
     EXPECT_EQ(ordered, expected) << width << " items of at most " << max_item;
+  }
+  // Equal tuples keep their ids' order, packed or not.
+  for (const std::size_t width : {2u, 12u}) {
+    const std::vector<std::uint64_t> first{3, 1, 3, 0, 1, 3};
+    const std::vector<std::uint32_t> order =
+        lexicographic_order(first.size(), width, 200, [&](std::uint32_t k, std::size_t i) { return i == 0 ? first[k] : 7; });
+    EXPECT_EQ(order, (std::vector<std::uint32_t>{3, 1, 4, 0, 2, 5})) << width;
   }
 }
 

@@ -154,6 +154,13 @@ void RelaxedTask::build_operators(const Task& task, Costs costs, const std::vect
     std::size_t pre_begin, pre_end, eff_begin, eff_end;
   };
   std::vector<Range> ranges;
+  {  // room for the operators and their facts, conditional effects aside
+    std::size_t facts = 0;
+    for (const Operator& op : task.operators) facts += op.precondition.positive.size() + op.precondition.negative.size() + op.add.size() + op.del.size();
+    op_facts_.reserve(facts);
+    ops_.reserve(task.operators.size() + task.axioms.size() + task.goal.size());
+    ranges.reserve(ops_.capacity());
+  }
   auto condition = [&](const Condition& c, const std::vector<FactId>* also) {
     const std::size_t begin = op_facts_.size();
     if (also) op_facts_.insert(op_facts_.end(), also->begin(), also->end());

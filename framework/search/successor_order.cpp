@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "search/small_sort.hpp"
+#include "search/tuple_index.hpp"
 #include "search/tuple_order.hpp"
 
 namespace cluttertamp::search::detail {
@@ -192,7 +193,7 @@ std::vector<std::vector<int>> components(const std::vector<std::vector<int>>& su
   return out;
 }
 
-using Weights = std::vector<std::map<int, long>>;  // per source: target -> weight
+using Weights = std::vector<std::vector<std::pair<int, long>>>;  // per source: (target, weight), by target
 
 // The translator's greedy order inside one component: repeatedly the variable with the
 // least weight of incoming edges from the variables not yet taken; an edge into a goal
@@ -255,12 +256,16 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
   for (std::size_t o = 0; o < op_count; ++o) enc.translate(task.operators[o], left_out[o] != 0, ops);
   const std::vector<char> changing = changing_variables(enc, ops, task);
 
-  // The causal graph: weighted edges source -> target, and each target's sources.
-  Weights weights(n);
-  std::vector<std::vector<int>> predecessors(n);
+  // The causal graph: weighted edges source -> target (counted in a hash index of the
+  // pairs: a tree per source was most of this function), and each target's sources.
+  TupleIndex<int> arcs(2);
+  std::vector<long> arc_weight;
   const auto edge = [&](int source, int target) {
     if (source == target || !changing[source] || !changing[target]) return;
-    if (weights[source][target]++ == 0) predecessors[target].push_back(source);
+    const int pair[2] = {source, target};
+    const auto [id, added] = arcs.insert(pair);
+    if (added) arc_weight.push_back(0);
+    ++arc_weight[id];
   };
   for (std::size_t o = 0; o < op_count; ++o) {
     for (const SasEffect* e = ops.effects.first(o); e != ops.effects.last(o); ++e) {
@@ -273,6 +278,13 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
     for (FactId f : a.body.positive) edge(enc.var(f), enc.var(a.head));
     for (FactId f : a.body.negative) edge(enc.var(f), enc.var(a.head));
   }
+  Weights weights(n);
+  std::vector<std::vector<int>> predecessors(n);
+  for (std::size_t id = 0; id < arcs.size(); ++id) {
+    weights[arcs[id][0]].push_back({arcs[id][1], arc_weight[id]});
+    predecessors[arcs[id][1]].push_back(arcs[id][0]);
+  }
+  for (auto& targets : weights) std::sort(targets.begin(), targets.end());
 
   // Variables the goal depends on: goal variables and their causal-graph ancestors.
   std::vector<char> goal(n, 0), needed(n, 0);
