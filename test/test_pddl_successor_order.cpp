@@ -79,6 +79,14 @@ TEST(PddlMutexGroups, OfEqualGroupsTheLastInAtomOrderIsTakenFirst) {
   EXPECT_EQ(chosen, expected);
 }
 
+TEST(PddlMutexGroups, AtomsAreOrderedAsListsOfNames) {
+  // As the translator sorts atoms: by predicate, then argument by argument, a name
+  // before the longer names it begins and an atom before the longer atoms it begins.
+  Task task;
+  task.fact_names = {"(p a b)", "(p a)", "(p a!)", "(p)", "(pa b)", "(p ab)", "(p a a)", "(p-q a)"};
+  EXPECT_EQ(detail::atom_order(task), (std::vector<std::uint32_t>{3, 1, 4, 0, 7, 5, 2, 6}));
+}
+
 // A porter carries parcels between rooms; a bell can be rung in the porter's room, and
 // walking sets a lamp on where it arrives.
 constexpr const char* kPorterDomain = R"((define (domain porter) (:requirements :strips)

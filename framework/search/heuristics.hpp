@@ -66,6 +66,12 @@ class RelaxedTask {
   std::span<const int> precondition_of(FactId f) const {
     return {triggers_.data() + trigger_start_[f], triggers_.data() + trigger_start_[f + 1]};
   }
+  /// Operator i's effects (in follow()'s order) and preconditions counted, from the flat
+  /// arrays the explorations read.
+  std::span<const FactId> effects(int i) const {
+    return {effects_.data() + effect_start_[i], effects_.data() + effect_start_[i + 1]};
+  }
+  const std::vector<int>& precondition_counts() const { return pre_count_; }
   std::span<const int> achievers(FactId f) const {
     return {achievers_.data() + achiever_start_[f], achievers_.data() + achiever_start_[f + 1]};
   }

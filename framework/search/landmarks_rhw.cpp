@@ -40,7 +40,10 @@ class RhwFactory {
       : relaxed_(relaxed), task_(task), budget_(budget), deadline_(deadline), out_(relaxed) {
     const std::size_t n = relaxed.fact_count();
     initially_.resize(n);
-    for (FactId f = 0; f < static_cast<FactId>(n); ++f) initially_[f] = relaxed.holds_in(initial, f);
+    for (FactId f = 0; f < static_cast<FactId>(n); ++f) {
+      initially_[f] = relaxed.holds_in(initial, f);
+      if (initially_[f]) initial_facts_.push_back(f);
+    }
     build_classes();
     build_variables(mutexes ? *mutexes : find_mutex_groups(task_, budget_ / 4));
     atomic_of_.assign(n, -1);
@@ -258,8 +261,7 @@ class RhwFactory {
         }
       }
     }
-    unsatisfied_.resize(ops.size());
-    for (std::size_t i = 0; i < ops.size(); ++i) unsatisfied_[i] = static_cast<int>(ops[i].pre.size());
+    unsatisfied_.assign(relaxed_.precondition_counts().begin(), relaxed_.precondition_counts().end());
     std::vector<FactId>& queue = queue_;  // first in, first out from `head`
     queue.clear();
     std::size_t head = 0;
@@ -271,11 +273,9 @@ class RhwFactory {
     // An op excluded for a conditional achiever still achieves its other effects.
     auto apply = [&](int i) {
       if (ops[i].origin >= 0 && origin_out[ops[i].origin]) return;
-      for (FactId e : ops[i].eff) reach(e);
+      for (FactId e : relaxed_.effects(i)) reach(e);  // the set reached is the same in any order
     };
-    for (FactId f = 0; f < static_cast<FactId>(relaxed_.fact_count()); ++f) {
-      if (initially_[f]) reach(f);
-    }
+    for (FactId f : initial_facts_) reach(f);
     for (int i : relaxed_.without_preconditions()) apply(i);
     while (head < queue.size()) {
       const FactId f = queue[head++];
@@ -648,6 +648,7 @@ class RhwFactory {
   std::vector<char> origin_out_;
   std::vector<OperatorId> left_out_;
   std::vector<FactId> queue_;
+  std::vector<FactId> initial_facts_;  // relaxed facts true initially, in order
   std::vector<int> var_of_, value_of_;
   std::vector<std::vector<int>> groups_of_;  // per task fact: the mutex groups holding it
 

@@ -33,14 +33,15 @@ std::vector<std::string_view> atom_words(std::string_view text) {
   return words;
 }
 
-// "(pred a b)" -> predicate and arguments, interned in `predicates` and `objects`.
-GroundAtom parse_atom(const std::string& text, std::unordered_map<std::string, int>& predicates,
-                      std::unordered_map<std::string, int>& objects) {
+// "(pred a b)" -> predicate and arguments, interned in `predicates` and `objects` (by
+// views into `text`, which must outlive them).
+GroundAtom parse_atom(const std::string& text, std::unordered_map<std::string_view, int>& predicates,
+                      std::unordered_map<std::string_view, int>& objects) {
   GroundAtom atom;
   const std::vector<std::string_view> words = atom_words(text);
   for (std::size_t k = 0; k < words.size(); ++k) {
     auto& ids = k == 0 ? predicates : objects;
-    const int id = ids.try_emplace(std::string(words[k]), static_cast<int>(ids.size())).first->second;
+    const int id = ids.try_emplace(words[k], static_cast<int>(ids.size())).first->second;
     if (k == 0) atom.predicate = id;
     else atom.args.push_back(id);
   }
@@ -71,7 +72,7 @@ struct Scope {
 class Synthesis {
  public:
   Synthesis(const Task& task, std::uint64_t budget) : task_(task), budget_(budget) {
-    std::unordered_map<std::string, int> predicates, objects;
+    std::unordered_map<std::string_view, int> predicates, objects;  // views into the task's names
     atoms_.resize(task.fact_count());
     for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
       if (task.derived[f]) continue;
@@ -367,11 +368,16 @@ std::vector<char> never_applicable(const Task& task, const MutexGroups& mutexes)
 }
 
 std::vector<std::uint32_t> atom_order(const Task& task) {
-  std::vector<std::vector<std::string_view>> words(task.fact_count());
-  for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) words[f] = atom_words(task.fact_names[f]);
+  // Word by word, as lists of names compare, without splitting the names: ")" and " "
+  // end a word and come before every character of one, and ")" (no more words) first.
+  const auto order_of = [](char c) { return c == ')' ? 0 : c == ' ' ? 1 : 2 + static_cast<unsigned char>(c); };
+  const auto before = [&](const std::string& a, const std::string& b) {
+    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(),
+                                        [&](char x, char y) { return order_of(x) < order_of(y); });
+  };
   std::vector<FactId> sorted(task.fact_count());
   for (FactId f = 0; f < static_cast<FactId>(sorted.size()); ++f) sorted[f] = f;
-  std::stable_sort(sorted.begin(), sorted.end(), [&](FactId a, FactId b) { return words[a] < words[b]; });
+  std::stable_sort(sorted.begin(), sorted.end(), [&](FactId a, FactId b) { return before(task.fact_names[a], task.fact_names[b]); });
   std::vector<std::uint32_t> rank(task.fact_count());
   for (std::size_t k = 0; k < sorted.size(); ++k) rank[sorted[k]] = static_cast<std::uint32_t>(k);
   return rank;
