@@ -127,22 +127,16 @@ class Encoding {
   std::vector<int> var_of_, value_of_, domain_, initial_;
 };
 
-// Variables whose transition graph reaches a second value from the initial one.
+// Variables whose transition graph has an arc from the initial value to another: an
+// effect that sets another value from the initial one or from any.
 std::vector<char> changing_variables(const Encoding& enc, const SasOperators& ops, const Task& task) {
-  const int n = enc.variables();
-  std::vector<std::vector<std::vector<int>>> arcs(n);  // per variable, per value: successors
-  std::vector<std::vector<int>> from_any(n);
-  for (int v = 0; v < n; ++v) arcs[v].resize(enc.none(v) + 1);
+  std::vector<char> changing(static_cast<std::size_t>(enc.variables()), 0);
   for (const SasEffect& e : ops.effects.items) {
-    if (e.pre < 0) from_any[e.var].push_back(e.post);
-    else arcs[e.var][e.pre].push_back(e.post);
+    const int start = enc.initial(e.var);
+    if ((e.pre < 0 || e.pre == start) && e.post != start) changing[e.var] = 1;
   }
-  for (const Axiom& a : task.axioms) from_any[enc.var(a.head)].push_back(enc.value(a.head));
-  std::vector<char> changing(n, 0);
-  for (int v = 0; v < n; ++v) {
-    const int start = enc.initial(v);
-    for (int post : from_any[v]) changing[v] |= post != start;
-    for (int post : arcs[v][start]) changing[v] |= post != start;
+  for (const Axiom& a : task.axioms) {
+    if (enc.value(a.head) != enc.initial(enc.var(a.head))) changing[enc.var(a.head)] = 1;
   }
   return changing;
 }
@@ -256,15 +250,29 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
   for (std::size_t o = 0; o < op_count; ++o) enc.translate(task.operators[o], left_out[o] != 0, ops);
   const std::vector<char> changing = changing_variables(enc, ops, task);
 
-  // The causal graph: weighted edges source -> target (counted in a hash index of the
-  // pairs: a tree per source was most of this function), and each target's sources.
+  // The causal graph: weighted edges source -> target, and each target's sources. The
+  // arcs are counted in an n x n table of their ids where that is small (a tree per
+  // source was most of this function), else in a hash index of (source, target).
+  const bool small = static_cast<std::size_t>(n) * static_cast<std::size_t>(n) <= (1u << 14);
+  std::vector<std::uint32_t> arc_at(small ? static_cast<std::size_t>(n) * static_cast<std::size_t>(n) : 0);  // id + 1
   TupleIndex<int> arcs(2);
+  std::vector<std::pair<int, int>> arc_ends;
   std::vector<long> arc_weight;
   const auto edge = [&](int source, int target) {
     if (source == target || !changing[source] || !changing[target]) return;
-    const int pair[2] = {source, target};
-    const auto [id, added] = arcs.insert(pair);
-    if (added) arc_weight.push_back(0);
+    std::size_t id;
+    if (small) {
+      std::uint32_t& at = arc_at[static_cast<std::size_t>(source) * static_cast<std::size_t>(n) + static_cast<std::size_t>(target)];
+      if (at == 0) at = static_cast<std::uint32_t>(arc_ends.size() + 1);
+      id = at - 1;
+    } else {
+      const int pair[2] = {source, target};
+      id = arcs.insert(pair).first;
+    }
+    if (id == arc_ends.size()) {
+      arc_ends.push_back({source, target});
+      arc_weight.push_back(0);
+    }
     ++arc_weight[id];
   };
   for (std::size_t o = 0; o < op_count; ++o) {
@@ -280,9 +288,10 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
   }
   Weights weights(n);
   std::vector<std::vector<int>> predecessors(n);
-  for (std::size_t id = 0; id < arcs.size(); ++id) {
-    weights[arcs[id][0]].push_back({arcs[id][1], arc_weight[id]});
-    predecessors[arcs[id][1]].push_back(arcs[id][0]);
+  for (std::size_t id = 0; id < arc_ends.size(); ++id) {
+    const auto [source, target] = arc_ends[id];
+    weights[source].push_back({target, arc_weight[id]});
+    predecessors[target].push_back(source);
   }
   for (auto& targets : weights) std::sort(targets.begin(), targets.end());
 
