@@ -206,7 +206,7 @@ SearchResult finish(const StateSpace& space, Registry& registry, int goal, Searc
   for (OperatorId op : result.plan) {
     if (!space.applicable(s, op)) throw std::logic_error("search produced an inapplicable plan");
     s = space.apply(s, op);
-    cost += space.task().operators[op].cost;
+    cost += space.cost(op);
   }
   if (!space.is_goal(s)) throw std::logic_error("search produced a plan that does not reach the goal");
   result.solved = true;
@@ -262,7 +262,7 @@ SearchResult eager(const StateSpace& space, Evaluator& h, double w_g, double w_h
       space.applicable_operators(state, successors);
       for (OperatorId op : successors) {
         ++result.statistics.generated;
-        const double child_g = g + space.task().operators[op].cost;
+        const double child_g = g + space.cost(op);
         if (child_g >= limits.cost_bound) continue;
         space.apply(state, op, child_state);
         const auto [child, is_new] = registry.insert(child_state);
@@ -427,7 +427,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     space.applicable_operators(state, successors);
     for (OperatorId op : successors) {
       ++result.statistics.generated;
-      const double child_g = g + space.task().operators[op].cost;
+      const double child_g = g + space.cost(op);
       if (child_g >= limits.cost_bound) continue;
       const bool is_preferred = std::find(preferred.begin(), preferred.end(), op) != preferred.end();
       for (std::size_t i = 0; i < k; ++i) open.push(i, {keys.w_g * child_g + keys.w_h * values[id * k + i], order, id, op}, is_preferred);
@@ -448,7 +448,7 @@ SearchResult lazy(const StateSpace& space, const std::vector<LazyHeuristic*>& he
     const auto [key, unused, parent, op] = open.pop();
     (void)key;
     (void)unused;
-    const double child_g = registry.node(parent).g + space.task().operators[op].cost;
+    const double child_g = registry.node(parent).g + space.cost(op);
     if (child_g >= limits.cost_bound) continue;
     registry.load(parent, parent_state);
     space.apply(parent_state, op, state);

@@ -32,6 +32,8 @@ StateSpace::StateSpace(const Task& task, TieOrder order, std::vector<char> left_
   for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
     if (task.derived[f]) derived_facts_.push_back(f);
   }
+  cost_.reserve(task.operators.size());
+  for (const Operator& op : task.operators) cost_.push_back(op.cost);
 }
 
 State StateSpace::initial() const {

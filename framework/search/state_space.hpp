@@ -32,6 +32,8 @@ class StateSpace {
 
   const Task& task() const { return task_; }
   const std::vector<char>& left_out() const { return left_out_; }
+  /// Operator op's cost, from a flat array (searches read it per successor).
+  double cost(OperatorId op) const { return cost_[op]; }
   State initial() const;
   bool satisfied(const State& s, const Condition& c) const;
   bool applicable(const State& s, OperatorId op) const {
@@ -73,6 +75,7 @@ class StateSpace {
   std::vector<OperatorId> triggered_;         // per fact: operators whose first precondition it is
   std::vector<OperatorId> always_;                     // operators without positive preconditions
   std::vector<FactId> derived_facts_;
+  std::vector<double> cost_;
   TieOrder order_;
   std::vector<char> left_out_;
 };
