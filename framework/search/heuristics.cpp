@@ -234,10 +234,6 @@ void RelaxedTask::index_operators() {
   supporter_.resize(facts_);
   // The exploration's hot loop reads flat arrays of its own: effects_ is reordered by
   // follow(), while each operator's `eff` keeps the task's order.
-  op_state_.resize(ops_.size());
-  add_state_.resize(ops_.size());
-  whole_add_state_.resize(ops_.size());
-  whole_fact_cost_.resize(facts_);
   pre_count_.resize(ops_.size());
   effect_start_.reserve(ops_.size() + 1);
   for (std::size_t i = 0; i < ops_.size(); ++i) {
@@ -273,9 +269,15 @@ void RelaxedTask::follow(const TieOrder& order) {
 // equal cost the one reached last comes first (LIFO, as Fast Downward's bucket queue):
 // the supporters, and so relaxed plans and preferred operators, follow the same order.
 double RelaxedTask::exploration(const State& s, bool max, const std::vector<double>& op_cost, bool stop_at_goal) {
+  // Each kind of exploration sizes its records when first used: a search uses one kind,
+  // and records never used cost no memory.
+  const auto sized = [&](auto& records) {
+    if (records.size() != ops_.size()) records.resize(ops_.size());
+    return records.data();
+  };
   const auto with = [&](auto& queue) {
-    if (max) explore<true>(queue, s, op_cost.data(), fact_cost_.data(), op_state_.data(), stop_at_goal);
-    else explore<false>(queue, s, op_cost.data(), fact_cost_.data(), add_state_.data(), stop_at_goal);
+    if (max) explore<true>(queue, s, op_cost.data(), fact_cost_.data(), sized(op_state_), stop_at_goal);
+    else explore<false>(queue, s, op_cost.data(), fact_cost_.data(), sized(add_state_), stop_at_goal);
     return fact_cost_[goal_];
   };
   if (whole_costs_) {
@@ -284,7 +286,8 @@ double RelaxedTask::exploration(const State& s, bool max, const std::vector<doub
       // and fact that the hot loop reads in doubles.
       if (!max && &op_cost == &base_cost_ && !whole_base_cost_.empty()) {
         BucketQueue<std::int32_t> queue(buckets_);
-        explore<false>(queue, s, whole_base_cost_.data(), whole_fact_cost_.data(), whole_add_state_.data(), stop_at_goal);
+        whole_fact_cost_.resize(facts_);
+        explore<false>(queue, s, whole_base_cost_.data(), whole_fact_cost_.data(), sized(whole_add_state_), stop_at_goal);
         const std::int32_t goal_cost = whole_fact_cost_[goal_];
         return goal_cost == std::numeric_limits<std::int32_t>::max() ? kInfinity : goal_cost;
       }
