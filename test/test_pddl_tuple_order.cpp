@@ -1,4 +1,4 @@
-// The grounder's and the successor order's sorts of tuples: packed into one 64-bit word
+// The grounder's sorts of tuples (bindings, operators by name): packed into one 64-bit word
 // or into several, the order is lexicographic, equal tuples in id order.
 #include <algorithm>
 #include <cstdint>

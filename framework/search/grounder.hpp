@@ -167,7 +167,7 @@ class __attribute__((visibility("hidden"))) ReachedTuples {
 // a session each binding also keeps what it grounded to.
 class __attribute__((visibility("hidden"))) InstanceSet {
  public:
-  explicit InstanceSet(std::size_t arity) : arity_(arity), bindings_(arity) {}
+  explicit InstanceSet(std::size_t arity) : bindings_(arity) {}
   std::size_t size() const { return bindings_.size(); }
   std::span<const int> operator[](std::size_t k) const { return bindings_[k]; }
   bool contains(std::span<const int> p) const { return bindings_.contains(p); }
@@ -182,7 +182,6 @@ class __attribute__((visibility("hidden"))) InstanceSet {
   }
 
  private:
-  std::size_t arity_;
   TupleIndex<int> bindings_;
   std::vector<std::unique_ptr<Cached>> cached_;
 };

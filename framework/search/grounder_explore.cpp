@@ -11,7 +11,7 @@ std::vector<std::uint32_t> InstanceSet::sorted() const {
   for (std::size_t k = 0; k < size(); ++k) {
     for (int o : (*this)[k]) most = std::max(most, o);
   }
-  return lexicographic_order(size(), arity_, static_cast<std::uint64_t>(most),
+  return lexicographic_order(size(), bindings_.length(), static_cast<std::uint64_t>(most),
                              [&](std::uint32_t k, std::size_t i) { return static_cast<std::uint64_t>((*this)[k][i]); });
 }
 

@@ -7,7 +7,6 @@
 
 #include "search/small_sort.hpp"
 #include "search/tuple_index.hpp"
-#include "search/tuple_order.hpp"
 
 namespace cluttertamp::search::detail {
 
@@ -366,34 +365,17 @@ SuccessorOrder successor_order(const Task& task, const MutexGroups& mutexes, con
     out.search_variable[f] = static_cast<std::uint32_t>(position[v] >= 0 ? position[v] : n + v);
   }
   std::vector<OperatorId> sorted(op_count);
-  // The grounder names its operators in order: then ties stay in operator order, which
-  // is name order, and the keys sort as tuples: left out or not, then each relevant
-  // precondition as one number (0 after the last, so that a key's prefix comes first).
+  std::iota(sorted.begin(), sorted.end(), 0);
+  // The grounder names its operators in order: then the stable sort keeps ties in name
+  // order without comparing names.
   const bool named_in_order = std::is_sorted(task.operators.begin(), task.operators.end(),
                                              [](const Operator& a, const Operator& b) { return a.name < b.name; });
-  if (named_in_order) {
-    std::size_t longest = 0;
-    std::uint64_t values = 1;
-    for (const Fact& f : keys.items) values = std::max<std::uint64_t>(values, static_cast<std::uint64_t>(f.second) + 1);
-    for (std::size_t o = 0; o < op_count; ++o) longest = std::max<std::size_t>(longest, keys.last(o) - keys.first(o));
-    const std::vector<std::uint32_t> order = lexicographic_order(
-        op_count, 1 + longest, std::max<std::uint64_t>(1, static_cast<std::uint64_t>(next) * values),
-        [&](std::uint32_t o, std::size_t i) -> std::uint64_t {
-          if (i == 0) return left_out[o] != 0;
-          if (i > static_cast<std::size_t>(keys.last(o) - keys.first(o))) return 0;
-          const Fact& f = keys.first(o)[i - 1];
-          return static_cast<std::uint64_t>(f.first) * values + static_cast<std::uint64_t>(f.second) + 1;
-        });
-    sorted.assign(order.begin(), order.end());
-  } else {
-    std::iota(sorted.begin(), sorted.end(), 0);
-    std::stable_sort(sorted.begin(), sorted.end(), [&](OperatorId a, OperatorId b) {
-      if (left_out[a] != left_out[b]) return left_out[b] != 0;
-      const auto order = std::lexicographical_compare_three_way(keys.first(a), keys.last(a), keys.first(b), keys.last(b));
-      if (order != 0) return order < 0;
-      return task.operators[a].name < task.operators[b].name;
-    });
-  }
+  std::stable_sort(sorted.begin(), sorted.end(), [&](OperatorId a, OperatorId b) {
+    if (left_out[a] != left_out[b]) return left_out[b] != 0;
+    const auto order = std::lexicographical_compare_three_way(keys.first(a), keys.last(a), keys.first(b), keys.last(b));
+    if (order != 0) return order < 0;
+    return !named_in_order && task.operators[a].name < task.operators[b].name;
+  });
   out.rank.resize(op_count);
   for (std::size_t k = 0; k < op_count; ++k) out.rank[sorted[k]] = static_cast<std::uint32_t>(k);
   return out;

@@ -18,6 +18,8 @@ class TupleIndex {
   /// `length`: the items of every tuple (0 allowed: then one tuple at most).
   explicit TupleIndex(std::size_t length) : length_(length) {}
   std::size_t size() const { return size_; }
+  /// The items of every tuple.
+  std::size_t length() const { return length_; }
   std::span<const T> operator[](std::size_t id) const { return {items_.data() + id * length_, length_}; }
   bool contains(std::span<const T> t) const { return !slots_.empty() && slots_[slot(t, slots_)] != 0; }
   /// The id of `t` (of the index's length), and whether it was added now.
