@@ -12,41 +12,50 @@ namespace cluttertamp::search::detail {
 
 namespace {
 
-// A fact's predicate and arguments, interned.
-struct GroundAtom {
-  int predicate = -1;
-  std::vector<int> args;
+// Every fluent fact's predicate and arguments, interned, the arguments of all facts in
+// one array (the synthesis reads them for every operator it checks).
+class GroundAtoms {
+ public:
+  explicit GroundAtoms(const Task& task) : predicate_(task.fact_count(), -1), start_(task.fact_count() + 1, 0) {
+    std::unordered_map<std::string_view, int> predicates, objects;  // views into the task's names
+    for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
+      start_[f] = static_cast<std::uint32_t>(args_.size());
+      if (!task.derived[f]) read(task.fact_names[f], f, predicates, objects);
+    }
+    start_.back() = static_cast<std::uint32_t>(args_.size());
+    predicate_count_ = static_cast<int>(predicates.size());
+  }
+  /// -1 for a derived fact.
+  int predicate(FactId f) const { return predicate_[f]; }
+  int arity(FactId f) const { return static_cast<int>(start_[f + 1] - start_[f]); }
+  int arg(FactId f, int i) const { return args_[start_[f] + static_cast<std::uint32_t>(i)]; }
+  int predicate_count() const { return predicate_count_; }
+
+ private:
+  // "(pred a b)": the words between "(" and ")", split at spaces.
+  void read(std::string_view text, FactId f, std::unordered_map<std::string_view, int>& predicates,
+            std::unordered_map<std::string_view, int>& objects) {
+    std::size_t i = text.empty() || text[0] != '(' ? 0 : 1;
+    bool first = true;
+    while (i < text.size()) {
+      while (i < text.size() && (text[i] == ' ' || text[i] == ')')) ++i;
+      std::size_t end = i;
+      while (end < text.size() && text[end] != ' ' && text[end] != ')') ++end;
+      if (end == i) break;
+      auto& ids = first ? predicates : objects;
+      const int id = ids.try_emplace(text.substr(i, end - i), static_cast<int>(ids.size())).first->second;
+      if (first) predicate_[f] = id;
+      else args_.push_back(id);
+      first = false;
+      i = end;
+    }
+  }
+
+  std::vector<int> predicate_;
+  std::vector<std::uint32_t> start_;
+  std::vector<int> args_;
+  int predicate_count_ = 0;
 };
-
-// "(pred a b)" -> {"pred", "a", "b"}, views into `text`.
-std::vector<std::string_view> atom_words(std::string_view text) {
-  std::vector<std::string_view> words;
-  std::size_t i = text.empty() || text[0] != '(' ? 0 : 1;
-  while (i < text.size()) {
-    while (i < text.size() && (text[i] == ' ' || text[i] == ')')) ++i;
-    std::size_t end = i;
-    while (end < text.size() && text[end] != ' ' && text[end] != ')') ++end;
-    if (end == i) break;
-    words.push_back(text.substr(i, end - i));
-    i = end;
-  }
-  return words;
-}
-
-// "(pred a b)" -> predicate and arguments, interned in `predicates` and `objects` (by
-// views into `text`, which must outlive them).
-GroundAtom parse_atom(const std::string& text, std::unordered_map<std::string_view, int>& predicates,
-                      std::unordered_map<std::string_view, int>& objects) {
-  GroundAtom atom;
-  const std::vector<std::string_view> words = atom_words(text);
-  for (std::size_t k = 0; k < words.size(); ++k) {
-    auto& ids = k == 0 ? predicates : objects;
-    const int id = ids.try_emplace(words[k], static_cast<int>(ids.size())).first->second;
-    if (k == 0) atom.predicate = id;
-    else atom.args.push_back(id);
-  }
-  return atom;
-}
 
 // One predicate of an invariant: which argument gives each invariant parameter, and
 // which one (if any) is counted.
@@ -71,20 +80,14 @@ struct Scope {
 
 class Synthesis {
  public:
-  Synthesis(const Task& task, std::uint64_t budget) : task_(task), budget_(budget) {
-    std::unordered_map<std::string_view, int> predicates, objects;  // views into the task's names
-    atoms_.resize(task.fact_count());
-    for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
-      if (task.derived[f]) continue;
-      atoms_[f] = parse_atom(task.fact_names[f], predicates, objects);
-    }
-    predicate_count_ = static_cast<int>(predicates.size());
+  Synthesis(const Task& task, std::uint64_t budget) : task_(task), budget_(budget), atoms_(task) {
+    predicate_count_ = atoms_.predicate_count();
     arity_.assign(predicate_count_, 0);
     facts_of_.resize(predicate_count_);
     for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
       if (task.derived[f]) continue;
-      arity_[atoms_[f].predicate] = static_cast<int>(atoms_[f].args.size());
-      facts_of_[atoms_[f].predicate].push_back(f);
+      arity_[atoms_.predicate(f)] = atoms_.arity(f);
+      facts_of_[atoms_.predicate(f)].push_back(f);
     }
     adders_.resize(predicate_count_);
     for (OperatorId o = 0; o < static_cast<OperatorId>(task.operators.size()); ++o) {
@@ -92,7 +95,7 @@ class Synthesis {
       auto note = [&](const std::vector<FactId>& add) {
         for (FactId f : add) {
           if (task.derived[f]) continue;
-          auto& list = adders_[atoms_[f].predicate];
+          auto& list = adders_[atoms_.predicate(f)];
           if (list.empty() || list.back() != o) list.push_back(o);
         }
       };
@@ -152,7 +155,7 @@ class Synthesis {
   Key key(FactId f, const Part& part) const {
     Key k;
     k.reserve(part.positions.size());
-    for (int p : part.positions) k.push_back(atoms_[f].args[p]);
+    for (int p : part.positions) k.push_back(atoms_.arg(f, p));
     return k;
   }
 
@@ -167,7 +170,7 @@ class Synthesis {
   bool same_key(const Added& a, FactId f, const Part& part) const {
     if (a.part->positions.size() != part.positions.size()) return false;
     for (std::size_t i = 0; i < part.positions.size(); ++i) {
-      if (atoms_[a.fact].args[a.part->positions[i]] != atoms_[f].args[part.positions[i]]) return false;
+      if (atoms_.arg(a.fact, a.part->positions[i]) != atoms_.arg(f, part.positions[i])) return false;
     }
     return true;
   }
@@ -178,8 +181,9 @@ class Synthesis {
   }
 
   const Part* part_for(FactId f) const {
-    if (task_.derived[f]) return nullptr;
-    const int i = part_of_[atoms_[f].predicate];
+    const int predicate = atoms_.predicate(f);
+    if (predicate < 0) return nullptr;  // derived
+    const int i = part_of_[predicate];
     return i < 0 ? nullptr : &(*current_)[i];
   }
 
@@ -286,21 +290,20 @@ class Synthesis {
   void refine(const Invariant& inv, const Scope& scope, const Key& key) {
     for (FactId d : *scope.del) {
       if (task_.derived[d] || !std::binary_search(scope.pre->begin(), scope.pre->end(), d)) continue;
-      const GroundAtom& atom = atoms_[d];
-      if (part_of_[atom.predicate] >= 0) continue;
-      const int spare = static_cast<int>(atom.args.size()) - static_cast<int>(key.size());
+      if (part_of_[atoms_.predicate(d)] >= 0) continue;
+      const int spare = atoms_.arity(d) - static_cast<int>(key.size());
       if (spare < 0 || spare > 1) continue;
       std::vector<int> positions;
-      std::vector<char> used(atom.args.size(), 0);
-      assign(inv, atom, key, positions, used);
+      std::vector<char> used(static_cast<std::size_t>(atoms_.arity(d)), 0);
+      assign(inv, d, key, positions, used);
     }
   }
 
-  void assign(const Invariant& inv, const GroundAtom& atom, const Key& key, std::vector<int>& positions,
+  void assign(const Invariant& inv, FactId atom, const Key& key, std::vector<int>& positions,
               std::vector<char>& used) {
     ++work_;
     if (positions.size() == key.size()) {
-      Part part{atom.predicate, positions, -1};
+      Part part{atoms_.predicate(atom), positions, -1};
       for (std::size_t i = 0; i < used.size(); ++i) {
         if (!used[i]) part.counted = static_cast<int>(i);
       }
@@ -309,8 +312,8 @@ class Synthesis {
       enqueue(std::move(refined));
       return;
     }
-    for (std::size_t p = 0; p < atom.args.size(); ++p) {
-      if (used[p] || atom.args[p] != key[positions.size()]) continue;
+    for (std::size_t p = 0; p < used.size(); ++p) {
+      if (used[p] || atoms_.arg(atom, static_cast<int>(p)) != key[positions.size()]) continue;
       used[p] = 1;
       positions.push_back(static_cast<int>(p));
       assign(inv, atom, key, positions, used);
@@ -322,7 +325,7 @@ class Synthesis {
   const Task& task_;
   std::uint64_t budget_;
   std::uint64_t work_ = 0;
-  std::vector<GroundAtom> atoms_;
+  GroundAtoms atoms_;
   int predicate_count_ = 0;
   std::vector<int> arity_;
   std::vector<std::vector<FactId>> facts_of_;
