@@ -81,15 +81,15 @@ struct Scope {
 class Synthesis {
  public:
   Synthesis(const Task& task, std::uint64_t budget) : task_(task), budget_(budget), atoms_(task) {
-    predicate_count_ = atoms_.predicate_count();
-    arity_.assign(predicate_count_, 0);
-    facts_of_.resize(predicate_count_);
+    const int predicates = atoms_.predicate_count();
+    arity_.assign(predicates, 0);
+    facts_of_.resize(predicates);
     for (FactId f = 0; f < static_cast<FactId>(task.fact_count()); ++f) {
       if (task.derived[f]) continue;
       arity_[atoms_.predicate(f)] = atoms_.arity(f);
       facts_of_[atoms_.predicate(f)].push_back(f);
     }
-    adders_.resize(predicate_count_);
+    adders_.resize(predicates);
     for (OperatorId o = 0; o < static_cast<OperatorId>(task.operators.size()); ++o) {
       const Operator& op = task.operators[o];
       auto note = [&](const std::vector<FactId>& add) {
@@ -102,13 +102,13 @@ class Synthesis {
       note(op.add);
       for (const ConditionalEffect& c : op.conditional) note(c.add);
     }
-    part_of_.assign(predicate_count_, -1);
+    part_of_.assign(predicates, -1);
     op_seen_.assign(task.operators.size(), 0);
   }
 
   MutexGroups run() {
     MutexGroups out;
-    for (int p = 0; p < predicate_count_; ++p) {
+    for (int p = 0; p < atoms_.predicate_count(); ++p) {
       for (int counted = -1; counted < arity_[p]; ++counted) {
         Part part{p, {}, counted};
         for (int i = 0; i < arity_[p]; ++i) {
@@ -326,7 +326,6 @@ class Synthesis {
   std::uint64_t budget_;
   std::uint64_t work_ = 0;
   GroundAtoms atoms_;
-  int predicate_count_ = 0;
   std::vector<int> arity_;
   std::vector<std::vector<FactId>> facts_of_;
   std::vector<std::vector<OperatorId>> adders_;
